@@ -1,0 +1,30 @@
+#pragma once
+// Radial segregation time series (Yu 2022 Sec. II): the large-particle volume fraction among
+// particles whose centres lie in the outer shell 0.9 < r/R < 1 of the tumbler, against the bed
+// average. Large particles enriched at the wall give shell > bed.
+#include <vector>
+
+#include "core/particles.hpp"
+
+namespace tumble::analysis {
+
+struct SegregationSample {
+  double shell_large_fraction = 0;  // large volume / all volume, centres in 0.9R < r < R
+  double bed_large_fraction = 0;    // same over the whole bed
+  double shell_count = 0;           // particles in the shell
+};
+
+SegregationSample radial_segregation(const Particles& p, double tumbler_radius, double inner = 0.9);
+
+struct Series {
+  std::vector<double> time, iteration, shell_large_fraction, bed_large_fraction, kinetic_energy;
+  void append(double t, double iter, const SegregationSample& s, double ke) {
+    time.push_back(t);
+    iteration.push_back(iter);
+    shell_large_fraction.push_back(s.shell_large_fraction);
+    bed_large_fraction.push_back(s.bed_large_fraction);
+    kinetic_energy.push_back(ke);
+  }
+};
+
+}  // namespace tumble::analysis

@@ -1,0 +1,56 @@
+// `tumble run SCENE.toml`: one DEM realization. Parses, validates the whole scene before any work,
+// and calls the library.
+#include <iostream>
+
+#include "app/commands.hpp"
+#include "core/realization.hpp"
+#include "core/scene.hpp"
+
+namespace tumble::app {
+
+void register_run(CLI::App& app) {
+  auto* cmd = app.add_subcommand("run", "run one DEM realization of a scene");
+  struct Opts {
+    std::string scene;
+    std::vector<std::string> overrides;
+    std::string restart;
+    bool resume = false, list_keys = false, check = false;
+    long long max_steps = -1;
+  };
+  auto opts = std::make_shared<Opts>();
+  cmd->add_option("scene", opts->scene, "scene file (TOML)");
+  cmd->add_option("--set,-s", opts->overrides, "override a key: section.key=value (repeatable)");
+  cmd->add_option("--restart", opts->restart, "continue from this checkpoint file");
+  cmd->add_flag("--resume", opts->resume, "continue from OUTPUT_DIR/checkpoint.h5 if present");
+  cmd->add_option("--max-steps", opts->max_steps, "stop after this many protocol steps");
+  cmd->add_flag("--check", opts->check, "validate the scene, print it resolved, and exit");
+  cmd->add_flag("--list-keys", opts->list_keys, "list every scene key with its range and exit");
+  cmd->callback([opts]() {
+    if (opts->list_keys) {
+      for (const auto& k : scene_schema()) {
+        std::cout << k.key << "  ";
+        if (k.type == KeySpec::Text)
+          for (std::size_t i = 0; i < k.choices.size(); ++i)
+            std::cout << (i ? "|" : "") << k.choices[i];
+        else
+          std::cout << "[" << k.lo << ", " << k.hi << "]";
+        std::cout << "  " << k.help << "\n";
+      }
+      return;
+    }
+    if (opts->scene.empty()) throw CLI::RequiredError("scene");
+    const Scene scene = load_scene(opts->scene, opts->overrides);
+    if (opts->check) {
+      std::cout << scene_to_text(scene);
+      return;
+    }
+    RunOptions ro;
+    ro.restart_file = opts->restart;
+    ro.resume = opts->resume;
+    ro.max_steps = opts->max_steps;
+    ro.log = &std::cout;
+    run_realization(scene, ro);
+  });
+}
+
+}  // namespace tumble::app

@@ -1,0 +1,11 @@
+#pragma once
+// Each subcommand lives in its own thin file: it registers its options on the CLI11 app and returns
+// a callback that runs it. main.cpp only wires them together.
+#include <CLI/CLI.hpp>
+
+namespace tumble::app {
+// `tumble run SCENE.toml [--set key=value ...] [--restart FILE]` (cmd_run.cpp)
+void register_run(CLI::App& app);
+// `tumble cm poincare|orbits|mcm ...`: the continuum model (cmd_cm.cpp)
+void register_cm(CLI::App& app);
+}  // namespace tumble::app

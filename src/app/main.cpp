@@ -1,0 +1,33 @@
+// `tumble`: one executable, git-style subcommands. Each subcommand is a thin file in src/app/.
+#include <mpi.h>
+
+#include <iostream>
+
+#include "app/commands.hpp"
+#include "core/error.hpp"
+#include "tumble/version.hpp"
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  CLI::App app{"Tumble: DEM campaigns of granular segregation in tumblers"};
+  app.set_version_flag("--version", std::string(tumble::kVersion) + " (" + tumble::kGitHash + ")");
+  app.require_subcommand(1);
+  tumble::app::register_run(app);
+#ifdef TUMBLE_HAVE_CM
+  tumble::app::register_cm(app);
+#endif
+  int rc = 0;
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    rc = app.exit(e);
+  } catch (const tumble::InputError& e) {
+    std::cerr << "tumble: " << e.what() << "\n";
+    rc = 2;
+  } catch (const std::exception& e) {
+    std::cerr << "tumble: error: " << e.what() << "\n";
+    rc = 1;
+  }
+  MPI_Finalize();
+  return rc;
+}

@@ -1,0 +1,259 @@
+#include "core/realization.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/fill.hpp"
+#include "core/simulation.hpp"
+#include "io/bed_io.hpp"
+#include "io/checkpoint.hpp"
+#include "io/hdf5_file.hpp"
+#include "io/snapshot.hpp"
+
+namespace tumble {
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+std::string hms(double s) {
+  if (!std::isfinite(s) || s < 0) return "--:--:--";
+  const long t = static_cast<long>(s + 0.5);
+  std::ostringstream os;
+  os << t / 3600 << ":" << std::setw(2) << std::setfill('0') << (t / 60) % 60 << ":" << std::setw(2)
+     << t % 60;
+  return os.str();
+}
+}  // namespace
+
+Particles fill_and_settle(const Scene& scene, std::ostream* log) {
+  Particles bed = make_bed(scene);
+  if (log)
+    *log << "[fill] " << bed.size() << " particles placed (seed " << scene.seed << ", start '"
+         << scene.start << "'); settling until rms speed < " << scene.settle_rms_speed << " m/s\n";
+  Simulation sim(scene, std::move(bed), geometry::Protocol::at_rest());
+  sim.compute_forces();
+  const auto t0 = Clock::now();
+  auto last = t0;
+  const double min_time =
+      20 * scene.collision_time + std::sqrt(2 * scene.d_large / std::max(scene.g, 1e-12));
+  while (true) {
+    for (int k = 0; k < 200; ++k) sim.step();
+    const double rms = sim.rms_speed();
+    if (sim.time() > min_time && rms < scene.settle_rms_speed) break;
+    if (sim.time() > scene.settle_max_time) {
+      std::ostringstream os;
+      os << "the bed did not settle within fill.settle_max_time = " << scene.settle_max_time
+         << " s (rms speed " << rms << " m/s > fill.settle_rms_speed = " << scene.settle_rms_speed
+         << "); raise fill.settle_max_time";
+      throw RunError(os.str());
+    }
+    if (log && seconds_since(last) > scene.progress_interval) {
+      last = Clock::now();
+      *log << "[fill] t = " << std::setprecision(4) << sim.time() << " s, rms speed " << rms
+           << " m/s, " << hms(seconds_since(t0)) << " elapsed\n";
+    }
+  }
+  sim.check_health();
+  if (log)
+    *log << "[fill] settled at t = " << sim.time() << " s (" << sim.step_count() << " steps, "
+         << std::setprecision(3) << seconds_since(t0) << " s wall)\n";
+  Particles out = sim.particles();
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out.v[i] = out.w[i] = out.f[i] = out.t[i] = out.wall_spring[i] = Vec3{};
+  }
+  return out;
+}
+
+Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused) {
+  if (reused) *reused = true;
+  if (!scene.bed_file.empty()) {
+    if (log) *log << "[fill] starting from bed file " << scene.bed_file << "\n";
+    return io::read_bed(scene.bed_file, scene);
+  }
+  const std::string cached = io::bed_cache_path(scene);
+  if (fs::exists(cached)) {
+    if (log) *log << "[fill] reusing settled bed " << cached << "\n";
+    return io::read_bed(cached, scene);
+  }
+  if (reused) *reused = false;
+  Particles bed = fill_and_settle(scene, log);
+  fs::create_directories(scene.bed_cache);
+  io::write_bed(cached, bed, scene);
+  if (log) *log << "[fill] saved settled bed to " << cached << "\n";
+  return bed;
+}
+
+namespace {
+// Keys that must agree between a checkpoint and the scene it is restarted with (physics and bed);
+// output and run-length keys may differ.
+void check_restart_compatible(const Scene& scene, const std::string& ckpt_scene_text) {
+  const Scene old = parse_scene(ckpt_scene_text, {}, "checkpoint");
+  std::string diffs;
+  for (const auto& [key, value] : scene.resolved) {
+    if (key.rfind("output.", 0) == 0 || key == "protocol.iterations" ||
+        key == "protocol.duration" || key == "scene.output_dir" || key == "scene.name" ||
+        key.rfind("fill.", 0) == 0)
+      continue;
+    auto it = old.resolved.find(key);
+    if (it == old.resolved.end() || it->second != value)
+      diffs += " " + key + " (checkpoint " + (it == old.resolved.end() ? "?" : it->second) +
+               ", scene " + value + ")";
+  }
+  if (!diffs.empty())
+    throw InputError("cannot restart: the scene differs from the checkpoint's in:" + diffs);
+}
+
+std::int64_t steps_for(double interval, double dt, double fallback) {
+  const double t = interval > 0 ? interval : fallback;
+  return std::max<std::int64_t>(1, std::llround(t / dt));
+}
+}  // namespace
+
+RunResult run_realization(const Scene& scene, const RunOptions& opt) {
+  std::ostream* log = opt.log;
+  RunResult res;
+  res.output_dir = scene.output_dir;
+  fs::create_directories(scene.output_dir);
+  const std::string ckpt_path = scene.output_dir + "/checkpoint.h5";
+
+  geometry::Protocol protocol =
+      scene.mode == "biaxial"
+          ? geometry::Protocol::biaxial(deg2rad(scene.theta_z), deg2rad(scene.theta_x),
+                                        deg2rad(scene.repose), scene.omega())
+          : (scene.mode == "single_axis"
+                 ? geometry::Protocol::single_axis(scene.axis[0], scene.omega())
+                 : geometry::Protocol::at_rest());
+  const double dt = scene.time_step();
+  const std::int64_t total_steps = std::llround(scene.run_time() / dt);
+  const double period = protocol.periodic() ? protocol.period() : 1.0;
+  const std::int64_t snap_every = steps_for(scene.snapshot_interval, dt, period);
+  const std::int64_t ckpt_every = steps_for(scene.checkpoint_interval, dt, period);
+  const std::int64_t sample_every =
+      scene.analysis_interval > 0 ? steps_for(scene.analysis_interval, dt, period) : 0;
+
+  std::string restart = opt.restart_file;
+  if (restart.empty() && opt.resume && fs::exists(ckpt_path)) restart = ckpt_path;
+
+  std::unique_ptr<Simulation> sim;
+  analysis::Series series;
+  std::vector<io::SnapshotEntry> snaps;
+  if (!restart.empty()) {
+    io::CheckpointData c = io::read_checkpoint(restart);
+    check_restart_compatible(scene, c.scene_text);
+    const std::size_t n = c.particles.size();
+    if (log)
+      *log << "[run] restarting from " << restart << " at t = " << c.time << " s (step " << c.step
+           << ")\n";
+    sim = std::make_unique<Simulation>(scene, std::move(c.particles), protocol, c.time, c.step);
+    sim->restore(c.history);
+    series = std::move(c.series);
+    for (std::int64_t k = 0; k < c.snapshots_written; ++k) {
+      char name[64];
+      std::snprintf(name, sizeof name, "snap_%06lld.h5", static_cast<long long>(k));
+      snaps.push_back({name, static_cast<double>(k * snap_every) * dt, n});
+    }
+  } else {
+    Particles bed = settled_bed(scene, log, &res.reused_bed);
+    sim = std::make_unique<Simulation>(scene, std::move(bed), protocol);
+    sim->compute_forces();
+  }
+  res.particles = static_cast<std::int64_t>(sim->particles().size());
+
+  auto snapshot = [&]() {
+    if (!opt.write_snapshots) return;
+    char name[64];
+    std::snprintf(name, sizeof name, "snap_%06zu.h5", snaps.size());
+    io::write_snapshot(scene.output_dir + "/" + name, *sim, scene);
+    snaps.push_back({name, sim->time(), sim->particles().size()});
+    io::write_xdmf(scene.output_dir, snaps);
+  };
+  auto sample = [&]() {
+    series.append(sim->time(), sim->protocol().iteration(sim->time()),
+                  analysis::radial_segregation(sim->particles(), scene.radius),
+                  sim->energy().kinetic);
+  };
+  if (sim->step_count() == 0) {
+    snapshot();
+    if (sample_every) sample();
+  }
+
+  if (log)
+    *log << "[run] " << scene.name << ": " << res.particles << " particles, dt = " << dt << " s, "
+         << total_steps << " steps (" << scene.run_time() << " s simulated"
+         << (protocol.periodic() ? ", " + std::to_string(scene.iterations) + " iterations" : "")
+         << "), output in " << scene.output_dir << "\n";
+
+  std::int64_t end_step = total_steps;
+  if (opt.max_steps >= 0) end_step = std::min(end_step, sim->step_count() + opt.max_steps);
+  const std::int64_t first_step = sim->step_count();
+  const auto t0 = Clock::now();
+  auto last_progress = t0;
+  while (sim->step_count() < end_step) {
+    const std::int64_t next = sim->step_count() + 1;
+    const bool ckpt_now = next % ckpt_every == 0 || next == total_steps || next == end_step;
+    if (ckpt_now) sim->request_rebuild();
+    sim->step();
+    const std::int64_t s = sim->step_count();
+    if (sample_every && s % sample_every == 0) sample();
+    if (s % 1000 == 0) sim->check_health();
+    if (s % snap_every == 0 || s == total_steps) snapshot();
+    if (ckpt_now) {  // also where --max-steps stops, so the run can be continued
+      sim->check_health();
+      io::write_checkpoint(ckpt_path, *sim, scene, series, static_cast<std::int64_t>(snaps.size()));
+    }
+    if (log && (s & 63) == 0 && seconds_since(last_progress) >= scene.progress_interval) {
+      last_progress = Clock::now();
+      const double el = seconds_since(t0);
+      const double rate = (s - first_step) * static_cast<double>(res.particles) / el;
+      const double eta = el / (s - first_step) * (end_step - s);
+      *log << "[run] t = " << std::fixed << std::setprecision(3) << sim->time() << " s  iter "
+           << std::setprecision(2) << sim->protocol().iteration(sim->time()) << " ("
+           << sim->protocol().phase(sim->time()) << ")  step " << s << "/" << end_step << "  "
+           << std::scientific << std::setprecision(2) << rate << " particle-steps/s  ETA "
+           << hms(eta) << std::defaultfloat << "\n";
+    }
+  }
+  res.wall_seconds = seconds_since(t0);
+  res.steps = sim->step_count() - first_step;
+  res.particle_steps_per_second =
+      res.wall_seconds > 0 ? res.steps * static_cast<double>(res.particles) / res.wall_seconds : 0;
+  if (sim->fast_rebuilds() > 0 && log)
+    *log << "[run] warning: " << sim->fast_rebuilds()
+         << " neighbour rebuilds came < 10 steps apart: raise neighbor.skin\n";
+
+  // Results: the time series and a summary, written atomically.
+  res.results_file = scene.output_dir + "/results.h5";
+  {
+    io::AtomicH5Writer out(res.results_file);
+    io::H5File& f = out.file();
+    f.write("series/time", series.time);
+    f.write("series/iteration", series.iteration);
+    f.write("series/shell_large_fraction", series.shell_large_fraction);
+    f.write("series/bed_large_fraction", series.bed_large_fraction);
+    f.write("series/kinetic_energy", series.kinetic_energy);
+    f.set_attr("/", "steps", static_cast<std::int64_t>(sim->step_count()));
+    f.set_attr("/", "time", sim->time());
+    f.set_attr("/", "particles", res.particles);
+    f.set_attr("/", "complete", static_cast<std::int64_t>(sim->step_count() >= total_steps));
+    f.set_attr("/", "particle_steps_per_second", res.particle_steps_per_second);
+    io::write_provenance(f, scene);
+    out.commit();
+  }
+  res.series = std::move(series);
+  if (log)
+    *log << "[run] done: " << res.steps << " steps in " << std::setprecision(4) << res.wall_seconds
+         << " s (" << std::scientific << std::setprecision(3) << res.particle_steps_per_second
+         << std::defaultfloat << " particle-steps/s); results in " << res.results_file
+         << ", snapshots in " << scene.output_dir << "/snapshots.xdmf\n";
+  return res;
+}
+
+}  // namespace tumble

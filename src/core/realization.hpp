@@ -1,0 +1,40 @@
+#pragma once
+// One DEM realization end to end: obtain the settled bed (reuse the cached one, or fill and settle
+// and cache it), run the protocol with progress lines, snapshots, checkpoints and the segregation
+// time series, and write results.h5. The CLI's `tumble run` and the campaign manager call this.
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+
+#include "analysis/radial_segregation.hpp"
+#include "core/particles.hpp"
+#include "core/scene.hpp"
+
+namespace tumble {
+
+struct RunOptions {
+  std::string restart_file;     // continue from this checkpoint
+  bool resume = false;          // continue from output_dir/checkpoint.h5 if it exists
+  std::int64_t max_steps = -1;  // stop after this many protocol steps (tests); -1 = whole run
+  bool write_snapshots = true;
+  std::ostream* log = nullptr;  // progress output (nullptr = silent)
+};
+
+struct RunResult {
+  std::string output_dir, results_file;
+  std::int64_t steps = 0;  // protocol steps done in this call
+  std::int64_t particles = 0;
+  double wall_seconds = 0;  // protocol phase only
+  double particle_steps_per_second = 0;
+  analysis::Series series;
+  bool reused_bed = false;
+};
+
+// Settled bed for the scene: fill.bed_file, else the cache, else fill + settle + save to cache.
+Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused = nullptr);
+// Fills and settles a bed (no caching).
+Particles fill_and_settle(const Scene& scene, std::ostream* log);
+
+RunResult run_realization(const Scene& scene, const RunOptions& options);
+
+}  // namespace tumble

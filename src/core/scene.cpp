@@ -1,0 +1,309 @@
+#include "core/scene.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/fill.hpp"
+#include "core/vec3.hpp"
+
+namespace tumble {
+
+double Scene::omega() const { return rpm * 2.0 * kPi / 60.0; }
+double Scene::mass_small() const { return density * kPi / 6.0 * d_small * d_small * d_small; }
+double Scene::mass_large() const {
+  return density * density_ratio * kPi / 6.0 * d_large * d_large * d_large;
+}
+double Scene::run_time() const {
+  if (mode == "biaxial") {
+    const double w = omega();
+    if (w <= 0) return 0;
+    const double period = (deg2rad(theta_z) + deg2rad(theta_x) + 4.0 * deg2rad(repose)) / w;
+    return iterations * period;
+  }
+  return duration;
+}
+
+namespace {
+
+struct Value {
+  bool numeric = false;
+  double num = 0;
+  std::string text;
+  std::string origin;  // where it came from, for messages
+};
+
+// Member pointers for every key: one table, so adding a key is one line here + one in the schema.
+const std::map<std::string, double Scene::*>& real_members() {
+  static const std::map<std::string, double Scene::*> m = {
+      {"tumbler.radius", &Scene::radius},
+      {"particles.d_small", &Scene::d_small},
+      {"particles.d_large", &Scene::d_large},
+      {"particles.density", &Scene::density},
+      {"particles.density_ratio", &Scene::density_ratio},
+      {"particles.large_fraction", &Scene::large_fraction},
+      {"particles.fill_level", &Scene::fill_level},
+      {"particles.packing_fraction", &Scene::packing_fraction},
+      {"contact.restitution", &Scene::restitution},
+      {"contact.collision_time", &Scene::collision_time},
+      {"contact.friction", &Scene::friction},
+      {"contact.wall_friction", &Scene::wall_friction},
+      {"contact.tangential_damping", &Scene::tangential_damping},
+      {"fill.settle_rms_speed", &Scene::settle_rms_speed},
+      {"fill.settle_max_time", &Scene::settle_max_time},
+      {"protocol.theta_z", &Scene::theta_z},
+      {"protocol.theta_x", &Scene::theta_x},
+      {"protocol.repose", &Scene::repose},
+      {"protocol.rpm", &Scene::rpm},
+      {"protocol.iterations", &Scene::iterations},
+      {"protocol.duration", &Scene::duration},
+      {"gravity.g", &Scene::g},
+      {"time.dt", &Scene::dt},
+      {"time.dt_fraction", &Scene::dt_fraction},
+      {"neighbor.skin", &Scene::skin},
+      {"output.snapshot_interval", &Scene::snapshot_interval},
+      {"output.checkpoint_interval", &Scene::checkpoint_interval},
+      {"output.progress_interval", &Scene::progress_interval},
+      {"output.analysis_interval", &Scene::analysis_interval},
+  };
+  return m;
+}
+const std::map<std::string, std::string Scene::*>& text_members() {
+  static const std::map<std::string, std::string Scene::*> m = {
+      {"scene.name", &Scene::name},          {"scene.output_dir", &Scene::output_dir},
+      {"tumbler.shape", &Scene::shape},      {"contact.law", &Scene::law},
+      {"fill.start", &Scene::start},         {"fill.bed_file", &Scene::bed_file},
+      {"fill.bed_cache", &Scene::bed_cache}, {"protocol.mode", &Scene::mode},
+      {"protocol.axis", &Scene::axis},
+  };
+  return m;
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+    prev.swap(cur);
+  }
+  return prev[b.size()];
+}
+
+const KeySpec* find_spec(const std::string& key) {
+  for (const auto& s : scene_schema())
+    if (s.key == key) return &s;
+  return nullptr;
+}
+
+[[noreturn]] void unknown_key(const std::string& key, const std::string& origin) {
+  std::string best;
+  std::size_t best_d = 1000;
+  for (const auto& s : scene_schema()) {
+    const std::size_t d = edit_distance(key, s.key);
+    if (d < best_d) best_d = d, best = s.key;
+  }
+  std::string msg = "scene error (" + origin + "): unknown key '" + key + "'";
+  if (best_d <= 4) msg += " (did you mean '" + best + "'?)";
+  msg += "; run 'tumble run --list-keys' for all keys";
+  throw InputError(msg);
+}
+
+void flatten(const toml::table& t, const std::string& prefix, const std::string& origin,
+             std::map<std::string, Value>& out) {
+  for (const auto& [k, node] : t) {
+    const std::string key =
+        prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    if (const auto* sub = node.as_table()) {
+      flatten(*sub, key, origin, out);
+      continue;
+    }
+    Value v;
+    v.origin = origin;
+    if (auto d = node.value<double>()) {
+      v.numeric = true;
+      v.num = *d;
+      std::ostringstream os;
+      os.precision(17);
+      os << *d;
+      v.text = os.str();
+    } else if (auto s = node.value<std::string>()) {
+      v.text = *s;
+    } else if (auto b = node.value<bool>()) {
+      v.text = *b ? "true" : "false";
+    } else {
+      throw InputError("scene error (" + origin + "): key '" + key +
+                       "' has an unsupported value type (use a number or a string)");
+    }
+    out[key] = v;
+  }
+}
+
+Value parse_override(const std::string& item, std::string& key) {
+  const auto eq = item.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("scene error: override '" + item + "' is not of the form section.key=value");
+  key = item.substr(0, eq);
+  std::string text = item.substr(eq + 1);
+  if (text.size() >= 2 && (text.front() == '"' || text.front() == '\'') &&
+      text.back() == text.front())
+    text = text.substr(1, text.size() - 2);
+  Value v;
+  v.origin = "--set " + item;
+  v.text = text;
+  char* end = nullptr;
+  const double d = std::strtod(text.c_str(), &end);
+  if (!text.empty() && end && *end == '\0') {
+    v.numeric = true;
+    v.num = d;
+  }
+  return v;
+}
+
+std::string range_text(const KeySpec& s) {
+  std::ostringstream os;
+  os << "[" << s.lo << ", " << s.hi << "]";
+  return os.str();
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& overrides,
+                  const std::string& origin) {
+  std::map<std::string, Value> values;
+  toml::table tbl;
+  try {
+    tbl = toml::parse(toml_text, origin);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream os;
+    os << "scene error: " << origin << " is not valid TOML: " << e.description() << " (line "
+       << e.source().begin.line << ")";
+    throw InputError(os.str());
+  }
+  flatten(tbl, "", origin, values);
+  for (const auto& item : overrides) {
+    std::string key;
+    Value v = parse_override(item, key);
+    values[key] = v;
+  }
+
+  Scene s;
+  for (const auto& [key, v] : values) {
+    const KeySpec* spec = find_spec(key);
+    if (!spec) unknown_key(key, v.origin);
+    const std::string where = "scene error (" + v.origin + "): key '" + key + "'";
+    if (spec->type == KeySpec::Text) {
+      if (!spec->choices.empty() &&
+          std::find(spec->choices.begin(), spec->choices.end(), v.text) == spec->choices.end()) {
+        std::string allowed;
+        for (const auto& c : spec->choices) allowed += (allowed.empty() ? "" : ", ") + c;
+        throw InputError(where + " = '" + v.text + "' is not one of: " + allowed);
+      }
+      s.*(text_members().at(key)) = v.text;
+    } else {
+      if (!v.numeric || !std::isfinite(v.num))
+        throw InputError(where + " = '" + v.text + "' must be a number in " + range_text(*spec) +
+                         " (" + spec->help + ")");
+      if (v.num < spec->lo || v.num > spec->hi)
+        throw InputError(where + " = " + v.text + " is out of range " + range_text(*spec) + " (" +
+                         spec->help + ")");
+      if (spec->type == KeySpec::Integer) {
+        if (v.num != std::floor(v.num))
+          throw InputError(where + " = " + v.text + " must be an integer");
+        s.seed = static_cast<std::int64_t>(v.num);  // the only integer key
+      } else {
+        s.*(real_members().at(key)) = v.num;
+      }
+    }
+  }
+  // Resolved scene for provenance: every key, defaults included.
+  std::istringstream lines(scene_to_text(s));
+  for (std::string line; std::getline(lines, line);) {
+    const auto eq = line.find(" = ");
+    if (eq != std::string::npos) s.resolved[line.substr(0, eq)] = line.substr(eq + 3);
+  }
+  validate_scene(s);
+  return s;
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw InputError("scene error: cannot read scene file '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_scene(ss.str(), overrides, path);
+}
+
+// Velocity Verlet is stable for a harmonic mode while ω δt < 2. The stiffest mode of a packing is
+// estimated by a particle of mass m between two of its stiffest contacts (a 1D chain), ω = 2√(k/m),
+// with k/m maximised over every pair and wall contact, m the lighter partner. For the Yu law
+// k/m_eff = (π/t_c)² + γ_n², and a wall contact (m_eff = m) is the stiffest: the bound is ≈ t_c/π.
+double time_step_bound(const Scene& s) {
+  const double gamma_n = -std::log(s.restitution) / s.collision_time;
+  const double w2 = (kPi / s.collision_time) * (kPi / s.collision_time) + gamma_n * gamma_n;
+  const double ms = s.mass_small(), ml = s.mass_large();
+  double k_over_m = w2;  // wall contacts: k = w2 * m
+  for (double a : {ms, ml})
+    for (double b : {ms, ml})
+      k_over_m = std::max(k_over_m, w2 * (a * b / (a + b)) / std::min(a, b));
+  return 2.0 / (2.0 * std::sqrt(k_over_m));
+}
+
+void validate_scene(const Scene& s) {
+  auto fail = [](const std::string& key, const std::string& what) {
+    throw InputError("scene error: key '" + key + "' " + what);
+  };
+  if (s.d_large < s.d_small)
+    fail("particles.d_large", "= " + std::to_string(s.d_large) + " must be >= particles.d_small (" +
+                                  std::to_string(s.d_small) + ")");
+  if (s.d_large / s.d_small > 8)
+    fail("particles.d_large", "gives a size ratio above the supported maximum 8");
+  if (s.d_large * 4 > s.radius)
+    fail("tumbler.radius",
+         "must be at least 4 large diameters (" + std::to_string(4 * s.d_large) + ")");
+  const double bound = time_step_bound(s);
+  if (s.time_step() > bound) {
+    std::ostringstream os;
+    os.precision(4);
+    os << "gives a time step " << s.time_step() << " s above the stability bound " << bound
+       << " s = 1/sqrt(max k/m) of the stiffest pair (about t_c/pi); allowed: time.dt <= " << bound
+       << " or time.dt_fraction <= " << bound / s.collision_time;
+    fail(s.dt > 0 ? "time.dt" : "time.dt_fraction", os.str());
+  }
+  if (s.mode != "rest" && s.rpm <= 0)
+    fail("protocol.rpm", "must be > 0 when protocol.mode is '" + s.mode + "'");
+  if (s.mode == "biaxial" && s.theta_z + s.theta_x <= 0 && s.iterations > 0)
+    fail("protocol.theta_z",
+         "and protocol.theta_x are both 0: the biaxial protocol would not move");
+  if (!s.bed_file.empty()) {
+    std::ifstream f(s.bed_file);
+    if (!f) fail("fill.bed_file", "names a file that cannot be read: '" + s.bed_file + "'");
+  } else {
+    // Raises InputError if the requested bed does not fit in the tumbler.
+    (void)plan_bed(s);
+  }
+}
+
+std::string scene_to_text(const Scene& s) {
+  // Dotted keys at top level: valid TOML that parse_scene reads back to the same scene.
+  std::ostringstream os;
+  os.precision(17);
+  for (const auto& spec : scene_schema()) {
+    os << spec.key << " = ";
+    if (spec.type == KeySpec::Text)
+      os << '"' << s.*(text_members().at(spec.key)) << '"';
+    else if (spec.type == KeySpec::Integer)
+      os << s.seed;
+    else
+      os << s.*(real_members().at(spec.key));
+    os << "\n";
+  }
+  return os.str();
+}
+
+}  // namespace tumble

@@ -1,0 +1,98 @@
+#include "geometry/protocol.hpp"
+
+#include <cmath>
+
+namespace tumble::geometry {
+
+// Sign convention, shared with the continuum model (design.md §8): a "rotation about z" turns the
+// tumbler with Ω = −ω ẑ, so the bulk moves with u = (y, −x, 0) (y up); a "rotation about x" is the
+// same motion conjugated by a quarter turn about the vertical axis, Ω = −ω x̂.
+namespace {
+const Vec3 kZ{0, 0, 1}, kX{1, 0, 0};
+}
+
+Protocol Protocol::at_rest() { return Protocol{}; }
+
+Protocol Protocol::single_axis(char axis, double omega) {
+  Protocol p;
+  p.constant_ = true;
+  p.constant_omega_ = (axis == 'z' ? kZ : kX) * (-omega);
+  return p;
+}
+
+Protocol Protocol::biaxial(double theta_z, double theta_x, double repose, double omega) {
+  Protocol p;
+  p.constant_ = false;
+  const double sense = -1.0;  // see the convention above
+  for (int k = 0; k < 2; ++k) {
+    const Vec3 axis = k == 0 ? kZ : kX;
+    const double theta = k == 0 ? theta_z : theta_x;
+    if (repose > 0) p.segments_.push_back({axis, sense * omega, repose / omega, "tilt"});
+    if (theta > 0) p.segments_.push_back({axis, sense * omega, theta / omega, "rotate"});
+    if (repose > 0) p.segments_.push_back({axis, -sense * omega, repose / omega, "tilt back"});
+  }
+  Mat3 q = Mat3::identity();
+  for (const auto& s : p.segments_) {
+    p.start_orientation_.push_back(q);
+    p.period_ += s.duration;
+    q = Mat3::rotation(s.axis, s.omega * s.duration) * q;
+  }
+  p.period_rotation_ = q;
+  if (p.segments_.empty()) p.constant_ = true;  // θ = 0 and β = 0: nothing moves
+  return p;
+}
+
+void Protocol::locate(double t, std::size_t& seg, double& tau, Mat3& start) const {
+  // Whole periods first (exact power of the net rotation would need care for huge counts;
+  // repeated products of orthogonal matrices stay orthogonal to round-off).
+  double k = std::floor(t / period_);
+  double rem = t - k * period_;
+  if (rem < 0) rem = 0;
+  Mat3 base = Mat3::identity();
+  for (long i = 0; i < static_cast<long>(k); ++i) base = period_rotation_ * base;
+  seg = 0;
+  while (seg + 1 < segments_.size() && rem >= segments_[seg].duration) {
+    rem -= segments_[seg].duration;
+    ++seg;
+  }
+  tau = rem;
+  start = start_orientation_[seg] * base;
+}
+
+Vec3 Protocol::omega(double t) const {
+  if (constant_) return constant_omega_;
+  const double rem = t - std::floor(t / period_) * period_;
+  double acc = 0;
+  for (const auto& s : segments_) {
+    acc += s.duration;
+    if (rem < acc) return s.axis * s.omega;
+  }
+  return segments_.back().axis * segments_.back().omega;
+}
+
+Mat3 Protocol::orientation(double t) const {
+  if (constant_) {
+    const double w = norm(constant_omega_);
+    if (w == 0) return Mat3::identity();
+    return Mat3::rotation(constant_omega_ * (1.0 / w), w * t);
+  }
+  std::size_t seg;
+  double tau;
+  Mat3 start;
+  locate(t, seg, tau, start);
+  const auto& s = segments_[seg];
+  return Mat3::rotation(s.axis, s.omega * tau) * start;
+}
+
+const char* Protocol::phase(double t) const {
+  if (constant_) return norm(constant_omega_) > 0 ? "spin" : "rest";
+  const double rem = t - std::floor(t / period_) * period_;
+  double acc = 0;
+  for (const auto& s : segments_) {
+    acc += s.duration;
+    if (rem < acc) return s.label;
+  }
+  return segments_.back().label;
+}
+
+}  // namespace tumble::geometry

@@ -1,0 +1,20 @@
+#pragma once
+// Settled beds: saved once per (geometry, particles, contact, seed) and reused as the start of any
+// number of runs. HDF5 (Tumble's own) or the text format of ../shared/bench (id type diameter x y
+// z, gravity along -z, which is rotated to Tumble's y-up lab frame).
+#include <string>
+
+#include "core/particles.hpp"
+#include "core/scene.hpp"
+
+namespace tumble::io {
+
+void write_bed(const std::string& path, const Particles& p, const Scene& scene);
+// Reads a bed and checks it against the scene (diameters, tumbler radius); sets masses from the
+// scene.
+Particles read_bed(const std::string& path, const Scene& scene);
+// Canonical key of everything that determines a settled bed; its hash names the cached file.
+std::string bed_key(const Scene& scene);
+std::string bed_cache_path(const Scene& scene);
+
+}  // namespace tumble::io

@@ -1,0 +1,40 @@
+#include "neighbor/cell_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tumble::neighbor {
+
+CellGrid::CellGrid(const Vec3& lo, const Vec3& hi, double min_cell) : lo_(lo) {
+  for (int d = 0; d < 3; ++d)
+    n_[d] = std::max(1, static_cast<int>(std::floor((hi[d] - lo[d]) / min_cell)));
+  // Cubic cells of the same side in every direction (the box is cubic for our tumblers).
+  const double side = (hi.x - lo.x) / n_[0];
+  inv_cell_ = 1.0 / side;
+}
+
+std::uint32_t CellGrid::cell_of(const Vec3& p) const {
+  int c[3];
+  for (int d = 0; d < 3; ++d) {
+    c[d] = static_cast<int>(std::floor((p[d] - lo_[d]) * inv_cell_));
+    c[d] = std::min(std::max(c[d], 0), n_[d] - 1);
+  }
+  return index(c[0], c[1], c[2]);
+}
+
+void CellGrid::sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& perm,
+                    std::vector<std::uint32_t>& cell_start) const {
+  const std::size_t n = x.size();
+  std::vector<std::uint32_t> cell(n);
+  cell_start.assign(cell_count() + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    cell[i] = cell_of(x[i]);
+    ++cell_start[cell[i] + 1];
+  }
+  for (std::size_t c = 0; c < cell_count(); ++c) cell_start[c + 1] += cell_start[c];
+  std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
+  perm.resize(n);
+  for (std::size_t i = 0; i < n; ++i) perm[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
+}
+
+}  // namespace tumble::neighbor

@@ -1,0 +1,44 @@
+#pragma once
+// A uniform grid of cubic cells over a fixed box. Used to sort particles spatially (cache
+// locality for the force loop) and to find neighbour candidates in the 27 surrounding cells.
+#include <cstdint>
+#include <vector>
+
+#include "core/vec3.hpp"
+
+namespace tumble::neighbor {
+
+class CellGrid {
+ public:
+  CellGrid() = default;
+  // Box [lo, hi]^3, cells of side >= min_cell.
+  CellGrid(const Vec3& lo, const Vec3& hi, double min_cell);
+
+  int nx() const { return n_[0]; }
+  int ny() const { return n_[1]; }
+  int nz() const { return n_[2]; }
+  std::size_t cell_count() const { return static_cast<std::size_t>(n_[0]) * n_[1] * n_[2]; }
+  // Cell of a point (clamped into the box, so a stray particle still lands somewhere).
+  std::uint32_t cell_of(const Vec3& p) const;
+  std::uint32_t index(int i, int j, int k) const {
+    return static_cast<std::uint32_t>((i * n_[1] + j) * n_[2] + k);
+  }
+  void coords(std::uint32_t c, int& i, int& j, int& k) const {
+    k = static_cast<int>(c % n_[2]);
+    j = static_cast<int>((c / n_[2]) % n_[1]);
+    i = static_cast<int>(c / (static_cast<std::uint32_t>(n_[1]) * n_[2]));
+  }
+
+  // Stable counting sort of particles by cell: fills `perm` (new order -> old index), `cell_start`
+  // (size cell_count()+1, particles of cell c are [cell_start[c], cell_start[c+1]) after
+  // permuting).
+  void sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& perm,
+            std::vector<std::uint32_t>& cell_start) const;
+
+ private:
+  Vec3 lo_;
+  double inv_cell_ = 1;
+  int n_[3] = {1, 1, 1};
+};
+
+}  // namespace tumble::neighbor

@@ -1,0 +1,38 @@
+#pragma once
+// Contact history that survives neighbour-list rebuilds (and, later, migration between ranks):
+// before a rebuild every live tangential spring is saved with the global ids of its pair; after
+// the rebuild the springs are matched back by ids. One mechanism, two phases (save / restore),
+// as LAMMPS fix neigh/history does.
+#include <cstdint>
+#include <vector>
+
+#include "core/vec3.hpp"
+
+namespace tumble::neighbor {
+
+struct SavedSpring {
+  std::int64_t lo, hi;  // global ids, lo < hi
+  Vec3 spring;          // as seen from particle `lo`
+};
+
+class ContactHistory {
+ public:
+  void clear() { saved_.clear(); }
+  // Phase 1: record the spring of pair (id_i, id_j) as seen from i (skips zero springs).
+  void save(std::int64_t id_i, std::int64_t id_j, const Vec3& spring_i);
+  // Sort the saved records for lookup (call between the phases).
+  void finalize();
+  // Phase 2: the spring of (id_i, id_j) as seen from i, or zero if the pair had none.
+  Vec3 lookup(std::int64_t id_i, std::int64_t id_j) const;
+
+  const std::vector<SavedSpring>& records() const { return saved_; }
+  void set_records(std::vector<SavedSpring> r) {
+    saved_ = std::move(r);
+    finalize();
+  }
+
+ private:
+  std::vector<SavedSpring> saved_;
+};
+
+}  // namespace tumble::neighbor

@@ -1,0 +1,40 @@
+#pragma once
+// Half Verlet list (each pair once, j > i in cell-sorted order) in compressed-row form, with the
+// per-pair tangential spring stored in a parallel array so the force loop touches it directly.
+// Rebuilt when any particle has moved more than half the skin since the last build.
+#include <cstdint>
+#include <vector>
+
+#include "core/particles.hpp"
+#include "neighbor/cell_grid.hpp"
+#include "neighbor/contact_history.hpp"
+
+namespace tumble::neighbor {
+
+class VerletList {
+ public:
+  VerletList() = default;
+  VerletList(const CellGrid& grid, double skin) : grid_(grid), skin_(skin) {}
+
+  // Sorts `p` by cell (permuting every per-particle field), rebuilds the list, and carries the
+  // springs over by global id. `history`, if non-null, supplies the springs instead (restart).
+  void rebuild(Particles& p, const ContactHistory* history = nullptr);
+  // True when some particle moved more than skin/2 since the last rebuild.
+  bool needs_rebuild(const Particles& p) const;
+  // Saves the live springs of the current list (for a checkpoint).
+  void save_history(const Particles& p, ContactHistory& out) const;
+
+  std::vector<std::uint32_t> start;  // size n+1
+  std::vector<std::uint32_t> nbr;    // partner indices
+  std::vector<Vec3> spring;          // tangential spring of pair k, as seen from the row particle
+  std::uint64_t builds = 0;
+  double skin() const { return skin_; }
+
+ private:
+  CellGrid grid_;
+  double skin_ = 0;
+  std::vector<Vec3> x_ref_;
+  std::vector<std::uint32_t> perm_, cell_start_;
+};
+
+}  // namespace tumble::neighbor

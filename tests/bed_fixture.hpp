@@ -1,0 +1,27 @@
+#pragma once
+// A settled CI-size bed (bst_tiny-like, ~2,000 particles), settled once per test binary run and
+// cached in a temporary directory.
+#include <filesystem>
+
+#include "core/realization.hpp"
+#include "core/scene.hpp"
+
+namespace tumble::testing {
+
+inline std::string test_dir(const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() / ("tumble_test_" + name);
+  std::filesystem::create_directories(d);
+  return d.string();
+}
+
+// The tiny scene with extra overrides; its bed cache is shared by all tests.
+inline Scene tiny_scene(std::vector<std::string> o = {}) {
+  std::vector<std::string> all = {"tumbler.radius=0.02", "contact.collision_time=1e-3",
+                                  "fill.bed_cache=" + test_dir("beds"), "protocol.mode=rest"};
+  all.insert(all.end(), o.begin(), o.end());
+  return parse_scene("", all, "tiny");
+}
+
+inline Particles tiny_settled_bed() { return settled_bed(tiny_scene(), nullptr); }
+
+}  // namespace tumble::testing
