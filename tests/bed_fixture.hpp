@@ -8,8 +8,10 @@
 
 namespace tumble::testing {
 
+// Scratch space inside the build tree (TUMBLE_TEST_SCRATCH), so a new build never reuses beds
+// settled by an older one.
 inline std::string test_dir(const std::string& name) {
-  const auto d = std::filesystem::temp_directory_path() / ("tumble_test_" + name);
+  const auto d = std::filesystem::path(TUMBLE_TEST_SCRATCH) / name;
   std::filesystem::create_directories(d);
   return d.string();
 }

@@ -58,13 +58,13 @@ Particles fill_and_settle(const Scene& scene, std::ostream* log) {
     if (log && seconds_since(last) > scene.progress_interval) {
       last = Clock::now();
       *log << "[fill] t = " << std::setprecision(4) << sim.time() << " s, rms speed " << rms
-           << " m/s, " << hms(seconds_since(t0)) << " elapsed\n";
+           << " m/s, " << hms(seconds_since(t0)) << " elapsed" << std::endl;
     }
   }
   sim.check_health();
   if (log)
     *log << "[fill] settled at t = " << sim.time() << " s (" << sim.step_count() << " steps, "
-         << std::setprecision(3) << seconds_since(t0) << " s wall)\n";
+         << std::setprecision(3) << seconds_since(t0) << " s wall)" << std::endl;
   Particles out = sim.particles();
   for (std::size_t i = 0; i < out.size(); ++i) {
     out.v[i] = out.w[i] = out.f[i] = out.t[i] = out.wall_spring[i] = Vec3{};
@@ -93,14 +93,14 @@ Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused) {
 
 namespace {
 // Keys that must agree between a checkpoint and the scene it is restarted with (physics and bed);
-// output and run-length keys may differ.
+// output, run-length and neighbour-list keys may differ (the skin changes no physics).
 void check_restart_compatible(const Scene& scene, const std::string& ckpt_scene_text) {
   const Scene old = parse_scene(ckpt_scene_text, {}, "checkpoint");
   std::string diffs;
   for (const auto& [key, value] : scene.resolved) {
     if (key.rfind("output.", 0) == 0 || key == "protocol.iterations" ||
         key == "protocol.duration" || key == "scene.output_dir" || key == "scene.name" ||
-        key.rfind("fill.", 0) == 0)
+        key.rfind("fill.", 0) == 0 || key.rfind("neighbor.", 0) == 0)
       continue;
     auto it = old.resolved.find(key);
     if (it == old.resolved.end() || it->second != value)
@@ -218,7 +218,7 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
            << std::setprecision(2) << sim->protocol().iteration(sim->time()) << " ("
            << sim->protocol().phase(sim->time()) << ")  step " << s << "/" << end_step << "  "
            << std::scientific << std::setprecision(2) << rate << " particle-steps/s  ETA "
-           << hms(eta) << std::defaultfloat << "\n";
+           << hms(eta) << std::defaultfloat << std::endl;
     }
   }
   res.wall_seconds = seconds_since(t0);

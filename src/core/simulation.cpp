@@ -67,22 +67,35 @@ void Simulation::maybe_rebuild() {
 void Simulation::step() {
   const std::size_t n = p_.size();
   const double h = 0.5 * dt_;
-  // First half kick and drift.
+  Vec3* __restrict x = p_.x.data();
+  Vec3* __restrict v = p_.v.data();
+  Vec3* __restrict w = p_.w.data();
+  Vec3* __restrict f = p_.f.data();
+  Vec3* __restrict t = p_.t.data();
+  const double* __restrict im = p_.inv_mass.data();
+  const double* __restrict ii = p_.inv_inertia.data();
+  // First half kick and drift; the accumulators are cleared in the same pass.
   for (std::size_t i = 0; i < n; ++i) {
-    p_.v[i] += h * (p_.inv_mass[i] * p_.f[i] + gravity_);
-    p_.w[i] += (h * p_.inv_inertia[i]) * p_.t[i];
-    p_.x[i] += dt_ * p_.v[i];
+    v[i] += h * (im[i] * f[i] + gravity_);
+    w[i] += (h * ii[i]) * t[i];
+    x[i] += dt_ * v[i];
+    f[i] = t[i] = Vec3{};
   }
   time_ += dt_;
   ++step_;
-  maybe_rebuild();
-  for (std::size_t i = 0; i < n; ++i) p_.f[i] = p_.t[i] = Vec3{};
+  maybe_rebuild();  // may permute particles: reload the pointers below
   (this->*pair_kernel_)();
   (this->*wall_kernel_)();
   // Second half kick.
+  v = p_.v.data();
+  w = p_.w.data();
+  f = p_.f.data();
+  t = p_.t.data();
+  im = p_.inv_mass.data();
+  ii = p_.inv_inertia.data();
   for (std::size_t i = 0; i < n; ++i) {
-    p_.v[i] += h * (p_.inv_mass[i] * p_.f[i] + gravity_);
-    p_.w[i] += (h * p_.inv_inertia[i]) * p_.t[i];
+    v[i] += h * (im[i] * f[i] + gravity_);
+    w[i] += (h * ii[i]) * t[i];
   }
 }
 
