@@ -9,6 +9,7 @@
 
 int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
+  std::cout.setf(std::ios::unitbuf);  // progress lines reach logs and pipes at once
   CLI::App app{"Tumble: DEM campaigns of granular segregation in tumblers"};
   app.set_version_flag("--version", std::string(tumble::kVersion) + " (" + tumble::kGitHash + ")");
   app.require_subcommand(1);
