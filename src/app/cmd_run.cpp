@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "app/commands.hpp"
+#include "core/fill.hpp"
 #include "core/realization.hpp"
 #include "core/scene.hpp"
 
@@ -42,6 +43,13 @@ void register_run(CLI::App& app) {
     const Scene scene = load_scene(opts->scene, opts->overrides);
     if (opts->check) {
       std::cout << scene_to_text(scene);
+      if (scene.bed_file.empty()) {
+        const BedPlan plan = plan_bed(scene);
+        std::cout << "# bed: " << plan.n_large << " large + " << plan.n_small
+                  << " small = " << plan.n_large + plan.n_small << " particles; time step "
+                  << scene.time_step() << " s (stability bound " << time_step_bound(scene)
+                  << " s); " << std::llround(scene.run_time() / scene.time_step()) << " steps\n";
+      }
       return;
     }
     RunOptions ro;

@@ -183,6 +183,7 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
   if (sim->step_count() == 0) {
     snapshot();
     if (sample_every) sample();
+    for (const auto& o : opt.observers) o.observe(*sim);
   }
 
   if (log)
@@ -203,6 +204,8 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
     sim->step();
     const std::int64_t s = sim->step_count();
     if (sample_every && s % sample_every == 0) sample();
+    for (const auto& o : opt.observers)
+      if (s % o.every_steps == 0) o.observe(*sim);
     if (s % 1000 == 0) sim->check_health();
     if (s % snap_every == 0 || s == total_steps) snapshot();
     if (ckpt_now) {  // also where --max-steps stops, so the run can be continued

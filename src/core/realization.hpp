@@ -3,8 +3,10 @@
 // and cache it), run the protocol with progress lines, snapshots, checkpoints and the segregation
 // time series, and write results.h5. The CLI's `tumble run` and the campaign manager call this.
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include "analysis/radial_segregation.hpp"
 #include "core/particles.hpp"
@@ -12,12 +14,22 @@
 
 namespace tumble {
 
+class Simulation;
+
+// An in-situ analysis: called after every `every_steps` protocol steps (and once at the start of
+// a fresh run) with the engine state. Analyses own their data; the engine knows nothing of them.
+struct Observer {
+  std::int64_t every_steps = 1;
+  std::function<void(const Simulation&)> observe;
+};
+
 struct RunOptions {
   std::string restart_file;     // continue from this checkpoint
   bool resume = false;          // continue from output_dir/checkpoint.h5 if it exists
   std::int64_t max_steps = -1;  // stop after this many protocol steps (tests); -1 = whole run
   bool write_snapshots = true;
   std::ostream* log = nullptr;  // progress output (nullptr = silent)
+  std::vector<Observer> observers;
 };
 
 struct RunResult {
