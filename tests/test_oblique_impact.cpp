@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "dem_helpers.hpp"
 
@@ -20,8 +21,8 @@ struct Impact {
   double vt_contact_before = 0, vt_contact_after = 0;
   double energy_before = 0, energy_after = 0;
   double impulse_n = 0, impulse_t = 0;
-  int contact_steps = 0, capped_steps = 0;
-  double worst_cap_ratio_error = 0;  // max | |F_t|/(μ|F_n|) − 1 | over capped steps
+  int core_steps = 0, capped_core_steps = 0;  // steps with both overlaps > 20% of the peak
+  double worst_cap_ratio_error = 0;           // max | |F_t|/(μ|F_n|) − 1 | over capped steps
 };
 
 Impact impact(double angle_deg, const Scene& s, int species = 0) {
@@ -46,7 +47,14 @@ Impact impact(double angle_deg, const Scene& s, int species = 0) {
   out.energy_before = energy();
   const double m = 1.0 / p.inv_mass[0];
   const auto& wp = sim.wall_pair(species);
+  // Per contact step: overlaps before and after, and |F_t|/(μ|F_n|) of the force measured from
+  // the velocity change (gravity is off: all of it is contact force).
+  struct StepRecord {
+    double ov_before, ov_after, ratio;
+  };
+  std::vector<StepRecord> steps;
   bool was_in = false;
+  double ov_prev = 0, peak = 0;
   for (int k = 0; k < 200000; ++k) {
     const Vec3 v_old = p.v[0];
     sim.step();
@@ -54,22 +62,28 @@ Impact impact(double angle_deg, const Scene& s, int species = 0) {
     const double ov = sim.wall().overlap(p.x[0], r, n, point);
     if (ov > 0) {
       was_in = true;
-      ++out.contact_steps;
-      const Vec3 dv = p.v[0] - v_old;
-      const Vec3 force = (m / sim.dt()) * dv;  // gravity is off: all of it is contact force
+      const Vec3 force = (m / sim.dt()) * (p.v[0] - v_old);
       const double fn = dot(force, n);
       const Vec3 ft = force - fn * n;
       out.impulse_n += fn * sim.dt();
       out.impulse_t += norm(ft) * sim.dt();
-      const double ratio = norm(ft) / (wp.mu * std::fabs(fn));
-      // The force is measured from the velocity change of a step, the mean of two evaluations
-      // whose normals differ by the turn of the curved wall (~v_t δt / R): ratio error ~5e-5.
-      if (ratio > 1 - 1e-4) {
-        ++out.capped_steps;
-        out.worst_cap_ratio_error = std::max(out.worst_cap_ratio_error, std::fabs(ratio - 1));
-      }
+      steps.push_back({ov_prev, ov, norm(ft) / (wp.mu * std::fabs(fn))});
+      peak = std::max(peak, ov);
     } else if (was_in) {
       break;
+    }
+    ov_prev = ov;
+  }
+  // A velocity change averages two force evaluations. Near the ends of the contact the dashpot
+  // makes the normal force tensile in one of them, so the averaged normal parts cancel while the
+  // tangential parts add: those steps say nothing about the cap. Elsewhere the ratio is exact up
+  // to the turn of the curved wall's normal within a step (~v_t δt / R: ~5e-5).
+  for (const auto& st : steps) {
+    if (st.ov_before < 0.2 * peak || st.ov_after < 0.2 * peak) continue;
+    ++out.core_steps;
+    if (st.ratio > 1 - 1e-4) {
+      ++out.capped_core_steps;
+      out.worst_cap_ratio_error = std::max(out.worst_cap_ratio_error, std::fabs(st.ratio - 1));
     }
   }
   out.vt_contact_after = contact_vt().x;
@@ -84,7 +98,7 @@ TEST(ObliqueImpact, SmallAngleSticksAndReversesTangentialVelocity) {
   // Sticking: a sliding contact can only slow the contact point, never reverse it.
   EXPECT_LT(o.vt_contact_after, 0.0);
   EXPECT_GT(-o.vt_contact_after / o.vt_contact_before, 0.5);
-  EXPECT_LT(o.capped_steps, o.contact_steps / 10);
+  EXPECT_LT(o.capped_core_steps, o.core_steps / 10);
 }
 
 TEST(ObliqueImpact, LargeAngleSlidesAtTheCoulombLimit) {
@@ -92,9 +106,10 @@ TEST(ObliqueImpact, LargeAngleSlidesAtTheCoulombLimit) {
   for (int sp : {0, 1}) {
     // Gross sliding throughout needs tan θ > (7/2) μ (1 + e) = 3.9 (θ > 76°) for a solid sphere.
     const Impact o = impact(85.0, s, sp);
-    // Sliding throughout: every contact step is at the cap (the first, where the spring is just
-    // born, may be below it), and the tangential impulse is μ times the normal impulse.
-    EXPECT_GE(o.capped_steps, o.contact_steps - 2) << "species " << sp;
+    // Sliding throughout: every step of the contact is at the cap, and the tangential impulse is μ
+    // times the normal impulse.
+    EXPECT_GT(o.core_steps, 30) << "species " << sp;
+    EXPECT_EQ(o.capped_core_steps, o.core_steps) << "species " << sp;
     EXPECT_NEAR(o.impulse_t / o.impulse_n, 0.6, 0.006) << "species " << sp;
     EXPECT_GT(o.vt_contact_after, 0.0) << "a sliding contact keeps its direction";
     EXPECT_LT(o.worst_cap_ratio_error, 1e-4) << "the cap is never exceeded";

@@ -42,8 +42,21 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
   list_ = neighbor::VerletList(neighbor::CellGrid({-R, -R, -R}, {R, R, R}, 2 * rmax + skin), skin);
 }
 
+void Simulation::rebuild_lists(const neighbor::ContactHistory* history) {
+  list_.rebuild(p_, history);
+  // Only particles within one skin of the wall can touch it before the next rebuild (no particle
+  // moves more than skin/2 in between).
+  wall_candidates_.clear();
+  const double skin = list_.skin();
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    const double reach = wall_.radius - p_.radius[i] - skin;
+    if (reach <= 0 || norm2(p_.x[i]) > reach * reach)
+      wall_candidates_.push_back(static_cast<std::uint32_t>(i));
+  }
+}
+
 void Simulation::compute_forces() {
-  list_.rebuild(p_);
+  rebuild_lists(nullptr);
   last_build_step_ = step_;
   for (std::size_t i = 0; i < p_.size(); ++i) p_.f[i] = p_.t[i] = Vec3{};
   (this->*pair_kernel_)();
@@ -51,14 +64,14 @@ void Simulation::compute_forces() {
 }
 
 void Simulation::restore(const neighbor::ContactHistory& history) {
-  list_.rebuild(p_, &history);
+  rebuild_lists(&history);
   last_build_step_ = step_;
 }
 
 void Simulation::maybe_rebuild() {
   if (force_rebuild_ || list_.needs_rebuild(p_)) {
     if (step_ - last_build_step_ < 10) ++fast_rebuilds_;
-    list_.rebuild(p_);
+    rebuild_lists(nullptr);
     last_build_step_ = step_;
     force_rebuild_ = false;
   }
@@ -146,9 +159,8 @@ void Simulation::pair_forces() {
 
 template <bool kFriction>
 void Simulation::wall_forces() {
-  const std::size_t n = p_.size();
   const Vec3 omega = protocol_.omega(time_);
-  for (std::size_t i = 0; i < n; ++i) {
+  for (const std::uint32_t i : wall_candidates_) {
     Vec3 nrm, point;
     const double ri = p_.radius[i];
     const double overlap = wall_.overlap(p_.x[i], ri, nrm, point);

@@ -64,11 +64,14 @@ class Simulation {
   template <bool kFriction>
   void wall_forces();
   void maybe_rebuild();
+  void rebuild_lists(const neighbor::ContactHistory* history);
 
   Particles p_;
   geometry::Protocol protocol_;
   geometry::SphereWall wall_;
   neighbor::VerletList list_;
+  std::vector<std::uint32_t>
+      wall_candidates_;  // particles that may touch the wall before the next rebuild
   contact::Yu2022Pair pair_[2][2];
   contact::Yu2022Pair wall_pair_[2];
   Vec3 gravity_;
