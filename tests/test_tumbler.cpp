@@ -87,9 +87,9 @@ TEST(Tumbler, BedTiltedFarBeyondReposeFlows) {
 
 TEST(Protocol, OrientationIntegratesOmega) {
   const auto p = geometry::Protocol::biaxial(deg2rad(57), deg2rad(57), deg2rad(27), 0.3);
-  // Net rotation of a period: 57° about z then 57° about x, each with sense −1.
+  // Net rotation of a period: 57° about −z, then 57° about +x (the continuum model's convention).
   const Mat3 expect =
-      Mat3::rotation({1, 0, 0}, -deg2rad(57)) * Mat3::rotation({0, 0, 1}, -deg2rad(57));
+      Mat3::rotation({1, 0, 0}, deg2rad(57)) * Mat3::rotation({0, 0, 1}, -deg2rad(57));
   const Mat3 got = p.orientation(p.period());
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) EXPECT_NEAR(got.a[a][b], expect.a[a][b], 1e-12);

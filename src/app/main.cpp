@@ -14,9 +14,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string(tumble::kVersion) + " (" + tumble::kGitHash + ")");
   app.require_subcommand(1);
   tumble::app::register_run(app);
-#ifdef TUMBLE_HAVE_CM
   tumble::app::register_cm(app);
-#endif
   int rc = 0;
   try {
     app.parse(argc, argv);

@@ -46,7 +46,7 @@ struct Scene {
   double dt = 0;              // 0: dt_fraction * collision_time
   double dt_fraction = 0.02;  // δt / t_c (t_c/50 by default)
   // [neighbor]
-  double skin = 0.25;  // Verlet skin as a fraction of the small diameter
+  double skin = 0.1;  // Verlet skin / d_small (fastest measured, docs/performance.md)
   // [output]
   double snapshot_interval = 0;    // simulated seconds between snapshots (0: one per iteration)
   double checkpoint_interval = 0;  // simulated seconds between checkpoints (0: one per iteration)

@@ -4,9 +4,10 @@
 
 namespace tumble::geometry {
 
-// Sign convention, shared with the continuum model (design.md §8): a "rotation about z" turns the
-// tumbler with Ω = −ω ẑ, so the bulk moves with u = (y, −x, 0) (y up); a "rotation about x" is the
-// same motion conjugated by a quarter turn about the vertical axis, Ω = −ω x̂.
+// Sign convention, shared with the continuum model (docs/cm.md, design.md §8): a "rotation about z"
+// turns the tumbler with Ω = −ω ẑ, so the bulk moves with u = (y, −x, 0) (y up); a "rotation about
+// x" is that motion conjugated by a quarter turn about the vertical axis, Ω = +ω x̂. With the
+// opposite x sense the DEM would be the mirror image (x → −x) of the continuum model's islands.
 namespace {
 const Vec3 kZ{0, 0, 1}, kX{1, 0, 0};
 }
@@ -16,16 +17,16 @@ Protocol Protocol::at_rest() { return Protocol{}; }
 Protocol Protocol::single_axis(char axis, double omega) {
   Protocol p;
   p.constant_ = true;
-  p.constant_omega_ = (axis == 'z' ? kZ : kX) * (-omega);
+  p.constant_omega_ = axis == 'z' ? kZ * (-omega) : kX * omega;
   return p;
 }
 
 Protocol Protocol::biaxial(double theta_z, double theta_x, double repose, double omega) {
   Protocol p;
   p.constant_ = false;
-  const double sense = -1.0;  // see the convention above
   for (int k = 0; k < 2; ++k) {
     const Vec3 axis = k == 0 ? kZ : kX;
+    const double sense = k == 0 ? -1.0 : 1.0;  // see the convention above
     const double theta = k == 0 ? theta_z : theta_x;
     if (repose > 0) p.segments_.push_back({axis, sense * omega, repose / omega, "tilt"});
     if (theta > 0) p.segments_.push_back({axis, sense * omega, theta / omega, "rotate"});

@@ -1,0 +1,303 @@
+#include "cm/cm_io.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+
+#include "io/hdf5_file.hpp"
+#include "tumble/version.hpp"
+
+namespace tumble::cm {
+namespace {
+
+using io::H5File;
+
+constexpr const char* kConvention =
+    "lab frame, R = 1, time 1/omega; y up, free surface y = 0; z phase u_b = (y,-x,0) "
+    "(Omega_z = -z), x phase = z field conjugated by R_y(-90 deg) (Omega_x = +x); "
+    "chart: Lambert viewed from below (X,Z) = (x,z)/sqrt(1-y) of bulk directions, layer cap "
+    "in the ring rim < |v| < outer (docs/cm.md)";
+
+template <int N>
+std::vector<double> flat(const std::vector<Eigen::Matrix<double, N, 1>>& v) {
+  std::vector<double> out;
+  out.reserve(v.size() * N);
+  for (const auto& x : v)
+    for (int k = 0; k < N; ++k) out.push_back(x[k]);
+  return out;
+}
+
+template <int N>
+std::vector<Eigen::Matrix<double, N, 1>> unflat(const std::vector<double>& d) {
+  std::vector<Eigen::Matrix<double, N, 1>> out(d.size() / N);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    for (int k = 0; k < N; ++k) out[i][k] = d[i * N + k];
+  return out;
+}
+
+template <int N>
+void write_vecs(H5File& f, const std::string& name,
+                const std::vector<Eigen::Matrix<double, N, 1>>& v) {
+  f.write(name, flat<N>(v), {static_cast<hsize_t>(v.size()), static_cast<hsize_t>(N)});
+}
+
+const char* model_name(FlowModel m) {
+  switch (m) {
+    case FlowModel::Exact:
+      return "exact";
+    case FlowModel::Integrated:
+      return "integrated";
+    case FlowModel::Pwi:
+      return "pwi";
+  }
+  return "?";
+}
+
+void write_header(H5File& f, const Protocol& pr, const std::string& kind) {
+  f.set_attr("/", "kind", kind);
+  f.set_attr("/", "theta_z_deg", pr.theta_z * 180.0 / kPi);
+  f.set_attr("/", "theta_x_deg", pr.theta_x * 180.0 / kPi);
+  f.set_attr("/", "eps", pr.layer_eps());
+  f.set_attr("/", "model", std::string(model_name(pr.model)));
+  f.set_attr("/", "convention", std::string(kConvention));
+  f.set_attr("/", "tumble_version", std::string(kVersion));
+  f.set_attr("/", "git_hash", std::string(kGitHash));
+}
+
+void write_chart_attrs(H5File& f, const ShellChart& chart) {
+  f.set_attr("/", "r", chart.r());
+  f.set_attr("/", "chart_rim", chart.rim());
+  f.set_attr("/", "chart_outer", chart.outer());
+}
+
+}  // namespace
+
+void write_poincare(const std::string& path, const Protocol& pr, const PoincareOptions& opt,
+                    const std::vector<PoincareSet>& sets) {
+  io::AtomicH5Writer w(path);
+  H5File& f = w.file();
+  write_header(f, pr, "poincare");
+  write_chart_attrs(f, ShellChart(opt.r, pr.layer_eps()));
+  f.set_attr("/", "periods", static_cast<std::int64_t>(opt.periods));
+  f.set_attr("/", "seeding", std::string(opt.seeding == Seeding::Shell ? "shell" : "interface"));
+  for (const auto& s : sets) {
+    const std::string g = "/" + s.name;
+    f.create_group(g);
+    f.set_attr(g, "seeded_at",
+               std::string(s.name == "first" ? "start of the first rotation"
+                                             : "start of the second rotation"));
+    write_vecs<3>(f, g + "/seeds", s.seeds);
+    write_vecs<2>(f, g + "/bulk", s.bulk);
+    f.write(g + "/bulk_seed", s.bulk_seed);
+    f.write(g + "/bulk_period", s.bulk_period);
+    write_vecs<3>(f, g + "/layer", s.layer);
+    write_vecs<2>(f, g + "/layer_chart", s.layer_chart);
+    f.write(g + "/layer_seed", s.layer_seed);
+    f.write(g + "/layer_period", s.layer_period);
+  }
+  w.commit();
+}
+
+void write_orbits(const std::string& path, const Protocol& pr, double r,
+                  const std::vector<PeriodicPoint>& points, const std::vector<Island>& islands) {
+  io::AtomicH5Writer w(path);
+  H5File& f = w.file();
+  write_header(f, pr, "orbits");
+  write_chart_attrs(f, ShellChart(r, pr.layer_eps()));
+
+  std::vector<Vec2> chart, unstable, stable;
+  std::vector<Vec3> xyz;
+  std::vector<std::int32_t> period, type, orbit;
+  std::vector<double> trace, rotation, lambda, jac;
+  for (const auto& p : points) {
+    chart.push_back(p.v);
+    xyz.push_back(p.p);
+    period.push_back(p.period);
+    type.push_back(static_cast<std::int32_t>(p.type));
+    orbit.push_back(p.orbit);
+    trace.push_back(p.trace);
+    rotation.push_back(p.type == Stability::Elliptic ? p.rotation : NAN);
+    lambda.push_back(p.type == Stability::Hyperbolic ? p.lambda : NAN);
+    unstable.push_back(p.unstable);
+    stable.push_back(p.stable);
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) jac.push_back(p.jacobian(i, j));
+  }
+  f.create_group("/points");
+  f.set_attr("/points", "type_codes", std::string("0 elliptic, 1 hyperbolic, 2 parabolic"));
+  write_vecs<2>(f, "/points/chart", chart);
+  write_vecs<3>(f, "/points/xyz", xyz);
+  f.write("/points/period", period);
+  f.write("/points/type", type);
+  f.write("/points/orbit", orbit);
+  f.write("/points/trace", trace);
+  f.write("/points/rotation", rotation);
+  f.write("/points/lambda", lambda);
+  f.write("/points/jacobian", jac, {static_cast<hsize_t>(points.size()), 2, 2});
+  write_vecs<2>(f, "/points/unstable", unstable);
+  write_vecs<2>(f, "/points/stable", stable);
+
+  std::vector<Vec2> vertices, center, launch;
+  std::vector<std::int64_t> offsets{0};
+  std::vector<double> rr, area;
+  std::vector<std::int32_t> iperiod, iorbit, ipoint;
+  for (const auto& isl : islands) {
+    vertices.insert(vertices.end(), isl.boundary.vertices.begin(), isl.boundary.vertices.end());
+    offsets.push_back(static_cast<std::int64_t>(vertices.size()));
+    center.push_back(isl.center);
+    launch.push_back(isl.launch);
+    rr.push_back(isl.r);
+    area.push_back(isl.boundary.area());
+    iperiod.push_back(isl.period);
+    iorbit.push_back(isl.orbit);
+    ipoint.push_back(isl.point);
+  }
+  f.create_group("/islands");
+  f.set_attr(
+      "/islands", "layout",
+      std::string("island k has vertices[offsets[k]:offsets[k+1]] (chart coordinates of "
+                  "its shell r[k]); point = row in /points (the r = /@r point it continues)"));
+  write_vecs<2>(f, "/islands/vertices", vertices);
+  f.write("/islands/offsets", offsets);
+  write_vecs<2>(f, "/islands/center", center);
+  write_vecs<2>(f, "/islands/launch", launch);
+  f.write("/islands/r", rr);
+  f.write("/islands/area", area);
+  f.write("/islands/period", iperiod);
+  f.write("/islands/orbit", iorbit);
+  f.write("/islands/point", ipoint);
+  w.commit();
+}
+
+std::vector<PeriodicPoint> read_periodic_points(const std::string& path) {
+  H5File f(path, H5File::Mode::Read);
+  const auto chart = unflat<2>(f.read_double("/points/chart"));
+  const auto xyz = unflat<3>(f.read_double("/points/xyz"));
+  const auto period = f.read_int32("/points/period");
+  const auto type = f.read_int32("/points/type");
+  const auto orbit = f.read_int32("/points/orbit");
+  const auto trace = f.read_double("/points/trace");
+  const auto rotation = f.read_double("/points/rotation");
+  const auto lambda = f.read_double("/points/lambda");
+  const auto jac = f.read_double("/points/jacobian");
+  const auto unstable = unflat<2>(f.read_double("/points/unstable"));
+  const auto stable = unflat<2>(f.read_double("/points/stable"));
+  std::vector<PeriodicPoint> out(chart.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    auto& p = out[i];
+    p.v = chart[i];
+    p.p = xyz[i];
+    p.period = period[i];
+    p.type = static_cast<Stability>(type[i]);
+    p.orbit = orbit[i];
+    p.trace = trace[i];
+    p.rotation = rotation[i];
+    p.lambda = lambda[i];
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) p.jacobian(a, b) = jac[i * 4 + a * 2 + b];
+    p.det = p.jacobian.determinant();
+    p.unstable = unstable[i];
+    p.stable = stable[i];
+  }
+  return out;
+}
+
+std::vector<Island> read_islands(const std::string& path) {
+  H5File f(path, H5File::Mode::Read);
+  const auto vertices = unflat<2>(f.read_double("/islands/vertices"));
+  const auto offsets = f.read_int64("/islands/offsets");
+  const auto center = unflat<2>(f.read_double("/islands/center"));
+  const auto launch = unflat<2>(f.read_double("/islands/launch"));
+  const auto r = f.read_double("/islands/r");
+  const auto period = f.read_int32("/islands/period");
+  const auto orbit = f.read_int32("/islands/orbit");
+  const auto point = f.read_int32("/islands/point");
+  std::vector<Island> out(r.size());
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    auto& isl = out[k];
+    isl.boundary.vertices.assign(vertices.begin() + offsets[k], vertices.begin() + offsets[k + 1]);
+    isl.center = center[k];
+    isl.launch = launch[k];
+    isl.extent = (launch[k] - center[k]).norm();
+    isl.r = r[k];
+    isl.period = period[k];
+    isl.orbit = orbit[k];
+    isl.point = point[k];
+  }
+  return out;
+}
+
+std::vector<Island> islands_on_shell(const std::vector<Island>& all, double r) {
+  std::vector<Island> out;
+  for (const auto& isl : all)
+    if (std::abs(isl.r - r) < 1e-9) out.push_back(isl);
+  return out;
+}
+
+void write_manifolds(const std::string& path, const Protocol& pr, double r,
+                     const std::vector<PeriodicPoint>& points, const std::vector<Manifold>& ms) {
+  io::AtomicH5Writer w(path);
+  H5File& f = w.file();
+  write_header(f, pr, "manifolds");
+  write_chart_attrs(f, ShellChart(r, pr.layer_eps()));
+  std::vector<Vec2> pts;
+  for (const auto& p : points) pts.push_back(p.v);
+  write_vecs<2>(f, "/points/chart", pts);
+  for (std::size_t k = 0; k < ms.size(); ++k) {
+    const auto& m = ms[k];
+    const std::string g = "/manifolds/" + std::to_string(k);
+    f.create_group(g);
+    f.set_attr(g, "point", static_cast<std::int64_t>(m.point));
+    f.set_attr(g, "kind", std::string(m.unstable ? "unstable" : "stable"));
+    f.set_attr(g, "period", static_cast<std::int64_t>(points[m.point].period));
+    f.set_attr(g, "iterations_done", static_cast<std::int64_t>(m.iterations_done));
+    f.set_attr(g, "truncated", static_cast<std::int64_t>(m.truncated));
+    write_vecs<3>(f, g + "/xyz", m.xyz);
+    write_vecs<2>(f, g + "/chart", m.chart);
+    std::vector<std::int32_t> it(m.iteration.begin(), m.iteration.end());
+    f.write(g + "/iteration", it);
+    f.write(g + "/param", m.param);
+  }
+  w.commit();
+}
+
+void write_mcm(const std::string& path, const Protocol& pr, const McmOptions& opt,
+               const DriftGrid& grid, const McmResult& res, const McmSummary& s) {
+  io::AtomicH5Writer w(path);
+  H5File& f = w.file();
+  write_header(f, pr, "mcm");
+  const ShellChart chart(opt.r, pr.layer_eps());
+  write_chart_attrs(f, chart);
+  f.set_attr("/", "c", opt.c);
+  f.set_attr("/", "drift", static_cast<std::int64_t>(opt.drift));
+  f.set_attr("/", "drift_source", grid.source);
+  f.set_attr("/", "dt", opt.dt);
+  f.set_attr("/", "dt_ref", opt.dt_ref);
+  f.set_attr("/", "seed", static_cast<std::int64_t>(opt.seed));
+  f.set_attr("/", "tracers", static_cast<std::int64_t>(opt.tracers));
+  f.set_attr("/", "snapshot_iteration", static_cast<std::int64_t>(opt.snapshot));
+  f.set_attr("/", "peclet", s.peclet);
+  f.set_attr("/", "island_length", s.island_length);
+  f.set_attr("/", "island_bulk_area_fraction", s.bulk_area_fraction);
+  f.set_attr("/", "island_area_fraction", s.area_fraction);
+  f.set_attr("/", "bulk_inside_fraction", s.bulk_inside_fraction);
+  f.set_attr("/", "inside_fraction", s.inside_fraction);
+  f.set_attr("/", "cumulative_bulk_inside_fraction", s.cumulative_bulk_inside_fraction);
+  f.set_attr("/", "initial_bulk_inside_fraction", s.initial_bulk_inside_fraction);
+  const auto chart_of = [&chart](const std::vector<Vec3>& ps) {
+    std::vector<Vec2> out;
+    out.reserve(ps.size());
+    for (const auto& p : ps) out.push_back(chart.to_chart(p));
+    return out;
+  };
+  write_vecs<3>(f, "/initial/xyz", res.initial);
+  write_vecs<2>(f, "/initial/chart", chart_of(res.initial));
+  write_vecs<3>(f, "/snapshot/xyz", res.snapshot);
+  write_vecs<2>(f, "/snapshot/chart", chart_of(res.snapshot));
+  write_vecs<3>(f, "/cumulative/xyz", res.cumulative);
+  write_vecs<2>(f, "/cumulative/chart", chart_of(res.cumulative));
+  std::vector<std::int32_t> it(res.cumulative_iteration.begin(), res.cumulative_iteration.end());
+  f.write("/cumulative/iteration", it);
+  w.commit();
+}
+
+}  // namespace tumble::cm

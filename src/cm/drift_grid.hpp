@@ -1,0 +1,54 @@
+#pragma once
+// The MCM's axial drift field (Yu 2022 App. A): mean axial velocity v_ax(i, j) and its standard
+// deviation sigma_ax(i, j) of large particles in the flowing layer, on an n x n grid (n = 30,
+// cells about one large-particle diameter) over the layer's footprint.
+//
+// Grid convention (also the HDF5 format, docs/cm.md "Drift-grid file"): in the frame of the
+// rotation that drives the layer (x streamwise, positive downstream = the surface flow direction;
+// y up; z axial, along the rotation axis), cell (i, j) covers
+//   x in [-1 + 2i/n, -1 + 2(i+1)/n],  z in [-1 + 2j/n, -1 + 2(j+1)/n]   (lengths in R),
+// stored row-major [i][j]. v_ax > 0 points to +z. Velocities in units of omega R. The same grid
+// serves both phases of a protocol through the phase frame of protocol.hpp.
+#include <string>
+#include <vector>
+
+namespace tumble::cm {
+
+struct DriftGrid {
+  int n = 30;
+  std::vector<double> v_ax, sigma_ax;  // n*n, [i][j]
+  std::string source;                  // "synthetic" or where it was measured
+
+  // Cell of a point of the layer's footprint, or -1 outside [-1,1]^2.
+  int cell(double x, double z) const;
+  double v(double x, double z) const;
+  double sigma(double x, double z) const;
+  // Means over cells whose centre lies in the footprint x^2 + z^2 < 1: <|v_ax|> and <sigma_ax>
+  // of the Peclet number (Yu 2022 Sec. III B).
+  double mean_abs_v() const;
+  double mean_sigma() const;
+};
+
+// A documented stand-in for a DEM-measured grid (the paper's field is not tabulated). Shaped
+// as App. A describes: zero at the equator, towards the poles on either side, reversing near the
+// poles; uniform along the stream; constant sigma.
+//   v_ax(x, z) = v_max sin(pi z / z_rev)  for x^2 + z^2 < 1, else 0;
+//   v_max = drift_per_pass / (pi eps): `drift_per_pass` is the largest axial displacement in one
+//           layer transit (which lasts pi eps): "about one-half large-particle diameter per
+//           pass", d_L/2 = 2 mm = 0.0286 R for R = 70 mm;
+//   sigma = 22.1 mm/s / (omega R) = 1.005 for omega = 3 rpm, R = 70 mm (ref. [44]).
+struct SyntheticDrift {
+  int n = 30;
+  double drift_per_pass = 2.0 / 70.0;
+  double eps = 0.15;
+  double z_reversal = 0.85;  // drift changes sign here ("near the poles")
+  double sigma = 22.1 / (3.0 * 2 * 3.14159265358979323846 / 60.0 * 70.0);
+};
+DriftGrid synthetic_drift(const SyntheticDrift& s);
+
+// HDF5: datasets /v_ax and /sigma_ax, shape [n][n]; attributes on "/": n (int64), source,
+// convention, units (strings).
+DriftGrid read_drift_grid(const std::string& path);
+void write_drift_grid(const std::string& path, const DriftGrid& grid);
+
+}  // namespace tumble::cm

@@ -1,0 +1,23 @@
+#pragma once
+// KAM tubes (Yu 2022 Fig. 1(b)): the islands of one shell are cross-sections of tubes through the
+// bed. Each elliptic point is continued from shell to shell by Newton's method, starting from its
+// chart position on the previous shell (the chart coordinates are the Lambert coordinates of
+// the direction, comparable across radii), and the islands are extracted on every shell.
+#include <vector>
+
+#include "cm/island.hpp"
+
+namespace tumble::cm {
+
+struct KamOptions {
+  PeriodicSearch search;
+  IslandOptions islands;
+};
+
+// Islands on each shell of `radii`, continuing the elliptic points of `points` (found on shell
+// r0). A tube ends where its point stops converging or stops being elliptic. Island::point
+// indexes `points` (the r0 point the tube continues).
+std::vector<Island> kam_tubes(const Protocol& pr, const std::vector<PeriodicPoint>& points,
+                              double r0, const std::vector<double>& radii, const KamOptions& opt);
+
+}  // namespace tumble::cm

@@ -1,0 +1,108 @@
+// The modified continuum model (Yu 2022 Sec. III B, App. A).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "cm/exact_map.hpp"
+#include "cm/mcm_summary.hpp"
+#include "cm/shell_chart.hpp"
+#include "cm_test_util.hpp"
+
+namespace {
+using namespace tumble::cm;
+
+DriftGrid uniform_grid(double v, double sigma) {
+  DriftGrid g;
+  g.v_ax.assign(g.n * g.n, v);
+  g.sigma_ax.assign(g.n * g.n, sigma);
+  return g;
+}
+
+TEST(Mcm, WithoutDriftOrDiffusionItIsTheCm) {
+  const ShellChart chart(0.95, 0.15);
+  McmOptions opt;
+  opt.drift = false;
+  opt.c = 0;
+  const DriftGrid g = uniform_grid(0.05, 1.0);
+  std::mt19937_64 rng(51), seeds(52);
+  for (const Vec3& p : chart.random_seeds(200, seeds)) {
+    const Vec3 a = mcm_flow_z(p, 2.5, 0.15, chart.footprint(), g, opt, rng);
+    EXPECT_LT((a - flow_z_exact(p, 2.5, 0.15)).norm(), 1e-12);
+  }
+}
+
+// A uniform drift moves a tracer by v pi eps per transit, and it stays on its shell.
+TEST(Mcm, DriftDisplacesAxiallyByVTimesTransitTime) {
+  const double eps = 0.15, v = 0.01;
+  const ShellChart chart(0.95, eps);
+  McmOptions opt;
+  opt.c = 0;
+  const DriftGrid g = uniform_grid(v, 0.0);
+  std::mt19937_64 rng(53);
+  for (double z : {-0.4, 0.0, 0.3}) {
+    const double a = std::sqrt(chart.footprint() * chart.footprint() - z * z);
+    const Vec3 entry = layer_point(a, 0, z, eps);
+    const Vec3 out = mcm_flow_z(entry, kPi * eps, eps, chart.footprint(), g, opt, rng);
+    EXPECT_NEAR(out.z() - z, v * kPi * eps, 1e-12);
+    EXPECT_NEAR(shell_radius(out, eps), 0.95, 1e-12);
+    EXPECT_FALSE(in_layer(out + Vec3(0, -1e-9, 0), eps));  // arrived at the interface
+  }
+}
+
+// The random walk has the diffusivity of the paper's scheme, (c sigma)^2 dt_ref, whatever dt.
+TEST(Mcm, KickVarianceMatchesPaperDiffusivity) {
+  const double eps = 0.15, sigma = 1.0;
+  const ShellChart chart(0.95, eps);
+  const DriftGrid g = uniform_grid(0.0, sigma);
+  for (double dt : {0.002, 0.01}) {
+    McmOptions opt;
+    opt.c = 3;
+    opt.dt = dt;
+    std::mt19937_64 rng(54);
+    const double a = std::sqrt(chart.footprint() * chart.footprint() - 0.01);
+    const Vec3 entry = layer_point(a, 0, 0.1, eps);
+    double s2 = 0;
+    const int n = 4000;
+    for (int k = 0; k < n; ++k) {
+      const double dz = mcm_flow_z(entry, kPi * eps, eps, chart.footprint(), g, opt, rng).z() - 0.1;
+      s2 += dz * dz;
+    }
+    const double expected = std::pow(opt.c * sigma, 2) * opt.dt_ref * kPi * eps;
+    // Sample variance of n values: relative sd sqrt(2/n) = 2.2%; allow 4.5 sd.
+    EXPECT_NEAR(s2 / n / expected, 1.0, 0.1) << "dt = " << dt;
+  }
+}
+
+// Yu 2022 Fig. 9 with the synthetic drift field: drift makes the islands sinks; diffusion alone
+// does not. Numbers of this run are reported in docs/cm.md.
+TEST(Mcm, Protocol57DriftFillsTheIslands) {
+  const Protocol pr = Protocol::degrees(57, 57);
+  const ShellChart chart(0.95, pr.eps);
+  const SectionMap map(pr, chart);
+  PeriodicSearch ps;
+  ps.max_period = 3;
+  ps.grid = 30;
+  const auto islands = find_islands(map, find_periodic_points(map, ps), IslandOptions{});
+  ASSERT_EQ(islands.size(), 6u);
+  const DriftGrid grid = synthetic_drift({});
+  auto fraction = [&](bool drift, double c) {
+    McmOptions opt;
+    opt.drift = drift;
+    opt.c = c;
+    opt.cumulative_from = opt.cumulative_to = opt.snapshot;
+    const auto s = summarize_mcm(chart, islands, grid, opt, run_mcm(pr, grid, opt), 10.0 / 70);
+    return s;
+  };
+  const auto cm = fraction(false, 0), diff = fraction(false, 1), d1 = fraction(true, 1),
+             d20 = fraction(true, 20);
+  const double area = d1.bulk_area_fraction;
+  EXPECT_GT(d1.bulk_inside_fraction, 2.0 * area);
+  EXPECT_LT(cm.bulk_inside_fraction, 1.3 * area);
+  EXPECT_LT(diff.bulk_inside_fraction, 1.3 * area);
+  EXPECT_LT(d20.bulk_inside_fraction, 0.7 * d1.bulk_inside_fraction);
+  EXPECT_GT(d1.peclet, 50);
+  EXPECT_LT(d20.peclet, 1);
+  EXPECT_NEAR(d1.peclet / d20.peclet, 400, 1e-9);  // Pe ~ 1/c^2
+}
+
+}  // namespace
