@@ -68,9 +68,10 @@ void Simulation::restore(const neighbor::ContactHistory& history) {
   last_build_step_ = step_;
 }
 
-void Simulation::maybe_rebuild() {
-  if (force_rebuild_ || list_.needs_rebuild(p_)) {
-    if (step_ - last_build_step_ < 10) ++fast_rebuilds_;
+void Simulation::maybe_rebuild(double max_displacement2) {
+  const double half = 0.5 * list_.skin();
+  if (force_rebuild_ || max_displacement2 > half * half) {
+    if (!force_rebuild_ && step_ - last_build_step_ < 10) ++fast_rebuilds_;
     rebuild_lists(nullptr);
     last_build_step_ = step_;
     force_rebuild_ = false;
@@ -87,16 +88,21 @@ void Simulation::step() {
   Vec3* __restrict t = p_.t.data();
   const double* __restrict im = p_.inv_mass.data();
   const double* __restrict ii = p_.inv_inertia.data();
-  // First half kick and drift; the accumulators are cleared in the same pass.
+  // First half kick and drift; the accumulators are cleared and the largest displacement since
+  // the last neighbour rebuild found in the same pass.
+  const Vec3* __restrict x_ref = list_.reference_positions().data();
+  const bool have_ref = list_.reference_positions().size() == n;
+  double max_d2 = have_ref ? 0.0 : 1e300;
   for (std::size_t i = 0; i < n; ++i) {
     v[i] += h * (im[i] * f[i] + gravity_);
     w[i] += (h * ii[i]) * t[i];
     x[i] += dt_ * v[i];
     f[i] = t[i] = Vec3{};
+    if (have_ref) max_d2 = std::max(max_d2, norm2(x[i] - x_ref[i]));
   }
   time_ += dt_;
   ++step_;
-  maybe_rebuild();  // may permute particles: reload the pointers below
+  maybe_rebuild(max_d2);  // may permute particles: reload the pointers below
   (this->*pair_kernel_)();
   (this->*wall_kernel_)();
   // Second half kick.
@@ -135,7 +141,8 @@ void Simulation::pair_forces() {
       const double rsum = ri + rad[j];
       const double d2 = norm2(d);
       if (d2 >= rsum * rsum) {
-        if constexpr (kFriction) spring[k] = Vec3{};  // contact over: the history starts afresh
+        if constexpr (kFriction)  // contact over: the history starts afresh
+          if (spring[k].x != 0.0 || spring[k].y != 0.0 || spring[k].z != 0.0) spring[k] = Vec3{};
         continue;
       }
       const double dist = std::sqrt(d2);

@@ -63,7 +63,7 @@ class Simulation {
   void pair_forces();
   template <bool kFriction>
   void wall_forces();
-  void maybe_rebuild();
+  void maybe_rebuild(double max_displacement2);
   void rebuild_lists(const neighbor::ContactHistory* history);
 
   Particles p_;

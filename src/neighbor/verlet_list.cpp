@@ -23,23 +23,30 @@ bool VerletList::needs_rebuild(const Particles& p) const {
 }
 
 void VerletList::rebuild(Particles& p, const ContactHistory* history) {
-  ContactHistory own;
-  if (!history) {
-    save_history(p, own);
-    history = &own;
-  }
   const std::size_t n = p.size();
+  // Keep the old list: within one process the springs are carried over by old index (a short
+  // scan of one old row), which is far cheaper than matching global ids. The id-keyed
+  // ContactHistory is used where indices mean nothing: restarts (and, later, rank migration).
+  const bool carry_local = history == nullptr && old_start_capacity_ok(n);
+  if (carry_local) {
+    start.swap(old_start_);
+    nbr.swap(old_nbr_);
+    spring.swap(old_spring_);
+  }
   grid_.sort(p.x, perm_, cell_start_);
   p.permute(perm_);
 
   start.assign(n + 1, 0);
   nbr.clear();
+  nbr.reserve(old_nbr_.size() + old_nbr_.size() / 8 + 16);
   for (std::size_t i = 0; i < n; ++i) {
     start[i] = static_cast<std::uint32_t>(nbr.size());
     int ci, cj, ck;
     grid_.coords(grid_.cell_of(p.x[i]), ci, cj, ck);
     const Vec3 xi = p.x[i];
     const double ri = p.radius[i] + skin_;
+    // Cells in increasing index order and particles in increasing order within a cell: each row
+    // comes out sorted by partner index without a sort.
     for (int a = std::max(ci - 1, 0); a <= std::min(ci + 1, grid_.nx() - 1); ++a)
       for (int b = std::max(cj - 1, 0); b <= std::min(cj + 1, grid_.ny() - 1); ++b)
         for (int c = std::max(ck - 1, 0); c <= std::min(ck + 1, grid_.nz() - 1); ++c) {
@@ -52,14 +59,30 @@ void VerletList::rebuild(Particles& p, const ContactHistory* history) {
         }
   }
   start[n] = static_cast<std::uint32_t>(nbr.size());
-  // Partners in increasing index order: deterministic and friendlier to the cache.
-  for (std::size_t i = 0; i < n; ++i) std::sort(nbr.begin() + start[i], nbr.begin() + start[i + 1]);
 
   spring.assign(nbr.size(), Vec3{});
-  if (!history->records().empty())
+  if (carry_local) {
     for (std::size_t i = 0; i < n; ++i)
-      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
-        spring[k] = history->lookup(p.id[i], p.id[nbr[k]]);
+      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
+        // Old indices of the pair; the old list holds it in the row of the smaller one.
+        const std::uint32_t a = perm_[i], b = perm_[nbr[k]];
+        const std::uint32_t row = a < b ? a : b, partner = a < b ? b : a;
+        for (std::uint32_t q = old_start_[row]; q < old_start_[row + 1]; ++q)
+          if (old_nbr_[q] == partner) {
+            spring[k] = a < b ? old_spring_[q] : -old_spring_[q];
+            break;
+          }
+      }
+  } else {
+    ContactHistory own;
+    if (!history) {  // first build: nothing to carry
+      history = &own;
+    }
+    if (!history->records().empty())
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
+          spring[k] = history->lookup(p.id[i], p.id[nbr[k]]);
+  }
   x_ref_ = p.x;
   ++builds;
 }

@@ -17,7 +17,8 @@ class VerletList {
   VerletList(const CellGrid& grid, double skin) : grid_(grid), skin_(skin) {}
 
   // Sorts `p` by cell (permuting every per-particle field), rebuilds the list, and carries the
-  // springs over by global id. `history`, if non-null, supplies the springs instead (restart).
+  // springs over (by old index). `history`, if non-null, supplies them instead, matched by global
+  // id (restart, migration).
   void rebuild(Particles& p, const ContactHistory* history = nullptr);
   // True when some particle moved more than skin/2 since the last rebuild.
   bool needs_rebuild(const Particles& p) const;
@@ -29,12 +30,18 @@ class VerletList {
   std::vector<Vec3> spring;          // tangential spring of pair k, as seen from the row particle
   std::uint64_t builds = 0;
   double skin() const { return skin_; }
+  // Positions at the last rebuild (the integrator checks displacements while it drifts).
+  const std::vector<Vec3>& reference_positions() const { return x_ref_; }
 
  private:
   CellGrid grid_;
   double skin_ = 0;
+  // The list is valid for local carry-over when it describes the current particles.
+  bool old_start_capacity_ok(std::size_t n) const { return start.size() == n + 1; }
   std::vector<Vec3> x_ref_;
   std::vector<std::uint32_t> perm_, cell_start_;
+  std::vector<std::uint32_t> old_start_, old_nbr_;  // previous list, reused buffers
+  std::vector<Vec3> old_spring_;
 };
 
 }  // namespace tumble::neighbor
