@@ -7,6 +7,8 @@
 #include <ostream>
 #include <sstream>
 
+#include "analysis/drift_measure.hpp"
+#include "cm/drift_grid.hpp"
 #include "core/error.hpp"
 #include "core/fill.hpp"
 #include "core/simulation.hpp"
@@ -180,6 +182,15 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
                   analysis::radial_segregation(sim->particles(), scene.radius),
                   sim->energy().kinetic);
   };
+  // The MCM's drift grid (output.drift_grid = on): large particles at the free surface of the
+  // flowing layer, every 0.1 s of the "rotate" segments, as Yu 2022 App. A.
+  std::unique_ptr<analysis::DriftGridMeter> drift;
+  std::int64_t drift_every = 0;
+  if (scene.drift_grid == "on") {
+    drift = std::make_unique<analysis::DriftGridMeter>(30, scene.radius, deg2rad(scene.repose),
+                                                       scene.omega(), scene.d_large);
+    drift_every = std::max<std::int64_t>(1, std::llround(0.1 / dt));
+  }
   if (sim->step_count() == 0) {
     snapshot();
     if (sample_every) sample();
@@ -206,6 +217,10 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
     if (sample_every && s % sample_every == 0) sample();
     for (const auto& o : opt.observers)
       if (s % o.every_steps == 0) o.observe(*sim);
+    if (drift && s % drift_every == 0 &&
+        std::string(sim->protocol().phase(sim->time())) ==
+            (protocol.periodic() ? "rotate" : "spin"))
+      drift->sample(sim->particles(), sim->protocol().omega(sim->time()));
     if (s % 1000 == 0) sim->check_health();
     if (s % snap_every == 0 || s == total_steps) snapshot();
     if (ckpt_now) {  // also where --max-steps stops, so the run can be continued
@@ -249,6 +264,13 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
     f.set_attr("/", "particle_steps_per_second", res.particle_steps_per_second);
     io::write_provenance(f, scene);
     out.commit();
+  }
+  if (drift) {
+    const std::string path = scene.output_dir + "/drift_grid.h5";
+    cm::write_drift_grid(
+        path, drift->grid("DEM scene " + scene.name + ", seed " + std::to_string(scene.seed) +
+                          ", " + std::to_string(drift->samples()) + " samples"));
+    if (log) *log << "[run] drift grid (" << drift->samples() << " samples) in " << path << "\n";
   }
   res.series = std::move(series);
   if (log)

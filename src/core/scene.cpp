@@ -78,7 +78,7 @@ const std::map<std::string, std::string Scene::*>& text_members() {
       {"tumbler.shape", &Scene::shape},      {"contact.law", &Scene::law},
       {"fill.start", &Scene::start},         {"fill.bed_file", &Scene::bed_file},
       {"fill.bed_cache", &Scene::bed_cache}, {"protocol.mode", &Scene::mode},
-      {"protocol.axis", &Scene::axis},
+      {"protocol.axis", &Scene::axis},       {"output.drift_grid", &Scene::drift_grid},
   };
   return m;
 }

@@ -52,6 +52,7 @@ struct Scene {
   double checkpoint_interval = 0;  // simulated seconds between checkpoints (0: one per iteration)
   double progress_interval = 10;   // wall seconds between progress lines
   double analysis_interval = 0.5;  // simulated seconds between radial-segregation samples
+  std::string drift_grid = "off";  // on: measure the MCM's axial drift grid (drift_grid.h5)
 
   // The fully resolved key=value list, for provenance attributes.
   std::map<std::string, std::string> resolved;

@@ -91,6 +91,12 @@ const std::vector<KeySpec>& scene_schema() {
        1e9,
        {},
        "simulated time between segregation samples (0 = off)"},
+      {"output.drift_grid",
+       K::Text,
+       0,
+       0,
+       {"off", "on"},
+       "measure the MCM axial drift grid (Yu 2022 App. A) into drift_grid.h5"},
   };
   return schema;
 }
