@@ -3,17 +3,22 @@
 
 #include <iostream>
 
+#include "app/campaign_commands.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "tumble/version.hpp"
 
 int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
+  // FUNNELED: `tumble campaign` runs rank 0's own cases in a thread that makes no MPI calls.
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
   std::cout.setf(std::ios::unitbuf);  // progress lines reach logs and pipes at once
   CLI::App app{"Tumble: DEM campaigns of granular segregation in tumblers"};
   app.set_version_flag("--version", std::string(tumble::kVersion) + " (" + tumble::kGitHash + ")");
   app.require_subcommand(1);
   tumble::app::register_run(app);
+  tumble::app::register_campaign(app);
+  tumble::app::register_merge(app);
   tumble::app::register_cm(app);
   int rc = 0;
   try {

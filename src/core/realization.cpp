@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "core/fill.hpp"
 #include "core/simulation.hpp"
+#include "core/text_util.hpp"
 #include "io/bed_io.hpp"
 #include "io/checkpoint.hpp"
 #include "io/hdf5_file.hpp"
@@ -24,14 +25,6 @@ using Clock = std::chrono::steady_clock;
 namespace {
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-std::string hms(double s) {
-  if (!std::isfinite(s) || s < 0) return "--:--:--";
-  const long t = static_cast<long>(s + 0.5);
-  std::ostringstream os;
-  os << t / 3600 << ":" << std::setw(2) << std::setfill('0') << (t / 60) % 60 << ":" << std::setw(2)
-     << t % 60;
-  return os.str();
 }
 }  // namespace
 
@@ -60,7 +53,7 @@ Particles fill_and_settle(const Scene& scene, std::ostream* log) {
     if (log && seconds_since(last) > scene.progress_interval) {
       last = Clock::now();
       *log << "[fill] t = " << std::setprecision(4) << sim.time() << " s, rms speed " << rms
-           << " m/s, " << hms(seconds_since(t0)) << " elapsed" << std::endl;
+           << " m/s, " << format_hms(seconds_since(t0)) << " elapsed" << std::endl;
     }
   }
   sim.check_health();
@@ -236,7 +229,7 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
            << std::setprecision(2) << sim->protocol().iteration(sim->time()) << " ("
            << sim->protocol().phase(sim->time()) << ")  step " << s << "/" << end_step << "  "
            << std::scientific << std::setprecision(2) << rate << " particle-steps/s  ETA "
-           << hms(eta) << std::defaultfloat << std::endl;
+           << format_hms(eta) << std::defaultfloat << std::endl;
     }
   }
   res.wall_seconds = seconds_since(t0);

@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/fill.hpp"
+#include "core/text_util.hpp"
 #include "core/vec3.hpp"
 
 namespace tumble {
@@ -81,18 +82,6 @@ const std::map<std::string, std::string Scene::*>& text_members() {
       {"protocol.axis", &Scene::axis},       {"output.drift_grid", &Scene::drift_grid},
   };
   return m;
-}
-
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j)
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
-    prev.swap(cur);
-  }
-  return prev[b.size()];
 }
 
 const KeySpec* find_spec(const std::string& key) {

@@ -1,0 +1,31 @@
+#pragma once
+// `tumble campaign FILE`: expand the campaign, skip what the manifest says is finished, run the
+// rest over the rank groups, and fold this slice's results into ensemble statistics.
+#include <mpi.h>
+
+#include <iosfwd>
+#include <string>
+
+namespace tumble::campaign {
+
+struct CampaignOptions {
+  std::string file;
+  std::string output;            // overrides campaign.output_dir
+  int slice_i = 1, slice_n = 1;  // --slice i/n
+  bool list = false;             // print the expanded cases and exit
+  bool status = false;           // print the slice's state; exit 0 if nothing is left to run
+  bool retry_failed = false;     // run failed cases again (attempts continue counting)
+  bool quiet = false;            // progress lines only every progress_interval
+};
+
+// Parses "i/n" (1 <= i <= n); throws InputError.
+void parse_slice(const std::string& text, int& i, int& n);
+
+// Collective over `world`. Returns the exit code (0; with `status`, 10 when work is left).
+int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out);
+
+// Partial results of slice i of n live in DIR/partials/slice_I_of_N.h5; the whole campaign's
+// statistics in DIR/ensemble.h5.
+std::string partial_path(const std::string& dir, int i, int n);
+
+}  // namespace tumble::campaign

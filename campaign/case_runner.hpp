@@ -1,0 +1,52 @@
+#pragma once
+// One attempt at one case, on the rank group it was handed to: build and validate its scene, run
+// the realization with the field collector (resuming from the case's checkpoint if there is
+// one), write the per-case fields file atomically, and report. Every failure becomes an outcome
+// (never an exception): the campaign goes on with the other cases.
+#include <mpi.h>
+
+#include <cstdint>
+#include <string>
+
+#include "campaign/campaign_spec.hpp"
+#include "campaign/expand.hpp"
+
+namespace tumble::campaign {
+
+struct CaseTask {
+  std::size_t case_index = 0;
+  int attempt = 1;
+  std::int64_t seed = 0;
+  bool fresh = false;  // wipe the case directory first (a retry with a new seed)
+};
+
+struct CaseOutcome {
+  bool ok = false;
+  std::string failure;     // input | run | time_limit | exception
+  std::string diagnostic;  // the message
+  bool retryable = false;  // an invalid scene fails the same way every time
+  std::string checksum;    // of fields.h5
+  std::string start, end;  // UTC
+  double wall = 0;         // seconds
+  long long resumed_from_step = 0;
+};
+
+struct CaseContext {
+  const CampaignSpec* spec = nullptr;
+  const Expansion* expansion = nullptr;
+  std::string campaign_dir, bed_cache;
+  MPI_Comm group = MPI_COMM_SELF;  // the case's ranks (one until domain decomposition lands)
+};
+
+// DIR/cases/<case id>: the case's scene output, checkpoint, collector state, fields and log.
+std::string case_dir(const std::string& campaign_dir, const std::string& case_id);
+std::string case_output(const std::string& case_id);  // the same, relative to DIR
+std::string fields_path(const std::string& campaign_dir, const std::string& case_id);
+
+CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task);
+
+// The outcome as one JSON line (sent to the dispatcher) and back.
+std::string encode(const CaseTask& t, const CaseOutcome& o);
+bool decode(const std::string& line, CaseTask& t, CaseOutcome& o);
+
+}  // namespace tumble::campaign

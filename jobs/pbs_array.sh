@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# One subjob of a PBS job array runs one slice of a campaign (docs/campaign.md). PBS passes no
+# arguments to a job script, so the campaign comes in the environment:
+#
+#   qsub -J 1-16 -l select=1:ncpus=8:mpiprocs=8 \
+#        -v CAMPAIGN=campaign/fig4_fraction.toml,TUMBLE_SLICES=16 jobs/pbs_array.sh
+#
+# Subjob i (PBS_ARRAY_INDEX; PBS_ARRAYID under Torque) runs
+# `tumble campaign $CAMPAIGN --slice i/$TUMBLE_SLICES $TUMBLE_ARGS` under mpiexec; a slice with
+# nothing left to run exits at once. Fold the slices afterwards with `tumble merge DIR`.
+# Run by hand, the campaign and options may also be given as arguments.
+#
+# Environment: CAMPAIGN, TUMBLE_SLICES (required: PBS does not export the array size),
+# TUMBLE_ARGS (extra options), TUMBLE (default PBS_O_WORKDIR/build/tumble, then tumble on PATH),
+# TUMBLE_LAUNCH (default "mpiexec").
+#PBS -N tumble-campaign
+#PBS -j oe
+set -euo pipefail
+if [ -n "${PBS_O_WORKDIR:-}" ]; then cd "$PBS_O_WORKDIR"; fi
+campaign=${1:-${CAMPAIGN:-}}
+[ -n "$campaign" ] || { echo "pbs_array.sh: set CAMPAIGN (qsub -v CAMPAIGN=FILE,TUMBLE_SLICES=N)" >&2; exit 2; }
+if [ $# -gt 0 ]; then shift; fi
+index=${PBS_ARRAY_INDEX:-${PBS_ARRAYID:-}}
+[ -n "$index" ] || { echo "pbs_array.sh: not a PBS array subjob (PBS_ARRAY_INDEX is unset)" >&2; exit 2; }
+n=${TUMBLE_SLICES:?pbs_array.sh: set TUMBLE_SLICES to the number of subjobs}
+offset=$((${TUMBLE_FIRST_INDEX:-1} == 0 ? 1 : 0))  # qsub -J 0-15: set TUMBLE_FIRST_INDEX=0
+i=$((index + offset))
+# shellcheck disable=SC2206  # TUMBLE_ARGS holds several options
+extra=(${TUMBLE_ARGS:-} "$@")
+
+tumble=${TUMBLE:-}
+if [ -z "$tumble" ]; then
+  for c in "$PWD/build/tumble" "$(command -v tumble || true)"; do
+    if [ -n "$c" ] && [ -x "$c" ]; then tumble=$c; break; fi
+  done
+fi
+[ -n "$tumble" ] || { echo "pbs_array.sh: cannot find tumble; set TUMBLE=/path/to/tumble" >&2; exit 2; }
+
+echo "pbs_array.sh: array index $index -> slice $i/$n of $campaign"
+rc=0
+"$tumble" campaign "$campaign" --slice "$i/$n" --status "${extra[@]}" || rc=$?
+if [ "$rc" -eq 0 ]; then
+  echo "pbs_array.sh: slice $i/$n has nothing to run; skipping"
+  exit 0
+elif [ "$rc" -ne 10 ]; then
+  exit "$rc"
+fi
+# shellcheck disable=SC2086
+exec ${TUMBLE_LAUNCH:-mpiexec} "$tumble" campaign "$campaign" --slice "$i/$n" "${extra[@]}"

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# One task of a Slurm job array runs one slice of a campaign (docs/campaign.md):
+#
+#   sbatch --array=1-16 --ntasks=8 jobs/slurm_array.sh campaign/fig4_fraction.toml [options]
+#   sbatch --dependency=afterany:JOBID --wrap "build/tumble merge results/fig4_fraction"
+#
+# Task i of an array 1-N (or 0-(N-1)) runs `tumble campaign FILE --slice i/N [options]` under
+# srun. The slices are a deterministic, cost-balanced split of the cases, so a task resubmitted
+# later runs the same cases; a slice with nothing left to run exits at once without starting
+# MPI, and a slice cut off by the time limit resumes from its checkpoints when resubmitted. To
+# resubmit only some tasks (e.g. --array=3,7), export TUMBLE_SLICES=N so that N is not guessed.
+#
+# Environment: TUMBLE (the binary; default SUBMIT_DIR/build/tumble, then tumble on PATH),
+# TUMBLE_LAUNCH (default "srun"), TUMBLE_SLICES (default: the array's size).
+#SBATCH --job-name=tumble-campaign
+#SBATCH --output=tumble-campaign-%A_%a.out
+set -euo pipefail
+campaign=${1:?usage: sbatch --array=1-N jobs/slurm_array.sh CAMPAIGN.toml [tumble campaign options]}
+shift
+: "${SLURM_ARRAY_TASK_ID:?not a Slurm array task (SLURM_ARRAY_TASK_ID is unset)}"
+
+min=${SLURM_ARRAY_TASK_MIN:-1}
+max=${SLURM_ARRAY_TASK_MAX:-${SLURM_ARRAY_TASK_ID}}
+offset=$((min == 0 ? 1 : 0))  # --array=0-15 numbers slices 1..16
+i=$((SLURM_ARRAY_TASK_ID + offset))
+n=${TUMBLE_SLICES:-$((max + offset))}
+
+tumble=${TUMBLE:-}
+if [ -z "$tumble" ]; then
+  for c in "${SLURM_SUBMIT_DIR:-$PWD}/build/tumble" "$(command -v tumble || true)"; do
+    if [ -n "$c" ] && [ -x "$c" ]; then tumble=$c; break; fi
+  done
+fi
+[ -n "$tumble" ] || { echo "slurm_array.sh: cannot find tumble; set TUMBLE=/path/to/tumble" >&2; exit 2; }
+
+echo "slurm_array.sh: array task ${SLURM_ARRAY_TASK_ID} -> slice $i/$n of $campaign"
+rc=0
+"$tumble" campaign "$campaign" --slice "$i/$n" --status "$@" || rc=$?
+if [ "$rc" -eq 0 ]; then
+  echo "slurm_array.sh: slice $i/$n has nothing to run; skipping"
+  exit 0
+elif [ "$rc" -ne 10 ]; then
+  exit "$rc"  # the campaign file or the options are wrong: the message is above
+fi
+# shellcheck disable=SC2086  # TUMBLE_LAUNCH is a command line, split on purpose
+exec ${TUMBLE_LAUNCH:-srun} "$tumble" campaign "$campaign" --slice "$i/$n" "$@"

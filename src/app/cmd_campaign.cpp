@@ -1,0 +1,46 @@
+// `tumble campaign FILE`: many realizations over rank groups in one mpirun (campaign/). Parses the
+// options and calls the library; the campaign file is validated in full before any work.
+#include <mpi.h>
+
+#include <iostream>
+
+#include "app/campaign_commands.hpp"
+#include "campaign/campaign_run.hpp"
+
+namespace tumble::app {
+
+void register_campaign(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "campaign", "run a campaign of realizations over MPI rank groups (docs/campaign.md)");
+  struct Opts {
+    campaign::CampaignOptions run;
+    std::string slice = "1/1";
+  };
+  auto opts = std::make_shared<Opts>();
+  cmd->add_option("file", opts->run.file, "campaign file (TOML)")->required();
+  cmd->add_option("--slice", opts->slice,
+                  "run slice i of n (job arrays): a deterministic, cost-balanced subset");
+  cmd->add_option("--output,-o", opts->run.output, "campaign directory (overrides output_dir)");
+  cmd->add_flag("--list", opts->run.list, "print the expanded cases of the slice and exit");
+  cmd->add_flag("--status", opts->run.status,
+                "print what is done/failed/left in the slice; exit 0 if nothing is left to run");
+  cmd->add_flag("--retry-failed", opts->run.retry_failed,
+                "run failed cases again (their attempts keep counting)");
+  cmd->add_flag("--quiet,-q", opts->run.quiet, "progress lines only every progress_interval");
+  cmd->callback([opts]() {
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    int rc = 0;
+    try {
+      campaign::parse_slice(opts->slice, opts->run.slice_i, opts->run.slice_n);
+      rc = campaign::run_campaign(opts->run, MPI_COMM_WORLD, std::cout);
+    } catch (...) {
+      // Every rank reads the same file and fails the same way: let only rank 0 say so.
+      if (rank != 0) std::cerr.setstate(std::ios::badbit);
+      throw;
+    }
+    if (rc != 0) throw CLI::RuntimeError(rc);
+  });
+}
+
+}  // namespace tumble::app

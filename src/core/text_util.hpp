@@ -1,0 +1,35 @@
+#pragma once
+// Small text helpers shared by the CLI-facing code: key suggestions and durations.
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace tumble {
+
+// Levenshtein distance: suggests the nearest valid key for a typo.
+inline std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+    prev.swap(cur);
+  }
+  return prev[b.size()];
+}
+
+// Seconds as h:mm:ss for progress lines ("--:--:--" when unknown).
+inline std::string format_hms(double s) {
+  if (!std::isfinite(s) || s < 0) return "--:--:--";
+  const long t = static_cast<long>(s + 0.5);
+  std::ostringstream os;
+  os << t / 3600 << ":" << std::setw(2) << std::setfill('0') << (t / 60) % 60 << ":" << std::setw(2)
+     << t % 60;
+  return os.str();
+}
+
+}  // namespace tumble

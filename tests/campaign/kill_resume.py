@@ -1,0 +1,145 @@
+"""campaign.mpi2_sigkill_resume: kill a 2-rank campaign with SIGKILL mid-run, rerun the same command.
+
+The whole job (mpiexec and both ranks) is killed at once, as a scheduler or a node failure would,
+once at least one case is done and another has written a checkpoint. The rerun must complete,
+must not recompute any case finished before the kill (no new manifest line for it, its fields
+file untouched), must resume the interrupted cases from their checkpoints, and must give
+statistics identical, bit for bit, to an uninterrupted run of the same campaign."""
+import argparse
+import json
+import os
+import shutil
+import signal
+import subprocess
+import time
+
+import campaign_checks as cc
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--tumble", required=True)
+ap.add_argument("--mpiexec", required=True)
+ap.add_argument("--np-flag", default="-n")
+ap.add_argument("--campaign", required=True)
+a = ap.parse_args()
+
+ref, run = "kill_reference", "kill_interrupted"
+for d in (ref, run):
+    shutil.rmtree(d, ignore_errors=True)
+base = cc.mpiexec_command(a.mpiexec, a.np_flag, 2) + [a.tumble, "campaign", a.campaign, "--output"]
+
+t0 = time.time()
+if subprocess.run(base + [ref], stdout=subprocess.DEVNULL).returncode != 0:
+    cc.fail("the uninterrupted reference run failed")
+print("reference run: %.1f s" % (time.time() - t0), flush=True)
+
+
+def latest_records():
+    out = {}
+    for f in sorted(os.listdir(os.path.join(run, "manifest"))) if os.path.isdir(os.path.join(run, "manifest")) else []:
+        with open(os.path.join(run, "manifest", f)) as fh:
+            for line in fh:
+                try:
+                    r = json.loads(line)
+                except ValueError:
+                    continue  # a line being written
+                out[r["case"]] = r
+    return out
+
+
+def descendants(pid):
+    """Every process below `pid`. Open MPI puts each rank in a process group of its own, so
+    killing mpiexec's group would leave the ranks running: they are found and killed one by one."""
+    children = {}
+    for d in os.listdir("/proc"):
+        if not d.isdigit():
+            continue
+        try:
+            with open("/proc/%s/stat" % d) as fh:
+                stat = fh.read()
+        except OSError:
+            continue
+        ppid = int(stat[stat.rindex(")") + 2:].split()[1])
+        children.setdefault(ppid, []).append(int(d))
+    out, todo = [], [pid]
+    while todo:
+        for c in children.get(todo.pop(), []):
+            out.append(c)
+            todo.append(c)
+    return out
+
+
+def alive(pid):
+    try:
+        with open("/proc/%d/stat" % pid) as fh:
+            stat = fh.read()
+        return stat[stat.rindex(")") + 2] != "Z"
+    except OSError:
+        return False
+
+
+def kill_job(proc):
+    victims = descendants(proc.pid) + [proc.pid]
+    for pid in victims:  # SIGKILL to all of them at once: no rank gets to write another line
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    proc.wait()
+    while any(alive(p) for p in victims):
+        time.sleep(0.01)
+    return len(victims)
+
+
+log = open("kill_interrupted.log", "w")
+proc = subprocess.Popen(base + [run], stdout=log, stderr=subprocess.STDOUT)
+killed = 0
+deadline = time.time() + 300
+while time.time() < deadline:
+    if proc.poll() is not None:
+        break
+    recs = latest_records()
+    done = [c for c, r in recs.items() if r["status"] == "done"]
+    resumable = [c for c, r in recs.items() if r["status"] == "running"
+                 and os.path.exists(os.path.join(run, r["output"], "checkpoint.h5"))]
+    if done and resumable:
+        killed = kill_job(proc)  # mpiexec and every rank, without warning
+        break
+    time.sleep(0.02)
+if not killed:
+    cc.fail("the campaign ended (rc %s) before it could be killed mid-run" % proc.returncode)
+if os.path.exists(os.path.join(run, "ensemble.h5")):
+    cc.fail("ensemble.h5 exists although the campaign was killed")
+
+lines_before, latest = cc.manifest(run)
+done_before = {c: r for c, r in latest.items() if r["status"] == "done"}
+running_before = [c for c, r in latest.items() if r["status"] == "running"]
+stamp = {c: os.stat(os.path.join(run, r["output"], "fields.h5")).st_mtime_ns
+         for c, r in done_before.items()}
+print("killed %d processes with %d case(s) done and %d running"
+      % (killed, len(done_before), len(running_before)), flush=True)
+
+t0 = time.time()
+if subprocess.run(base + [run], stdout=log, stderr=subprocess.STDOUT).returncode != 0:
+    cc.fail("the rerun failed (see kill_interrupted.log)")
+print("rerun: %.1f s" % (time.time() - t0), flush=True)
+
+lines_after, latest = cc.manifest(run)
+new_lines = lines_after[len(lines_before):]
+for c in done_before:
+    again = [l for l in new_lines if l["case"] == c]
+    if again:
+        cc.fail("case %s, finished before the kill, was run again: %s" % (c, again))
+    if os.stat(os.path.join(run, latest[c]["output"], "fields.h5")).st_mtime_ns != stamp[c]:
+        cc.fail("case %s: its fields file was rewritten" % c)
+resumed = [l for l in new_lines if l["status"] == "done" and l.get("resumed_from_step", 0) > 0]
+if not resumed:
+    cc.fail("no case resumed from a checkpoint")
+for l in resumed:
+    if l["case"] not in running_before:
+        cc.fail("case %s resumed but was not running at the kill" % l["case"])
+if any(r["status"] != "done" for r in latest.values()) or len(latest) != 4:
+    cc.fail("not every case is done after the rerun")
+worst = cc.compare_ensembles(os.path.join(run, "ensemble.h5"), os.path.join(ref, "ensemble.h5"), 0.0)
+print("OK: %d finished case(s) skipped, %d resumed from checkpoints (at steps %s); ensemble "
+      "identical to the uninterrupted run (largest difference %g)"
+      % (len(done_before), len(resumed), [l["resumed_from_step"] for l in resumed], worst))

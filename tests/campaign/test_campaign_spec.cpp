@@ -1,0 +1,198 @@
+// Campaign files: validation messages name the key; expansion into cases is deterministic, with
+// stable ids and seeds; slices partition the cases.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+
+#include "campaign/campaign_spec.hpp"
+#include "campaign/expand.hpp"
+#include "core/error.hpp"
+
+namespace tumble::campaign {
+namespace {
+
+const std::string kScene = std::string(TUMBLE_SOURCE_DIR) + "/scenes/bst_tiny.toml";
+
+std::string with_campaign(const std::string& body, const std::string& campaign_extra = "") {
+  return "[campaign]\nname = \"t\"\nscene = \"" + kScene + "\"\n" + campaign_extra + "\n" + body;
+}
+
+// The InputError message of parsing `text` ("" if it parses).
+std::string error_of(const std::string& text) {
+  try {
+    (void)parse_campaign(text, "test.toml", ".");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(CampaignSpec, RefusesMoreThanOneRankPerCaseNamingTheKey) {
+  const std::string e = error_of(with_campaign("", "ranks_per_case = 2"));
+  EXPECT_NE(e.find("key 'campaign.ranks_per_case' = 2"), std::string::npos) << e;
+  EXPECT_NE(e.find("domain decomposition"), std::string::npos) << e;
+}
+
+TEST(CampaignSpec, UnknownKeysGetASuggestion) {
+  const std::string e = error_of(with_campaign("", "replicaz = 3"));
+  EXPECT_NE(e.find("unknown key 'campaign.replicaz'"), std::string::npos) << e;
+  EXPECT_NE(e.find("did you mean 'campaign.replicas'"), std::string::npos) << e;
+  const std::string s = error_of(with_campaign("[[sweep]]\ntheta_y = [1, 2]\n"));
+  EXPECT_NE(s.find("unknown key 'sweep[0].theta_y'"), std::string::npos) << s;
+  EXPECT_NE(s.find("did you mean 'theta_z'"), std::string::npos) << s;
+}
+
+TEST(CampaignSpec, ValuesAreCheckedAgainstTheirRanges) {
+  EXPECT_NE(error_of(with_campaign("", "tier = \"fast\""))
+                .find("key 'campaign.tier' = 'fast' is "
+                      "not one of: standard"),
+            std::string::npos);
+  EXPECT_NE(error_of(with_campaign("", "replicas = 0"))
+                .find("key 'campaign.replicas' = 0 is out of "
+                      "range"),
+            std::string::npos);
+  EXPECT_NE(error_of(with_campaign("", "replicas = 1.5")).find("must be an integer"),
+            std::string::npos);
+  EXPECT_NE(error_of(with_campaign("[[sweep]]\nsize_ratio = 0.5\n")).find("must be >= 1"),
+            std::string::npos);
+  EXPECT_NE(error_of(with_campaign("[collect]\niterations = [3, 2]\n")).find("'to' must be larger"),
+            std::string::npos);
+  EXPECT_NE(error_of("[campaign]\nname = \"x\"\n").find("key 'campaign.scene' is required"),
+            std::string::npos);
+  EXPECT_NE(error_of(with_campaign("[overrides]\n\"fill.seed\" = 3\n")).find("set by the campaign"),
+            std::string::npos);
+}
+
+TEST(CampaignSpec, DisplacementLagMustBeWholeSamples) {
+  const std::string e = error_of(
+      with_campaign("[collect]\nsamples_per_iteration = 2\ndisplacement_periods = 0.75\n"));
+  EXPECT_NE(e.find("key 'collect.displacement_periods' = 0.75 must be a whole multiple of 1 / "
+                   "collect.samples_per_iteration"),
+            std::string::npos)
+      << e;
+}
+
+TEST(CampaignSpec, CollectionWindowBeyondTheRunIsACampaignError) {
+  const CampaignSpec s = parse_campaign(
+      with_campaign("[overrides]\n\"protocol.iterations\" = 2\n[collect]\niterations = [1, 3]\n"),
+      "test.toml", ".");
+  try {
+    (void)expand(s);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("key 'collect.iterations' ends at iteration 3, after the "
+                                         "run (protocol.iterations = 2)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Expand, ProductZipReplicasAndDensityBidisperse) {
+  const CampaignSpec s = parse_campaign(with_campaign(R"(
+[[sweep]]
+theta_z = [57, 90]
+theta_x = [57, 90]
+f = 0.2
+[[sweep]]
+zip = true
+theta_z = [60, 65]
+theta_x = [75, 76]
+replicas = 1
+[[sweep]]
+size_ratio = 1
+R_rho = [3, 8]
+)",
+                                                      "replicas = 3\nseed = 7"),
+                                        "test.toml", ".");
+  const Expansion e = expand(s);
+  EXPECT_EQ(e.points.size(), 4u + 2u + 2u);
+  EXPECT_EQ(e.cases.size(), 4u * 3 + 2u * 1 + 2u * 3);
+  // Zip pairs the lists element by element.
+  std::set<std::string> zipped;
+  for (const auto& p : e.points)
+    if (p.params_text.find("theta_z=60") != std::string::npos ||
+        p.params_text.find("theta_z=65") != std::string::npos)
+      zipped.insert(p.params_text.substr(0, p.params_text.find(";f=")));
+  EXPECT_EQ(zipped, (std::set<std::string>{"theta_z=60;theta_x=75", "theta_z=65;theta_x=76"}));
+  // Density-bidisperse: equal diameters, heavier "large" species.
+  int density_cases = 0;
+  for (const auto& c : e.cases) {
+    if (c.params_text.find("size_ratio=1") == std::string::npos) continue;
+    ++density_cases;
+    const Scene sc = case_scene(s, c, "/tmp/x", "/tmp/beds", 1);
+    EXPECT_EQ(sc.d_large, sc.d_small);
+    EXPECT_TRUE(sc.density_ratio == 3 || sc.density_ratio == 8);
+  }
+  EXPECT_EQ(density_cases, 6);
+  // Ids are unique and reproducible; seeds are shared by cases that differ only in the protocol.
+  std::set<std::string> ids;
+  for (const auto& c : e.cases) ids.insert(c.id);
+  EXPECT_EQ(ids.size(), e.cases.size());
+  const Expansion again = expand(s);
+  for (std::size_t k = 0; k < e.cases.size(); ++k) EXPECT_EQ(e.cases[k].id, again.cases[k].id);
+  const Case& a = e.cases[0];  // theta (57, 57), replica 0
+  const auto same_bed = std::find_if(e.cases.begin(), e.cases.end(), [&](const Case& c) {
+    return c.replica == a.replica && c.point_id != a.point_id && c.bed_text == a.bed_text;
+  });
+  ASSERT_NE(same_bed, e.cases.end());
+  EXPECT_EQ(case_seed(s, a, 1), case_seed(s, *same_bed, 1));
+  EXPECT_NE(case_seed(s, e.cases[0], 1), case_seed(s, e.cases[1], 1));  // replicas differ
+  EXPECT_EQ(case_seed(s, a, 1), case_seed(s, a, 2));  // retry_seed = "same" (the default)
+}
+
+TEST(Expand, NewSeedRetriesAndCampaignSeedChangeIds) {
+  CampaignSpec s = parse_campaign(with_campaign("", "retry_seed = \"new\""), "test.toml", ".");
+  const Expansion e = expand(s);
+  ASSERT_EQ(e.cases.size(), 1u);
+  EXPECT_NE(case_seed(s, e.cases[0], 1), case_seed(s, e.cases[0], 2));
+  s.seed = 99;
+  EXPECT_NE(expand(s).cases[0].id, e.cases[0].id);
+}
+
+TEST(Expand, AnInvalidCaseSceneIsRecordedNotThrown) {
+  const CampaignSpec s =
+      parse_campaign(with_campaign("[[sweep]]\n\"time.dt\" = [2e-5, 4e-4]\n"), "test.toml", ".");
+  const Expansion e = expand(s);
+  ASSERT_EQ(e.cases.size(), 2u);
+  EXPECT_TRUE(e.cases[0].scene_error.empty());
+  EXPECT_NE(e.cases[1].scene_error.find("key 'time.dt' gives a time step 0.0004 s above the "
+                                        "stability bound"),
+            std::string::npos)
+      << e.cases[1].scene_error;
+}
+
+TEST(Slices, PartitionTheCasesDeterministicallyAndBalanceCost) {
+  const CampaignSpec s = parse_campaign(with_campaign(R"(
+[[sweep]]
+theta_z = [30, 45, 57, 68, 90]
+"protocol.iterations" = [1, 2, 3]
+)",
+                                                      "replicas = 2"),
+                                        "test.toml", ".");
+  const Expansion e = expand(s);
+  ASSERT_EQ(e.cases.size(), 30u);
+  for (int n : {1, 3, 7}) {
+    std::vector<int> owner(e.cases.size(), 0);
+    double lo = 1e300, hi = 0;
+    for (int i = 1; i <= n; ++i) {
+      const auto part = slice_cases(e, i, n);
+      EXPECT_EQ(part, slice_cases(e, i, n));
+      double cost = 0;
+      for (auto k : part) {
+        ++owner[k];
+        cost += e.cases[k].cost;
+      }
+      lo = std::min(lo, cost);
+      hi = std::max(hi, cost);
+    }
+    for (int o : owner) EXPECT_EQ(o, 1);  // every case in exactly one slice
+    if (n == 3) {
+      EXPECT_LT(hi / lo, 1.25);  // the snake deal balances the work
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tumble::campaign

@@ -1,0 +1,89 @@
+// The manifest: records survive a round trip, a torn last line (crash mid-write) is ignored, the
+// latest line of a case wins across files, and a slice cannot be run twice at once.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "campaign/json_line.hpp"
+#include "campaign/manifest.hpp"
+#include "core/error.hpp"
+
+namespace tumble::campaign {
+namespace {
+namespace fs = std::filesystem;
+
+std::string scratch(const std::string& name) {
+  const std::string d = std::string(TUMBLE_TEST_SCRATCH) + "/" + name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+TEST(JsonLine, EscapesRoundTrip) {
+  const std::string nasty = "quote \" backslash \\ newline \n tab \t ctrl \x01 utf8 β";
+  JsonWriter w;
+  w.add("s", nasty).add("n", 1.0 / 3.0).add("i", 1234567890123456LL).add("b", true);
+  JsonObject o;
+  ASSERT_TRUE(parse_json_line(w.str(), o));
+  EXPECT_EQ(o["s"].text, nasty);
+  EXPECT_EQ(o["n"].number, 1.0 / 3.0);
+  EXPECT_EQ(o["i"].text, "1234567890123456");
+  EXPECT_EQ(o["b"].number, 1);
+  const std::string line = w.str();
+  for (std::size_t cut = 0; cut < line.size(); ++cut)  // every torn prefix is rejected
+    EXPECT_FALSE(parse_json_line(line.substr(0, cut), o)) << line.substr(0, cut);
+}
+
+TEST(Manifest, LatestLineWinsAndTornLinesAreIgnored) {
+  const std::string dir = scratch("manifest");
+  CaseRecord r;
+  r.case_id = "aaaa";
+  r.point_id = "p";
+  r.params = "theta_z=57";
+  r.attempt = 1;
+  r.seed = 8999999999999999LL;
+  r.diagnostic = "line one\nline \"two\"";
+  {
+    ManifestWriter w(dir + "/manifest/slice_1_of_2.jsonl");
+    r.status = "running";
+    r.t = 10;
+    w.append(r);
+    r.status = "failed";
+    r.failure = "run";
+    r.final_failure = false;
+    r.t = 11;
+    w.append(r);
+  }
+  {
+    ManifestWriter w(dir + "/manifest/slice_2_of_2.jsonl");
+    r.status = "done";
+    r.attempt = 2;
+    r.checksum = "fnv1a64:0123";
+    r.t = 12;
+    w.append(r);
+  }
+  // A crash in the middle of a line.
+  std::ofstream(dir + "/manifest/slice_1_of_2.jsonl", std::ios::app) << "{\"case\":\"bbbb\",\"sta";
+  const ManifestState st = read_manifests(dir);
+  EXPECT_EQ(st.torn_lines, 1);
+  ASSERT_EQ(st.latest.count("aaaa"), 1u);
+  const CaseRecord& last = st.latest.at("aaaa");
+  EXPECT_EQ(last.status, "done");
+  EXPECT_EQ(last.attempt, 2);
+  EXPECT_EQ(last.seed, 8999999999999999LL);
+  EXPECT_EQ(st.history.at("aaaa")[1].diagnostic, "line one\nline \"two\"");
+  EXPECT_EQ(last.checksum, "fnv1a64:0123");
+  EXPECT_EQ(st.attempts.at("aaaa"), 2);
+  EXPECT_EQ(st.history.at("aaaa").size(), 3u);
+  EXPECT_EQ(st.latest.count("bbbb"), 0u);
+}
+
+TEST(Manifest, ASliceCannotRunTwiceAtOnce) {
+  const std::string dir = scratch("manifest_lock");
+  ManifestWriter first(dir + "/m.jsonl");
+  EXPECT_THROW(ManifestWriter second(dir + "/m.jsonl"), InputError);
+}
+
+}  // namespace
+}  // namespace tumble::campaign
