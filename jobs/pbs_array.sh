@@ -28,22 +28,10 @@ i=$((index + offset))
 # shellcheck disable=SC2206  # TUMBLE_ARGS holds several options
 extra=(${TUMBLE_ARGS:-} "$@")
 
-tumble=${TUMBLE:-}
-if [ -z "$tumble" ]; then
-  for c in "$PWD/build/tumble" "$(command -v tumble || true)"; do
-    if [ -n "$c" ] && [ -x "$c" ]; then tumble=$c; break; fi
-  done
-fi
-[ -n "$tumble" ] || { echo "pbs_array.sh: cannot find tumble; set TUMBLE=/path/to/tumble" >&2; exit 2; }
-
 echo "pbs_array.sh: array index $index -> slice $i/$n of $campaign"
-rc=0
-"$tumble" campaign "$campaign" --slice "$i/$n" --status "${extra[@]}" || rc=$?
-if [ "$rc" -eq 0 ]; then
-  echo "pbs_array.sh: slice $i/$n has nothing to run; skipping"
-  exit 0
-elif [ "$rc" -ne 10 ]; then
-  exit "$rc"
-fi
-# shellcheck disable=SC2086
-exec ${TUMBLE_LAUNCH:-mpiexec} "$tumble" campaign "$campaign" --slice "$i/$n" "${extra[@]}"
+# The scheduler may run a spooled copy of this script: then find the helper in the submit directory.
+here=$(dirname "${BASH_SOURCE[0]}")
+[ -f "$here/run_slice.sh" ] || here=${PBS_O_WORKDIR:-$PWD}/jobs
+# shellcheck source=jobs/run_slice.sh
+source "$here/run_slice.sh"
+run_slice pbs_array.sh "$PWD" "${TUMBLE_LAUNCH:-mpiexec}" "$campaign" "$i" "$n" "${extra[@]}"

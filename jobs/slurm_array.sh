@@ -25,22 +25,10 @@ offset=$((min == 0 ? 1 : 0))  # --array=0-15 numbers slices 1..16
 i=$((SLURM_ARRAY_TASK_ID + offset))
 n=${TUMBLE_SLICES:-$((max + offset))}
 
-tumble=${TUMBLE:-}
-if [ -z "$tumble" ]; then
-  for c in "${SLURM_SUBMIT_DIR:-$PWD}/build/tumble" "$(command -v tumble || true)"; do
-    if [ -n "$c" ] && [ -x "$c" ]; then tumble=$c; break; fi
-  done
-fi
-[ -n "$tumble" ] || { echo "slurm_array.sh: cannot find tumble; set TUMBLE=/path/to/tumble" >&2; exit 2; }
-
 echo "slurm_array.sh: array task ${SLURM_ARRAY_TASK_ID} -> slice $i/$n of $campaign"
-rc=0
-"$tumble" campaign "$campaign" --slice "$i/$n" --status "$@" || rc=$?
-if [ "$rc" -eq 0 ]; then
-  echo "slurm_array.sh: slice $i/$n has nothing to run; skipping"
-  exit 0
-elif [ "$rc" -ne 10 ]; then
-  exit "$rc"  # the campaign file or the options are wrong: the message is above
-fi
-# shellcheck disable=SC2086  # TUMBLE_LAUNCH is a command line, split on purpose
-exec ${TUMBLE_LAUNCH:-srun} "$tumble" campaign "$campaign" --slice "$i/$n" "$@"
+# The scheduler may run a spooled copy of this script: then find the helper in the submit directory.
+here=$(dirname "${BASH_SOURCE[0]}")
+[ -f "$here/run_slice.sh" ] || here=${SLURM_SUBMIT_DIR:-$PWD}/jobs
+# shellcheck source=jobs/run_slice.sh
+source "$here/run_slice.sh"
+run_slice slurm_array.sh "${SLURM_SUBMIT_DIR:-$PWD}" "${TUMBLE_LAUNCH:-srun}" "$campaign" "$i" "$n" "$@"

@@ -34,30 +34,29 @@ double DriftGrid::sigma(double x, double z) const {
   return c < 0 ? 0.0 : sigma_ax[c];
 }
 
-double DriftGrid::mean_abs_v() const {
+namespace {
+// Mean of f(cell) over the cells whose centre lies in the layer's footprint x² + z² < 1.
+template <class F>
+double footprint_mean(int n, F f) {
   double s = 0;
   int k = 0;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       const double x = cell_centre(i, n), z = cell_centre(j, n);
       if (x * x + z * z >= 1) continue;
-      s += std::abs(v_ax[i * n + j]);
+      s += f(i * n + j);
       ++k;
     }
   return k ? s / k : 0.0;
 }
+}  // namespace
+
+double DriftGrid::mean_abs_v() const {
+  return footprint_mean(n, [this](int c) { return std::abs(v_ax[c]); });
+}
 
 double DriftGrid::mean_sigma() const {
-  double s = 0;
-  int k = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const double x = cell_centre(i, n), z = cell_centre(j, n);
-      if (x * x + z * z >= 1) continue;
-      s += sigma_ax[i * n + j];
-      ++k;
-    }
-  return k ? s / k : 0.0;
+  return footprint_mean(n, [this](int c) { return sigma_ax[c]; });
 }
 
 DriftGrid synthetic_drift(const SyntheticDrift& sd) {
