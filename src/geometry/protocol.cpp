@@ -43,32 +43,32 @@ Protocol Protocol::biaxial(double theta_z, double theta_x, double repose, double
   return p;
 }
 
-void Protocol::locate(double t, std::size_t& seg, double& tau, Mat3& start) const {
-  // Whole periods first (exact power of the net rotation would need care for huge counts;
-  // repeated products of orthogonal matrices stay orthogonal to round-off).
-  double k = std::floor(t / period_);
-  double rem = t - k * period_;
+std::size_t Protocol::segment_at(double t, double& into) const {
+  double rem = t - std::floor(t / period_) * period_;
   if (rem < 0) rem = 0;
-  Mat3 base = Mat3::identity();
-  for (long i = 0; i < static_cast<long>(k); ++i) base = period_rotation_ * base;
-  seg = 0;
+  std::size_t seg = 0;
   while (seg + 1 < segments_.size() && rem >= segments_[seg].duration) {
     rem -= segments_[seg].duration;
     ++seg;
   }
-  tau = rem;
+  into = rem;
+  return seg;
+}
+
+void Protocol::locate(double t, std::size_t& seg, double& tau, Mat3& start) const {
+  // Whole periods first: repeated products of orthogonal matrices stay orthogonal to round-off.
+  const long k = static_cast<long>(std::floor(t / period_));
+  Mat3 base = Mat3::identity();
+  for (long i = 0; i < k; ++i) base = period_rotation_ * base;
+  seg = segment_at(t, tau);
   start = start_orientation_[seg] * base;
 }
 
 Vec3 Protocol::omega(double t) const {
   if (constant_) return constant_omega_;
-  const double rem = t - std::floor(t / period_) * period_;
-  double acc = 0;
-  for (const auto& s : segments_) {
-    acc += s.duration;
-    if (rem < acc) return s.axis * s.omega;
-  }
-  return segments_.back().axis * segments_.back().omega;
+  double into;
+  const auto& s = segments_[segment_at(t, into)];
+  return s.axis * s.omega;
 }
 
 Mat3 Protocol::orientation(double t) const {
@@ -87,13 +87,8 @@ Mat3 Protocol::orientation(double t) const {
 
 const char* Protocol::phase(double t) const {
   if (constant_) return norm(constant_omega_) > 0 ? "spin" : "rest";
-  const double rem = t - std::floor(t / period_) * period_;
-  double acc = 0;
-  for (const auto& s : segments_) {
-    acc += s.duration;
-    if (rem < acc) return s.label;
-  }
-  return segments_.back().label;
+  double into;
+  return segments_[segment_at(t, into)].label;
 }
 
 }  // namespace tumble::geometry

@@ -41,6 +41,8 @@ class Protocol {
   const char* phase(double t) const;
 
  private:
+  // Segment of time t within its period, and the time `into` it has run.
+  std::size_t segment_at(double t, double& into) const;
   void locate(double t, std::size_t& seg, double& tau, Mat3& start) const;
   std::vector<Segment> segments_;
   std::vector<Mat3> start_orientation_;  // orientation at each segment's start (first period)

@@ -13,15 +13,6 @@ void VerletList::save_history(const Particles& p, ContactHistory& out) const {
   out.finalize();
 }
 
-bool VerletList::needs_rebuild(const Particles& p) const {
-  if (x_ref_.size() != p.size()) return true;
-  const double lim2 = 0.25 * skin_ * skin_;
-  const std::size_t n = p.size();
-  for (std::size_t i = 0; i < n; ++i)
-    if (norm2(p.x[i] - x_ref_[i]) > lim2) return true;
-  return false;
-}
-
 void VerletList::rebuild(Particles& p, const ContactHistory* history) {
   const std::size_t n = p.size();
   // Keep the old list: within one process the springs are carried over by old index (a short
@@ -73,16 +64,11 @@ void VerletList::rebuild(Particles& p, const ContactHistory* history) {
             break;
           }
       }
-  } else {
-    ContactHistory own;
-    if (!history) {  // first build: nothing to carry
-      history = &own;
-    }
-    if (!history->records().empty())
-      for (std::size_t i = 0; i < n; ++i)
-        for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
-          spring[k] = history->lookup(p.id[i], p.id[nbr[k]]);
-  }
+  } else if (history) {  // restart (or, later, migration): match by global id
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
+        spring[k] = history->lookup(p.id[i], p.id[nbr[k]]);
+  }  // else: the first build, nothing to carry
   x_ref_ = p.x;
   ++builds;
 }

@@ -20,8 +20,6 @@ class VerletList {
   // springs over (by old index). `history`, if non-null, supplies them instead, matched by global
   // id (restart, migration).
   void rebuild(Particles& p, const ContactHistory* history = nullptr);
-  // True when some particle moved more than skin/2 since the last rebuild.
-  bool needs_rebuild(const Particles& p) const;
   // Saves the live springs of the current list (for a checkpoint).
   void save_history(const Particles& p, ContactHistory& out) const;
 
