@@ -8,4 +8,6 @@ namespace tumble::app {
 void register_run(CLI::App& app);
 // `tumble cm poincare|orbits|mcm ...`: the continuum model (cmd_cm.cpp)
 void register_cm(CLI::App& app);
+// `tumble analyze classify|section|light|enrichment|campaign` (cmd_analyze.cpp)
+void register_analyze(CLI::App& app);
 }  // namespace tumble::app

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   tumble::app::register_campaign(app);
   tumble::app::register_merge(app);
   tumble::app::register_cm(app);
+  tumble::app::register_analyze(app);
   int rc = 0;
   try {
     app.parse(argc, argv);

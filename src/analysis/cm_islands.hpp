@@ -1,0 +1,31 @@
+#pragma once
+// The CM islands a DEM analysis compares with: read from a `tumble cm orbits` file, or computed
+// for the protocol (seconds) and cached in that format, so that every analysis of one protocol
+// uses the same boundaries and the report can draw them.
+#include <string>
+#include <vector>
+
+#include "cm/island.hpp"
+
+namespace tumble::analysis {
+
+struct CmIslandOptions {
+  double r = 0.95;     // section shell, as Yu 2022 Figs. 1(a), 4, 8
+  int max_period = 6;  // periodic points searched up to this period
+  int grid = 40;       // Newton starts per chart axis
+  bool kam = false;    // also the KAM-tube shells 0.55 ... 0.9 (Fig. 5's tube boundaries)
+};
+
+// All islands of the orbits file `path` (every shell).
+std::vector<cm::Island> load_islands(const std::string& path);
+
+// Islands of the (theta_z, theta_x) protocol [deg] with eps = 0.15: read from
+// cache_dir/orbits_TZ_TX.h5 if present, else computed and written there (cache_dir may be "":
+// no cache).
+std::vector<cm::Island> protocol_islands(double theta_z, double theta_x, const CmIslandOptions& opt,
+                                         const std::string& cache_dir);
+
+// The polygons of the islands on shell r (the mask the classification and enrichment use).
+std::vector<cm::Polygon> shell_polygons(const std::vector<cm::Island>& all, double r);
+
+}  // namespace tumble::analysis

@@ -1,0 +1,65 @@
+#include "analysis/snapshot_data.hpp"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "core/scene.hpp"
+#include "io/hdf5_file.hpp"
+
+namespace tumble::analysis {
+
+namespace {
+std::vector<Vec3> to_vec3(const std::vector<double>& flat) {
+  std::vector<Vec3> out(flat.size() / 3);
+  for (std::size_t k = 0; k < out.size(); ++k)
+    out[k] = {flat[3 * k], flat[3 * k + 1], flat[3 * k + 2]};
+  return out;
+}
+}  // namespace
+
+SnapshotData read_snapshot(const std::string& path) {
+  io::H5File f(path, io::H5File::Mode::Read);
+  SnapshotData s;
+  s.path = path;
+  s.id = f.read_int64("id");
+  s.species = f.read_int32("species");
+  s.radius = f.read_double("radius");
+  s.x = to_vec3(f.read_double("x"));
+  s.x_tumbler = to_vec3(f.read_double("x_tumbler"));
+  s.time = f.attr_double("/", "time");
+  s.iteration = f.attr_double("/", "iteration");
+  s.scene_text = f.attr_string("/", "scene");
+  // The stored scene is valid TOML that parse_scene reads back to the same scene.
+  const Scene sc = parse_scene(s.scene_text);
+  s.R = sc.radius;
+  s.theta_z = sc.theta_z;
+  s.theta_x = sc.theta_x;
+  s.density_ratio = sc.density_ratio;
+  return s;
+}
+
+Particles SnapshotData::as_particles() const {
+  Particles p;
+  p.resize(size());
+  for (std::size_t i = 0; i < size(); ++i) {
+    p.x[i] = x[i];
+    p.radius[i] = radius[i];
+    p.species[i] = species[i];
+    p.id[i] = id[i];
+  }
+  return p;
+}
+
+std::vector<std::string> list_snapshots(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> out;
+  if (!fs::is_directory(dir)) return out;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("snap_", 0) == 0 && e.path().extension() == ".h5") out.push_back(e.path());
+  }
+  std::sort(out.begin(), out.end());  // zero-padded numbers: lexical order is time order
+  return out;
+}
+
+}  // namespace tumble::analysis

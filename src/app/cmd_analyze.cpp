@@ -1,0 +1,284 @@
+// `tumble analyze classify|section|light|enrichment|campaign`: the analyses of Yu 2022 that
+// compare DEM particles with the CM islands, on snapshots or a campaign directory
+// (docs/report.md). Thin: parse, validate, call src/analysis, print and write.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "analysis/analysis_io.hpp"
+#include "analysis/campaign_analysis.hpp"
+#include "analysis/cm_islands.hpp"
+#include "analysis/light_concentration.hpp"
+#include "app/commands.hpp"
+#include "cm/cm_io.hpp"
+
+namespace tumble::app {
+
+namespace {
+
+using namespace tumble::analysis;
+
+template <class T>
+void require(bool ok, const std::string& option, const std::string& allowed, T value) {
+  if (ok) return;
+  std::ostringstream msg;
+  msg << "must be " << allowed << " (got " << value << ")";
+  throw CLI::ValidationError(option, msg.str());
+}
+
+void prepare_output(const std::string& path) {
+  const auto dir = std::filesystem::path(path).parent_path();
+  if (!dir.empty()) std::filesystem::create_directories(dir);
+}
+
+// Where the islands come from: a given orbits file, or the protocol of the snapshot (computed
+// once and cached in --islands-cache, the directory `tumble cm orbits` writes to by default).
+struct IslandArgs {
+  std::string file, cache = "results/cm";
+  double r = 0.95;
+  void add(CLI::App* cmd) {
+    cmd->add_option("--islands", file, "orbits file of `tumble cm orbits` (default: computed)")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--islands-cache", cache, "where computed islands are cached");
+    cmd->add_option("--r", r, "CM shell of the islands");
+  }
+  std::vector<cm::Island> all(const SnapshotData& s, bool kam) const {
+    if (!file.empty()) return load_islands(file);
+    CmIslandOptions o;
+    o.r = r;
+    o.kam = kam;
+    return protocol_islands(s.theta_z, s.theta_x, o, cache);
+  }
+};
+
+void register_classify(CLI::App& an) {
+  struct Args {
+    IslandArgs islands;
+    std::string from, to, out;
+  };
+  auto a = std::make_shared<Args>();
+  auto* cmd = an.add_subcommand("classify", "Fig. 8: persistent / captured / dispersed / other");
+  cmd->add_option("FROM", a->from, "snapshot at the first iteration")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("TO", a->to, "snapshot at the last iteration")
+      ->required()
+      ->check(CLI::ExistingFile);
+  a->islands.add(cmd);
+  cmd->add_option("-o,--output", a->out, "HDF5 output (per-particle fates and the counts)");
+  cmd->callback([a] {
+    const SnapshotData s0 = read_snapshot(a->from), s1 = read_snapshot(a->to);
+    const IslandMask mask(shell_polygons(a->islands.all(s0, false), a->islands.r));
+    const FateResult r = classify_fates(s0, s1, mask);
+    const auto& c = r.counts;
+    std::printf("islands: %d covering %.4f of the view from below\n", mask.size(),
+                mask.area_fraction());
+    std::printf(
+        "iterations %.3g -> %.3g, %lld large particles: persistent %lld (same island "
+        "%lld), captured %lld, dispersed %lld, other %lld\n",
+        s0.iteration, s1.iteration, static_cast<long long>(c.total()),
+        static_cast<long long>(c.persistent), static_cast<long long>(c.same_island),
+        static_cast<long long>(c.captured), static_cast<long long>(c.dispersed),
+        static_cast<long long>(c.other));
+    if (!a->out.empty()) {
+      prepare_output(a->out);
+      write_fates(a->out, s0, s1, r);
+      std::printf("wrote %s\n", a->out.c_str());
+    }
+  });
+}
+
+void register_section(CLI::App& an) {
+  struct Args {
+    IslandArgs islands;
+    std::vector<std::string> snaps;
+    std::vector<int> pair;
+    int grid = 40;
+    double half_width = 1.0;
+    std::string out = "section.h5";
+  };
+  auto a = std::make_shared<Args>();
+  auto* cmd = an.add_subcommand("section", "Fig. 5: c_L in the plane through two islands");
+  cmd->add_option("SNAPSHOTS", a->snaps, "snapshots to average")
+      ->required()
+      ->check(CLI::ExistingFile);
+  a->islands.add(cmd);
+  cmd->add_option("--pair", a->pair,
+                  "the two islands (indices on shell --r; default: the two "
+                  "farthest apart of different orbits)")
+      ->expected(2);
+  cmd->add_option("--grid", a->grid, "bins per in-plane axis");
+  cmd->add_option("--half-width", a->half_width, "slab half-width, in large diameters");
+  cmd->add_option("-o,--output", a->out, "HDF5 output");
+  cmd->callback([a] {
+    require(a->grid >= 4 && a->grid <= 1000, "--grid", "in [4, 1000]", a->grid);
+    require(a->half_width > 0, "--half-width", "> 0", a->half_width);
+    std::vector<SnapshotData> snaps;
+    for (const auto& p : a->snaps) snaps.push_back(read_snapshot(p));
+    const auto all = a->islands.all(snaps.front(), true);
+    const auto shell = cm::islands_on_shell(all, a->islands.r);
+    require(shell.size() >= 2, "--islands", "a protocol with at least two islands", shell.size());
+    int ia = 0, ib = 1;
+    if (a->pair.size() == 2) {
+      ia = a->pair[0];
+      ib = a->pair[1];
+      const int n = static_cast<int>(shell.size());
+      require(ia >= 0 && ia < n && ib >= 0 && ib < n && ia != ib, "--pair",
+              "two different island indices below " + std::to_string(n), ia);
+    } else {
+      double best = -1;
+      for (std::size_t i = 0; i < shell.size(); ++i)
+        for (std::size_t j = i + 1; j < shell.size(); ++j) {
+          const double d = (shell[i].center - shell[j].center).norm();
+          if (shell[i].orbit != shell[j].orbit && d > best) {
+            best = d;
+            ia = static_cast<int>(i);
+            ib = static_cast<int>(j);
+          }
+        }
+    }
+    auto dir = [&](int k) {
+      const auto u = lambert_inverse({shell[k].center.x(), shell[k].center.y()});
+      return Vec3{u[0], u[1], u[2]};
+    };
+    const SectionPlane plane = plane_through(dir(ia), dir(ib));
+    // The slab is measured in large diameters: twice the largest radius in the snapshot.
+    double rmax = 0;
+    for (double r : snaps.front().radius) rmax = std::max(rmax, r);
+    const double hw = a->half_width * 2 * rmax;
+    SectionMap map(a->grid);
+    for (const auto& s : snaps) map.add(s, plane, hw);
+    const auto tubes = tube_crossings(all, plane);
+    prepare_output(a->out);
+    write_section(a->out, a->snaps, map, plane, hw, tubes, ia, ib);
+    std::printf("plane through islands %d and %d; %zu tube boundary points; wrote %s\n", ia, ib,
+                tubes.size(), a->out.c_str());
+  });
+}
+
+void register_light(CLI::App& an) {
+  struct Args {
+    std::vector<std::string> snaps;
+    int grid = 24;
+    double inner = 0.97;
+    std::string out = "light.h5";
+  };
+  auto a = std::make_shared<Args>();
+  auto* cmd =
+      an.add_subcommand("light", "Fig. 13: lighter-particle concentration (density-bidisperse)");
+  cmd->add_option("SNAPSHOTS", a->snaps, "snapshots to average")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--grid", a->grid, "N of the N x N Lambert grid");
+  cmd->add_option("--inner", a->inner, "shell inner radius r/R (Fig. 13: one diameter, 0.97)");
+  cmd->add_option("-o,--output", a->out, "HDF5 output");
+  cmd->callback([a] {
+    require(a->grid >= 2 && a->grid <= 1000, "--grid", "in [2, 1000]", a->grid);
+    require(a->inner >= 0 && a->inner < 1, "--inner", "in [0, 1)", a->inner);
+    std::vector<SnapshotData> snaps;
+    for (const auto& p : a->snaps) snaps.push_back(read_snapshot(p));
+    const int light = lighter_species(snaps.front().density_ratio);
+    require(light >= 0, "SNAPSHOTS", "of a density-bidisperse bed (particles.density_ratio != 1)",
+            snaps.front().density_ratio);
+    const auto c = light_concentration(snaps, LambertGrid(a->grid), a->inner);
+    prepare_output(a->out);
+    write_light(a->out, a->snaps, c, a->grid, light, a->inner);
+    std::printf("lighter species %d over %zu snapshots; wrote %s\n", light, snaps.size(),
+                a->out.c_str());
+  });
+}
+
+void register_enrichment(CLI::App& an) {
+  struct Args {
+    IslandArgs islands;
+    std::vector<std::string> snaps;
+    double inner = 0.9;
+    std::string out;
+  };
+  auto a = std::make_shared<Args>();
+  auto* cmd =
+      an.add_subcommand("enrichment",
+                        "large share inside the islands / islands' area share, per snapshot "
+                        "(e.g. the last snapshot of each replica) with its 95% CI");
+  cmd->add_option("SNAPSHOTS", a->snaps, "snapshots (one per replica)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  a->islands.add(cmd);
+  cmd->add_option("--inner", a->inner, "shell inner radius r/R");
+  cmd->add_option("-o,--output", a->out, "HDF5 output");
+  cmd->callback([a] {
+    require(a->inner >= 0 && a->inner < 1, "--inner", "in [0, 1)", a->inner);
+    std::vector<Enrichment> values;
+    std::vector<double> v;
+    for (const auto& p : a->snaps) {
+      const SnapshotData s = read_snapshot(p);
+      const IslandMask mask(shell_polygons(a->islands.all(s, false), a->islands.r));
+      values.push_back(enrichment_from_particles(s, mask, a->inner));
+      v.push_back(values.back().value);
+      std::printf("%s: enrichment %.4f (inside %.4f of %g large, islands %.4f of the view)\n",
+                  p.c_str(), values.back().value, values.back().inside_share, values.back().counted,
+                  values.back().area_share);
+    }
+    const MeanCI m = mean_ci95(v);
+    std::printf("mean %.4f +- %.4f (95%% CI, N = %d)\n", m.mean, m.ci95, m.n);
+    if (!a->out.empty()) {
+      prepare_output(a->out);
+      write_enrichment(a->out, a->snaps, values, m, a->inner);
+      std::printf("wrote %s\n", a->out.c_str());
+    }
+  });
+}
+
+void register_campaign_analysis(CLI::App& an) {
+  struct Args {
+    std::string dir, out;
+    CampaignAnalysisOptions opt;
+  };
+  auto a = std::make_shared<Args>();
+  auto* cmd = an.add_subcommand("campaign",
+                                "every analysis for every case of a campaign "
+                                "directory, with 95% CIs per parameter point");
+  cmd->add_option("DIR", a->dir, "campaign directory")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("-o,--output", a->out, "HDF5 output (default DIR/analysis.h5)");
+  cmd->add_option("--from", a->opt.fates_from, "Fig. 8 start iteration (default: first snapshot)");
+  cmd->add_option("--to", a->opt.fates_to, "Fig. 8 end iteration (default: last snapshot)");
+  cmd->add_option("--r", a->opt.islands.r, "CM shell of the islands");
+  cmd->add_option("--light-inner", a->opt.light_inner, "Fig. 13 shell r/R (snapshots)");
+  cmd->callback([a] {
+    require(a->opt.islands.r > 0.15 && a->opt.islands.r < 1, "--r", "in (0.15, 1)",
+            a->opt.islands.r);
+    const std::string out = a->out.empty() ? a->dir + "/analysis.h5" : a->out;
+    const auto points = analyze_campaign(a->dir, a->opt);
+    require(!points.empty(), "DIR", "a campaign directory with finished cases (cases/*/fields.h5)",
+            a->dir);
+    for (const auto& p : points)
+      std::printf(
+          "point %s (%s): %zu cases, %zu islands (%.3f of the view), enrichment %.3f +- "
+          "%.3f (N = %d)\n",
+          p.point_id.c_str(), p.params.c_str(), p.cases.size(), p.islands.size(),
+          p.island_area_fraction, p.enrichment_map.mean, p.enrichment_map.ci95, p.enrichment_map.n);
+    prepare_output(out);
+    write_campaign_analysis(out, a->dir, points);
+    std::printf("wrote %s\n", out.c_str());
+  });
+}
+
+}  // namespace
+
+void register_analyze(CLI::App& app) {
+  auto* an =
+      app.add_subcommand("analyze",
+                         "analyses against the CM islands: Fig. 8 fates, Fig. 5 section, Fig. 13 "
+                         "lighter-particle concentration, island enrichment (docs/report.md)");
+  an->require_subcommand(1);
+  register_classify(*an);
+  register_section(*an);
+  register_light(*an);
+  register_enrichment(*an);
+  register_campaign_analysis(*an);
+}
+
+}  // namespace tumble::app

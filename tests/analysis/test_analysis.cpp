@@ -1,0 +1,267 @@
+// Analyses of issue 7 on constructed inputs with known answers: particles placed in and out of a
+// polygon island, classified trajectories, a rigid rotation's Δψ, a plane through two islands,
+// the lighter species of a density-bidisperse bed, and replica confidence intervals.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "analysis/cross_section.hpp"
+#include "analysis/displacement.hpp"
+#include "analysis/enrichment.hpp"
+#include "analysis/fates.hpp"
+#include "analysis/island_mask.hpp"
+#include "analysis/light_concentration.hpp"
+#include "analysis/replica_stats.hpp"
+
+namespace ta = tumble::analysis;
+using tumble::Vec3;
+using tumble::cm::Polygon;
+using tumble::cm::Vec2;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A square island [x0, x1] x [z0, z1] in the Lambert disc.
+Polygon square(double x0, double z0, double x1, double z1) {
+  Polygon p;
+  p.vertices = {Vec2(x0, z0), Vec2(x1, z0), Vec2(x1, z1), Vec2(x0, z1)};
+  return p;
+}
+
+// The lab position at radius r (m) whose direction projects to disc point (X, Z).
+Vec3 at_disc(double X, double Z, double r) {
+  const auto u = ta::lambert_inverse({X, Z});
+  return Vec3{u[0], u[1], u[2]} * r;
+}
+
+ta::SnapshotData empty_snapshot(double R) {
+  ta::SnapshotData s;
+  s.R = R;
+  return s;
+}
+
+void add(ta::SnapshotData& s, std::int64_t id, int species, const Vec3& x, double radius = 1e-3) {
+  s.id.push_back(id);
+  s.species.push_back(species);
+  s.radius.push_back(radius);
+  s.x.push_back(x);
+  s.x_tumbler.push_back(x);
+}
+
+}  // namespace
+
+TEST(IslandMask, PointsInsideAndOutsideAPolygonIsland) {
+  const ta::IslandMask mask({square(0.1, 0.1, 0.3, 0.3), square(-0.5, -0.5, -0.4, -0.2)});
+  EXPECT_EQ(mask.island_of({0.2, 0.2}), 0);
+  EXPECT_EQ(mask.island_of({-0.45, -0.3}), 1);
+  EXPECT_EQ(mask.island_of({0.0, 0.0}), -1);
+  EXPECT_EQ(mask.island_of({0.35, 0.2}), -1);
+  // Directions: the lower hemisphere is seen from below; the upper one is never in an island.
+  EXPECT_EQ(mask.island_of_direction(at_disc(0.2, 0.25, 0.02)), 0);
+  EXPECT_EQ(mask.island_of_direction(at_disc(0.2, 0.25, 0.02) * 7.0), 0);  // any length
+  Vec3 up = at_disc(0.2, 0.25, 1.0);
+  up.y = -up.y;
+  EXPECT_EQ(mask.island_of_direction(up), -1);
+}
+
+TEST(IslandMask, AreaFractionAndCellCoverageAgree) {
+  const ta::IslandMask mask({square(0.1, 0.1, 0.3, 0.3), square(-0.5, -0.5, -0.4, -0.2)});
+  const double area = 0.04 + 0.03;
+  EXPECT_NEAR(mask.area_fraction(), area / kPi, 1e-12);
+  const ta::LambertGrid grid(24);
+  const auto cover = mask.cell_coverage(grid, 16);
+  double sum = 0;
+  for (double c : cover) {
+    EXPECT_GE(c, 0.0);
+    EXPECT_LE(c, 1.0);
+    sum += c;
+  }
+  // Equal-area cells: mean coverage = the islands' share of the disc, up to the edge sampling.
+  EXPECT_NEAR(sum / grid.cells(), area / kPi, 0.02 * area / kPi);
+  EXPECT_EQ(ta::IslandMask().area_fraction(), 0.0);
+}
+
+TEST(Enrichment, ParticlesPlacedInAndOutOfAnIsland) {
+  const double R = 0.02;
+  const ta::IslandMask mask({square(-0.2, -0.2, 0.2, 0.2)});  // area 0.16 of pi
+  ta::SnapshotData s = empty_snapshot(R);
+  std::int64_t id = 0;
+  // 30 large particles in the shell: 12 inside the island, 18 outside; small ones and large ones
+  // off the shell or on the upper hemisphere do not count.
+  for (int k = 0; k < 12; ++k) add(s, id++, 1, at_disc(-0.15 + 0.02 * k, 0.05, 0.95 * R));
+  for (int k = 0; k < 18; ++k) add(s, id++, 1, at_disc(0.5, -0.4 + 0.04 * k, 0.95 * R));
+  for (int k = 0; k < 50; ++k) add(s, id++, 0, at_disc(0.0, 0.0, 0.95 * R));
+  add(s, id++, 1, at_disc(0.0, 0.0, 0.5 * R));  // deep: outside the shell
+  Vec3 up = at_disc(0.0, 0.0, 0.95 * R);
+  up.y = -up.y;
+  add(s, id++, 1, up);
+  const ta::Enrichment e = ta::enrichment_from_particles(s, mask, 0.9);
+  EXPECT_EQ(e.counted, 30);
+  EXPECT_NEAR(e.inside_share, 12.0 / 30.0, 1e-15);
+  EXPECT_NEAR(e.area_share, 0.16 / kPi, 1e-12);
+  EXPECT_NEAR(e.value, (12.0 / 30.0) / (0.16 / kPi), 1e-9);
+  // No islands: undefined, not 0 or infinity.
+  EXPECT_TRUE(std::isnan(ta::enrichment_from_particles(s, ta::IslandMask(), 0.9).value));
+}
+
+TEST(Enrichment, FromAVolumeMapWithCoverage) {
+  // Four cells, one fully inside an island and one half inside: area share 1.5/4.
+  const std::vector<double> cover{1.0, 0.5, 0.0, 0.0};
+  const std::vector<double> vol{3.0, 2.0, 1.0, std::numeric_limits<double>::quiet_NaN()};
+  const ta::Enrichment e = ta::enrichment_from_map(vol, cover);
+  EXPECT_NEAR(e.inside_share, (3.0 + 1.0) / 6.0, 1e-15);
+  EXPECT_NEAR(e.area_share, 1.5 / 4.0, 1e-15);
+  EXPECT_NEAR(e.value, (4.0 / 6.0) / (1.5 / 4.0), 1e-12);
+  // Evenly spread large particles give exactly 1.
+  EXPECT_NEAR(ta::enrichment_from_map({1, 1, 1, 1}, cover).value, 1.0, 1e-15);
+}
+
+TEST(Fates, ConstructedTrajectoriesOfFig8) {
+  const double R = 0.02;
+  const ta::IslandMask mask({square(0.1, 0.1, 0.3, 0.3), square(-0.3, -0.3, -0.1, -0.1)});
+  const Vec3 in_a = at_disc(0.2, 0.2, 0.95 * R), in_b = at_disc(-0.2, -0.2, 0.95 * R);
+  const Vec3 out1 = at_disc(0.6, -0.5, 0.95 * R), out2 = at_disc(-0.6, 0.5, 0.95 * R);
+  ta::SnapshotData s0 = empty_snapshot(R), s1 = empty_snapshot(R);
+  // id: start -> end                         expected
+  add(s0, 1, 1, in_a), add(s1, 1, 1, in_a);  // persistent, same island
+  add(s0, 2, 1, in_a), add(s1, 2, 1, in_b);  // persistent, another island
+  add(s0, 3, 1, out1), add(s1, 3, 1, in_b);  // captured
+  add(s0, 4, 1, out2), add(s1, 4, 1, in_a);  // captured
+  add(s0, 5, 1, in_b), add(s1, 5, 1, out1);  // dispersed
+  add(s0, 6, 1, out1), add(s1, 6, 1, out2);  // other
+  add(s0, 7, 0, out1), add(s1, 7, 0, in_a);  // small: not classified
+  add(s0, 8, 1, in_a);                       // absent at the end: not classified
+  add(s0, 9, 1, out2), add(s1, 9, 1, out2);  // other
+  const ta::FateResult r = ta::classify_fates(s0, s1, mask);
+  EXPECT_EQ(r.counts.persistent, 2);
+  EXPECT_EQ(r.counts.same_island, 1);
+  EXPECT_EQ(r.counts.captured, 2);
+  EXPECT_EQ(r.counts.dispersed, 1);
+  EXPECT_EQ(r.counts.other, 2);
+  EXPECT_EQ(r.counts.total(), 7);
+  ASSERT_EQ(r.id.size(), 7u);
+  EXPECT_EQ(r.id[2], 3);
+  EXPECT_EQ(r.fate[2], static_cast<int>(ta::Fate::Captured));
+  EXPECT_EQ(r.island_start[1], 0);
+  EXPECT_EQ(r.island_end[1], 1);
+  static_assert(ta::fate_of(-1, -1) == ta::Fate::Other);
+  static_assert(ta::fate_of(2, -1) == ta::Fate::Dispersed);
+}
+
+// Δψ of a rigid rotation by theta about the x axis: a direction at angle beta from the axis
+// turns through cos Δψ = cos^2 beta + sin^2 beta cos theta; on the great circle beta = 90° it is
+// theta itself. Checked through the campaign's displacement module on particles in the shell.
+TEST(Displacement, RigidRotationGivesTheRotationAngle) {
+  const double R = 0.02, theta = 0.7;
+  const tumble::Mat3 rot = tumble::Mat3::rotation({1, 0, 0}, theta);
+  const ta::LambertGrid grid(8);
+  tumble::Particles p;
+  const int n = 40;
+  p.resize(2 * n);
+  std::vector<std::uint32_t> slot(2 * n);
+  std::vector<std::int32_t> species(2 * n, 1);
+  for (int k = 0; k < n; ++k) {
+    const double phi = kPi + kPi * (k + 0.5) / n;  // y = R sin(phi) < 0: lower hemisphere
+    p.x[k] = Vec3{0, std::sin(phi), std::cos(phi)} * (0.95 * R);  // on the great circle
+    const double beta = 0.3 + 1.2 * k / n;  // off the great circle, angle beta from the axis
+    p.x[n + k] =
+        Vec3{std::cos(beta), std::sin(beta) * std::sin(phi), std::sin(beta) * std::cos(phi)} *
+        (0.95 * R);
+  }
+  for (int i = 0; i < 2 * n; ++i) slot[i] = i, p.radius[i] = 1e-3, p.species[i] = 1;
+  const tumble::Mat3 id = tumble::Mat3::identity();
+  const auto start = ta::shell_directions(p, slot, id, grid, R, 0.8);
+  std::vector<Vec3> end(2 * n);
+  for (int i = 0; i < 2 * n; ++i) end[i] = rot * start.u[i];
+  for (int k = 0; k < n; ++k) EXPECT_NEAR(ta::angle_between(start.u[k], end[k]), theta, 1e-14);
+  for (int k = 0; k < n; ++k) {
+    const double beta = 0.3 + 1.2 * k / n;
+    const double c =
+        std::cos(beta) * std::cos(beta) + std::sin(beta) * std::sin(beta) * std::cos(theta);
+    EXPECT_NEAR(ta::angle_between(start.u[n + k], end[n + k]), std::acos(c), 1e-12);
+  }
+  // The cell means of the great-circle particles alone are theta in every visited cell.
+  ta::DisplacementMap m(grid.cells());
+  auto great = start;
+  for (int i = n; i < 2 * n; ++i) great.cell[i] = -1;
+  m.add_interval(great, end, species);
+  int visited = 0;
+  for (double v : m.mean_large())
+    if (!std::isnan(v)) {
+      ++visited;
+      EXPECT_NEAR(v, theta, 1e-13);
+    }
+  EXPECT_GE(visited, 4);
+}
+
+TEST(CrossSection, PlaneThroughTwoDirectionsBinsTheSlab) {
+  const double R = 0.02;
+  const Vec3 a{0.3, -0.9, 0.1}, b{-0.5, -0.6, 0.4};
+  const ta::SectionPlane pl = ta::plane_through(a, b);
+  EXPECT_NEAR(tumble::dot(pl.e1, pl.e2), 0.0, 1e-15);
+  EXPECT_NEAR(tumble::dot(pl.normal, a), 0.0, 1e-15);
+  EXPECT_NEAR(tumble::dot(pl.normal, b), 0.0, 1e-15);
+  EXPECT_GT(tumble::dot(pl.e2, b), 0.0);
+  ta::SnapshotData s = empty_snapshot(R);
+  // Large at in-plane (0.7, -0.3) R, small at (-0.3, -0.3) R, one large just off the slab.
+  add(s, 1, 1, (0.7 * pl.e1 - 0.3 * pl.e2) * R);
+  add(s, 2, 0, (-0.3 * pl.e1 - 0.3 * pl.e2) * R);
+  add(s, 3, 0, (-0.3 * pl.e1 - 0.3 * pl.e2) * R + 0.9e-3 * pl.normal);
+  add(s, 4, 1, (-0.3 * pl.e1 - 0.3 * pl.e2) * R + 1.1e-3 * pl.normal);
+  ta::SectionMap m(4);
+  m.add(s, pl, 1e-3);
+  const auto c = m.c_large();
+  EXPECT_DOUBLE_EQ(c[3 * 4 + 1], 1.0);  // s1 in [0.5, 1), s2 in [-0.5, 0)
+  EXPECT_DOUBLE_EQ(c[1 * 4 + 1], 0.0);  // s1 in [-0.5, 0): two small, the large is off the slab
+  EXPECT_TRUE(std::isnan(c[0]));
+}
+
+TEST(CrossSection, TubeCrossingsOfAnIslandAroundThePole) {
+  // A square island of half-width h around the pole of the disc on two shells: the plane
+  // through the pole (x = 0) meets its boundary where the direction's Lambert image leaves it.
+  const double h = 0.2;
+  std::vector<tumble::cm::Island> islands(2);
+  islands[0].r = 0.95;
+  islands[1].r = 0.6;
+  for (auto& is : islands) is.boundary = square(-h, -h, h, h);
+  const ta::SectionPlane pl = ta::plane_through({0, -1, 0}, {0, -1, 1});  // e1 = -y, e2 = z
+  const auto t = ta::tube_crossings(islands, pl, 20000);
+  ASSERT_EQ(t.size(), 4u);  // two per shell
+  for (const auto& c : t) {
+    // Lambert radius |Z| = sin(psi)/sqrt(1 + cos psi) = h at the crossing: angle psi from -y.
+    const double psi = std::atan2(std::abs(c.s2), c.s1);
+    EXPECT_NEAR(std::sin(psi) / std::sqrt(1 + std::cos(psi)), h, 1e-3);
+    EXPECT_NEAR(std::hypot(c.s1, c.s2), c.r, 1e-12);
+  }
+}
+
+TEST(LightConcentration, LighterSpeciesShareInTheWallLayer) {
+  EXPECT_EQ(ta::lighter_species(3.0), 0);
+  EXPECT_EQ(ta::lighter_species(0.5), 1);
+  EXPECT_EQ(ta::lighter_species(1.0), -1);
+  const double R = 0.02;
+  ta::SnapshotData s = empty_snapshot(R);
+  s.density_ratio = 3;  // species 1 heavy: species 0 is the lighter one
+  // In one cell: 3 light and 1 heavy particle of equal size in the wall layer, and a light one
+  // deeper than 0.97 R that must not count.
+  for (int k = 0; k < 3; ++k) add(s, k, 0, at_disc(0.01 * k, 0.0, 0.985 * R));
+  add(s, 3, 1, at_disc(0.0, 0.01, 0.985 * R));
+  add(s, 4, 1, at_disc(0.0, 0.01, 0.9 * R));
+  const ta::LambertGrid grid(4);
+  const auto c = ta::light_concentration({s, s}, grid, 0.97);
+  const int cell = grid.cell_of(ta::lambert_from_below(0, -1, 0));
+  EXPECT_NEAR(c[cell], 0.75, 1e-12);
+  s.density_ratio = 1;
+  EXPECT_THROW(ta::light_concentration({s}, grid, 0.97), std::invalid_argument);
+}
+
+TEST(ReplicaStats, MeanAndStudentTHalfWidth) {
+  const ta::MeanCI m = ta::mean_ci95({1.0, 2.0, 3.0, std::numeric_limits<double>::quiet_NaN()});
+  EXPECT_EQ(m.n, 3);
+  EXPECT_DOUBLE_EQ(m.mean, 2.0);
+  EXPECT_NEAR(m.ci95, 4.302652729749464 / std::sqrt(3.0), 1e-9);  // t(0.975, 2) s / sqrt(3)
+  EXPECT_TRUE(std::isnan(ta::mean_ci95({5.0}).ci95));
+  EXPECT_EQ(ta::mean_ci95({}).n, 0);
+}
