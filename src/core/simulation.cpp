@@ -1,7 +1,9 @@
 #include "core/simulation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 
 #include "core/error.hpp"
 
@@ -16,6 +18,12 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
       time_(time),
       step_(step) {
   wall_.radius = s.radius;
+  is_cylinder_ = s.cylinder();
+  rapaport_ = s.rapaport();
+  leapfrog_ = s.integrator == "leapfrog";
+  cylinder_.radius = s.radius;
+  cylinder_.half_length = 0.5 * s.length;
+  cylinder_.periodic = s.periodic == "on";
   const double m[2] = {s.mass_small(), s.mass_large()};
   for (int a = 0; a < 2; ++a) {
     for (int b = 0; b < 2; ++b)
@@ -24,34 +32,99 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     wall_pair_[a] = contact::yu2022_pair(s.restitution, s.collision_time, s.tangential_damping,
                                          s.wall_friction, m[a]);
   }
-  // Chosen once per scene: frictionless scenes compile without the tangential spring.
-  if (s.friction > 0)
-    pair_kernel_ = &Simulation::pair_forces<true>;
-  else
-    pair_kernel_ = &Simulation::pair_forces<false>;
-  if (s.wall_friction > 0)
-    wall_kernel_ = &Simulation::wall_forces<true>;
-  else
-    wall_kernel_ = &Simulation::wall_forces<false>;
+  // Rapaport 2007: μ of a species pair is μ_max times its γ_s over the largest γ_s; the walls use
+  // the like-species values ("the particle-wall values are identical").
+  const double gs[2][2] = {{s.gamma_s_ss, s.gamma_s_sl}, {s.gamma_s_sl, s.gamma_s_ll}};
+  const double gs_max = std::max({s.gamma_s_ss, s.gamma_s_sl, s.gamma_s_ll});
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b) {
+      contact::Rapaport2007Pair& c = rpair_[a][b];
+      c.kn = s.kn;
+      c.gn = s.gamma_n;
+      c.gs = gs[a][b];
+      c.mu = gs_max > 0 ? s.mu_max * gs[a][b] / gs_max : s.mu_max;
+      c.kg = s.kg;
+      c.ratchet = s.ratchet;
+    }
+  for (int a = 0; a < 2; ++a) rwall_[a] = rpair_[a][a];
 
-  // Cells cover the tumbler's bounding cube; side >= largest cutoff.
+  // Chosen once per scene: law, wall and, for frictionless scenes, no tangential history.
+  if (rapaport_) {
+    const bool friction = s.mu_max > 0 && (gs_max > 0 || s.kg > 0);
+    select_kernels<contact::Rapaport2007Law>(friction, friction, cylinder_.periodic);
+  } else {
+    select_kernels<contact::Yu2022Law>(s.friction > 0, s.wall_friction > 0, cylinder_.periodic);
+  }
+
+  // Cells cover the tumbler's bounding box; side >= largest cutoff. A periodic cylinder's box is
+  // exactly one period long in z.
   double rmax = 0;
   for (double r : p_.radius) rmax = std::max(rmax, r);
   const double skin = s.skin * s.d_small;
   const double R = s.radius + skin;
-  list_ = neighbor::VerletList(neighbor::CellGrid({-R, -R, -R}, {R, R, R}, 2 * rmax + skin), skin);
+  if (is_cylinder_) {
+    const double hz = cylinder_.periodic ? 0.5 * s.length : 0.5 * s.length + skin;
+    list_ =
+        neighbor::VerletList(neighbor::CellGrid({-R, -R, -hz}, {R, R, hz}, 2 * rmax + skin), skin);
+    if (cylinder_.periodic) list_.set_period_z(s.length);
+  } else {
+    list_ =
+        neighbor::VerletList(neighbor::CellGrid({-R, -R, -R}, {R, R, R}, 2 * rmax + skin), skin);
+  }
+}
+
+template <class Law>
+void Simulation::select_kernels(bool friction, bool wall_friction, bool periodic) {
+  if (friction)
+    pair_kernel_ = periodic ? &Simulation::pair_forces<Law, true, true>
+                            : &Simulation::pair_forces<Law, true, false>;
+  else
+    pair_kernel_ = periodic ? &Simulation::pair_forces<Law, false, true>
+                            : &Simulation::pair_forces<Law, false, false>;
+  if (is_cylinder_)
+    wall_kernel_ = wall_friction ? &Simulation::cylinder_wall_forces<Law, true>
+                                 : &Simulation::cylinder_wall_forces<Law, false>;
+  else
+    wall_kernel_ = wall_friction ? &Simulation::sphere_wall_forces<Law, true>
+                                 : &Simulation::sphere_wall_forces<Law, false>;
+}
+
+template <class Law>
+const typename Law::Pair& Simulation::table(int a, int b) const {
+  if constexpr (std::is_same_v<Law, contact::Rapaport2007Law>)
+    return rpair_[a][b];
+  else
+    return pair_[a][b];
+}
+
+template <class Law>
+const typename Law::Pair& Simulation::wall_table(int a) const {
+  if constexpr (std::is_same_v<Law, contact::Rapaport2007Law>)
+    return rwall_[a];
+  else
+    return wall_pair_[a];
 }
 
 void Simulation::rebuild_lists(const neighbor::ContactHistory* history) {
+  if (cylinder_.periodic) {  // bring centres back into the period before sorting into cells
+    const double L = 2 * cylinder_.half_length;
+    for (Vec3& x : p_.x) x.z -= L * std::floor((x.z + cylinder_.half_length) / L);
+  }
   list_.rebuild(p_, history);
   // Only particles within one skin of the wall can touch it before the next rebuild (no particle
   // moves more than skin/2 in between).
   wall_candidates_.clear();
+  cap_candidates_.clear();
   const double skin = list_.skin();
   for (std::size_t i = 0; i < p_.size(); ++i) {
+    const auto k = static_cast<std::uint32_t>(i);
+    if (is_cylinder_) {
+      if (cylinder_.near_curved(p_.x[i], p_.radius[i], skin)) wall_candidates_.push_back(k);
+      if (cylinder_.near_cap(p_.x[i], p_.radius[i], skin)) cap_candidates_.push_back(k);
+      continue;
+    }
     const double reach = wall_.radius - p_.radius[i] - skin;
-    if (reach <= 0 || norm2(p_.x[i]) > reach * reach)
-      wall_candidates_.push_back(static_cast<std::uint32_t>(i));
+    if (reach <= 0 || norm2(p_.x[i]) > reach * reach) wall_candidates_.push_back(k);
   }
 }
 
@@ -81,6 +154,10 @@ void Simulation::maybe_rebuild(double max_displacement2) {
 void Simulation::step() {
   const std::size_t n = p_.size();
   const double h = 0.5 * dt_;
+  // Leapfrog: one kick of a whole step per step (half-step velocities), except the very first,
+  // which starts the half-step velocities from v(0). Velocity Verlet: two half kicks. Both give
+  // the same positions (the forces see the half-step velocity in either form).
+  const double kick = leapfrog_ && step_ > 0 ? dt_ : h;
   Vec3* __restrict x = p_.x.data();
   Vec3* __restrict v = p_.v.data();
   Vec3* __restrict w = p_.w.data();
@@ -94,8 +171,8 @@ void Simulation::step() {
   const bool have_ref = list_.reference_positions().size() == n;
   double max_d2 = have_ref ? 0.0 : 1e300;
   for (std::size_t i = 0; i < n; ++i) {
-    v[i] += h * (im[i] * f[i] + gravity_);
-    w[i] += (h * ii[i]) * t[i];
+    v[i] += kick * (im[i] * f[i] + gravity_);
+    w[i] += (kick * ii[i]) * t[i];
     x[i] += dt_ * v[i];
     f[i] = t[i] = Vec3{};
     if (have_ref) max_d2 = std::max(max_d2, norm2(x[i] - x_ref[i]));
@@ -105,6 +182,7 @@ void Simulation::step() {
   maybe_rebuild(max_d2);  // may permute particles: reload the pointers below
   (this->*pair_kernel_)();
   (this->*wall_kernel_)();
+  if (leapfrog_) return;
   // Second half kick.
   v = p_.v.data();
   w = p_.w.data();
@@ -118,7 +196,7 @@ void Simulation::step() {
   }
 }
 
-template <bool kFriction>
+template <class Law, bool kFriction, bool kPeriodic>
 void Simulation::pair_forces() {
   const std::size_t n = p_.size();
   const Vec3* __restrict x = p_.x.data();
@@ -131,13 +209,15 @@ void Simulation::pair_forces() {
   const std::uint32_t* __restrict start = list_.start.data();
   const std::uint32_t* __restrict nbr = list_.nbr.data();
   Vec3* __restrict spring = list_.spring.data();
+  const double period = 2 * cylinder_.half_length;
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 xi = x[i];
     const double ri = rad[i];
     Vec3 fi{}, ti{};
     for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
       const std::uint32_t j = nbr[k];
-      const Vec3 d = xi - x[j];
+      Vec3 d = xi - x[j];
+      if constexpr (kPeriodic) d.z -= period * std::nearbyint(d.z / period);
       const double rsum = ri + rad[j];
       const double d2 = norm2(d);
       if (d2 >= rsum * rsum) {
@@ -147,16 +227,17 @@ void Simulation::pair_forces() {
       }
       const double dist = std::sqrt(d2);
       const Vec3 nrm = (1.0 / dist) * d;
-      const Vec3 vrel = v[i] - v[j] - cross(ri * w[i] + rad[j] * w[j], nrm);
+      const double li = Law::lever(ri, dist, rsum), lj = Law::lever(rad[j], dist, rsum);
+      const Vec3 vrel = v[i] - v[j] - cross(li * w[i] + lj * w[j], nrm);
       Vec3 ft;
-      const Vec3 fc = contact::yu2022_force<kFriction>(pair_[sp[i]][sp[j]], nrm, rsum - dist, vrel,
-                                                       spring[k], dt_, ft);
+      const Vec3 fc = Law::template force<kFriction>(table<Law>(sp[i], sp[j]), nrm, rsum - dist,
+                                                     vrel, spring[k], dt_, ft);
       fi += fc;
       f[j] -= fc;
       if constexpr (kFriction) {
         const Vec3 tq = cross(ft, nrm);  // = -n x F_t: torque per unit lever arm on both
-        ti += ri * tq;
-        t[j] += rad[j] * tq;
+        ti += li * tq;
+        t[j] += lj * tq;
       }
     }
     f[i] += fi;
@@ -164,8 +245,8 @@ void Simulation::pair_forces() {
   }
 }
 
-template <bool kFriction>
-void Simulation::wall_forces() {
+template <class Law, bool kFriction>
+void Simulation::sphere_wall_forces() {
   const Vec3 omega = protocol_.omega(time_);
   for (const std::uint32_t i : wall_candidates_) {
     Vec3 nrm, point;
@@ -175,12 +256,43 @@ void Simulation::wall_forces() {
       if constexpr (kFriction) p_.wall_spring[i] = Vec3{};
       continue;
     }
-    const Vec3 vrel = p_.v[i] - cross(ri * p_.w[i], nrm) - cross(omega, point);
+    const double li = Law::lever(ri, ri - overlap, ri);
+    const Vec3 vrel = p_.v[i] - cross(li * p_.w[i], nrm) - cross(omega, point);
     Vec3 ft;
-    const Vec3 fc = contact::yu2022_force<kFriction>(wall_pair_[p_.species[i]], nrm, overlap, vrel,
-                                                     p_.wall_spring[i], dt_, ft);
+    const Vec3 fc = Law::template force<kFriction>(wall_table<Law>(p_.species[i]), nrm, overlap,
+                                                   vrel, p_.wall_spring[i], dt_, ft);
     p_.f[i] += fc;
-    if constexpr (kFriction) p_.t[i] += ri * cross(ft, nrm);
+    if constexpr (kFriction) p_.t[i] += li * cross(ft, nrm);
+  }
+}
+
+// The cylinder: the curved wall with every force term of the law, the end caps smooth (normal
+// force only: Rapaport's f_v + f_d). The caps turn in their own plane, so their normal velocity
+// is zero.
+template <class Law, bool kFriction>
+void Simulation::cylinder_wall_forces() {
+  const Vec3 omega = protocol_.omega(time_);
+  for (const std::uint32_t i : wall_candidates_) {
+    Vec3 nrm, point;
+    const double ri = p_.radius[i];
+    const double overlap = cylinder_.overlap(p_.x[i], ri, nrm, point);
+    if (overlap <= 0) {
+      if constexpr (kFriction) p_.wall_spring[i] = Vec3{};
+      continue;
+    }
+    const double li = Law::lever(ri, ri - overlap, ri);
+    const Vec3 vrel = p_.v[i] - cross(li * p_.w[i], nrm) - cross(omega, point);
+    Vec3 ft;
+    const Vec3 fc = Law::template force<kFriction>(wall_table<Law>(p_.species[i]), nrm, overlap,
+                                                   vrel, p_.wall_spring[i], dt_, ft);
+    p_.f[i] += fc;
+    if constexpr (kFriction) p_.t[i] += li * cross(ft, nrm);
+  }
+  for (const std::uint32_t i : cap_candidates_) {
+    double nz;
+    const double overlap = cylinder_.cap_overlap(p_.x[i], p_.radius[i], nz);
+    if (overlap <= 0) continue;
+    p_.f[i].z += nz * Law::normal(wall_table<Law>(p_.species[i]), overlap, nz * p_.v[i].z);
   }
 }
 
@@ -194,13 +306,44 @@ void Simulation::check_health() const {
          << step_ << "): the time step may be too large for the contact stiffness";
       throw RunError(os.str());
     }
-    if (wall_.escaped(x)) {
+    if (is_cylinder_ ? cylinder_.escaped(x) : wall_.escaped(x)) {
       std::ostringstream os;
       os << "particle " << p_.id[i] << " left the tumbler at t = " << time_ << " s (step " << step_
-         << "), |x| = " << norm(x) << " m > R = " << wall_.radius << " m";
+         << "), at (" << x.x << ", " << x.y << ", " << x.z << "), tumbler radius " << wall_.radius;
+      if (is_cylinder_) os << ", length " << 2 * cylinder_.half_length;
       throw RunError(os.str());
     }
   }
+}
+
+double Simulation::wall_overlap(const Vec3& x, double r, Vec3& n, Vec3& point) const {
+  return is_cylinder_ ? cylinder_.overlap(x, r, n, point) : wall_.overlap(x, r, n, point);
+}
+
+template <class Law>
+double Simulation::elastic_energy() const {
+  double e = 0;
+  const double period = 2 * cylinder_.half_length;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    Vec3 nrm, point;
+    const double ov = wall_overlap(p_.x[i], p_.radius[i], nrm, point);
+    if (ov > 0) e += Law::elastic_energy(wall_table<Law>(p_.species[i]), ov, p_.wall_spring[i]);
+    if (is_cylinder_) {
+      double nz;
+      const double ovc = cylinder_.cap_overlap(p_.x[i], p_.radius[i], nz);
+      if (!cylinder_.periodic && ovc > 0)
+        e += Law::elastic_energy(wall_table<Law>(p_.species[i]), ovc, Vec3{});
+    }
+    for (std::uint32_t k = list_.start[i]; k < list_.start[i + 1]; ++k) {
+      const std::uint32_t j = list_.nbr[k];
+      Vec3 d = p_.x[i] - p_.x[j];
+      if (cylinder_.periodic) d.z -= period * std::nearbyint(d.z / period);
+      const double ovp = p_.radius[i] + p_.radius[j] - norm(d);
+      if (ovp > 0)
+        e += Law::elastic_energy(table<Law>(p_.species[i], p_.species[j]), ovp, list_.spring[k]);
+    }
+  }
+  return e;
 }
 
 EnergyBreakdown Simulation::energy() const {
@@ -209,21 +352,9 @@ EnergyBreakdown Simulation::energy() const {
     const double m = 1.0 / p_.inv_mass[i];
     e.kinetic += 0.5 * m * norm2(p_.v[i]) + 0.5 / p_.inv_inertia[i] * norm2(p_.w[i]);
     e.potential -= m * dot(gravity_, p_.x[i]);
-    Vec3 nrm, point;
-    const double ov = wall_.overlap(p_.x[i], p_.radius[i], nrm, point);
-    if (ov > 0) {
-      const auto& c = wall_pair_[p_.species[i]];
-      e.elastic += 0.5 * c.kn * ov * ov + 0.5 * c.kt * norm2(p_.wall_spring[i]);
-    }
-    for (std::uint32_t k = list_.start[i]; k < list_.start[i + 1]; ++k) {
-      const std::uint32_t j = list_.nbr[k];
-      const double ovp = p_.radius[i] + p_.radius[j] - norm(p_.x[i] - p_.x[j]);
-      if (ovp > 0) {
-        const auto& c = pair_[p_.species[i]][p_.species[j]];
-        e.elastic += 0.5 * c.kn * ovp * ovp + 0.5 * c.kt * norm2(list_.spring[k]);
-      }
-    }
   }
+  e.elastic =
+      rapaport_ ? elastic_energy<contact::Rapaport2007Law>() : elastic_energy<contact::Yu2022Law>();
   return e;
 }
 
@@ -233,10 +364,5 @@ double Simulation::rms_speed() const {
   for (const auto& v : p_.v) s += norm2(v);
   return std::sqrt(s / p_.size());
 }
-
-template void Simulation::pair_forces<true>();
-template void Simulation::pair_forces<false>();
-template void Simulation::wall_forces<true>();
-template void Simulation::wall_forces<false>();
 
 }  // namespace tumble

@@ -1,14 +1,16 @@
 #pragma once
 // The DEM engine for one realization: particle state, neighbour list with contact history, the
-// contact law, the tumbler wall and its rotation protocol, and the velocity-Verlet integrator.
-// Physics options are resolved once at construction into a member-function pointer to a kernel
-// instantiated for exactly those options: the per-contact loop has no option branches.
+// contact law, the tumbler wall (sphere, or cylinder with end caps) and its rotation protocol, and
+// the integrator (velocity Verlet, or leapfrog). Physics options are resolved once at construction
+// into member-function pointers to kernels instantiated for exactly those options (law, wall,
+// friction, axial periodicity): the per-contact loops have no option branches.
 #include <cstdint>
 #include <string>
 
-#include "contact/yu2022.hpp"
+#include "contact/laws.hpp"
 #include "core/particles.hpp"
 #include "core/scene.hpp"
+#include "geometry/cylinder_wall.hpp"
 #include "geometry/protocol.hpp"
 #include "geometry/sphere_wall.hpp"
 #include "neighbor/verlet_list.hpp"
@@ -49,6 +51,9 @@ class Simulation {
   const neighbor::VerletList& neighbors() const { return list_; }
   const geometry::Protocol& protocol() const { return protocol_; }
   const geometry::SphereWall& wall() const { return wall_; }
+  const geometry::CylinderWall& cylinder() const { return cylinder_; }
+  bool is_cylinder() const { return is_cylinder_; }
+  bool leapfrog() const { return leapfrog_; }
   double time() const { return time_; }
   std::int64_t step_count() const { return step_; }
   double dt() const { return dt_; }
@@ -57,23 +62,44 @@ class Simulation {
   std::uint64_t fast_rebuilds() const { return fast_rebuilds_; }
   const contact::Yu2022Pair& pair(int a, int b) const { return pair_[a][b]; }
   const contact::Yu2022Pair& wall_pair(int a) const { return wall_pair_[a]; }
+  const contact::Rapaport2007Pair& rapaport_pair(int a, int b) const { return rpair_[a][b]; }
+  const contact::Rapaport2007Pair& rapaport_wall(int a) const { return rwall_[a]; }
 
  private:
-  template <bool kFriction>
+  template <class Law, bool kFriction, bool kPeriodic>
   void pair_forces();
-  template <bool kFriction>
-  void wall_forces();
+  template <class Law, bool kFriction>
+  void sphere_wall_forces();
+  template <class Law, bool kFriction>
+  void cylinder_wall_forces();
+  template <class Law>
+  void select_kernels(bool friction, bool wall_friction, bool periodic);
+  template <class Law>
+  const typename Law::Pair& table(int a, int b) const;
+  template <class Law>
+  const typename Law::Pair& wall_table(int a) const;
+  template <class Law>
+  double elastic_energy() const;
+  // Overlap with the tumbler's wall (curved wall of a cylinder) for diagnostics.
+  double wall_overlap(const Vec3& x, double r, Vec3& n, Vec3& point) const;
   void maybe_rebuild(double max_displacement2);
   void rebuild_lists(const neighbor::ContactHistory* history);
 
   Particles p_;
   geometry::Protocol protocol_;
   geometry::SphereWall wall_;
+  geometry::CylinderWall cylinder_;
+  bool is_cylinder_ = false;
+  bool rapaport_ = false;
+  bool leapfrog_ = false;
   neighbor::VerletList list_;
   std::vector<std::uint32_t>
-      wall_candidates_;  // particles that may touch the wall before the next rebuild
+      wall_candidates_;  // particles that may touch the (curved) wall before the next rebuild
+  std::vector<std::uint32_t> cap_candidates_;  // cylinder: particles that may touch an end cap
   contact::Yu2022Pair pair_[2][2];
   contact::Yu2022Pair wall_pair_[2];
+  contact::Rapaport2007Pair rpair_[2][2];
+  contact::Rapaport2007Pair rwall_[2];
   Vec3 gravity_;
   double dt_;
   double time_;

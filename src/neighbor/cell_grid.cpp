@@ -8,15 +8,14 @@ namespace tumble::neighbor {
 CellGrid::CellGrid(const Vec3& lo, const Vec3& hi, double min_cell) : lo_(lo) {
   for (int d = 0; d < 3; ++d)
     n_[d] = std::max(1, static_cast<int>(std::floor((hi[d] - lo[d]) / min_cell)));
-  // Cubic cells of the same side in every direction (the box is cubic for our tumblers).
-  const double side = (hi.x - lo.x) / n_[0];
-  inv_cell_ = 1.0 / side;
+  // Each direction divided into a whole number of cells (a periodic direction must be).
+  for (int d = 0; d < 3; ++d) inv_cell_[d] = n_[d] / (hi[d] - lo[d]);
 }
 
 std::uint32_t CellGrid::cell_of(const Vec3& p) const {
   int c[3];
   for (int d = 0; d < 3; ++d) {
-    c[d] = static_cast<int>(std::floor((p[d] - lo_[d]) * inv_cell_));
+    c[d] = static_cast<int>(std::floor((p[d] - lo_[d]) * inv_cell_[d]));
     c[d] = std::min(std::max(c[d], 0), n_[d] - 1);
   }
   return index(c[0], c[1], c[2]);

@@ -1,5 +1,5 @@
 #pragma once
-// A uniform grid of cubic cells over a fixed box. Used to sort particles spatially (cache
+// A uniform grid of box-shaped cells over a fixed box. Used to sort particles spatially (cache
 // locality for the force loop) and to find neighbour candidates in the 27 surrounding cells.
 #include <cstdint>
 #include <vector>
@@ -11,7 +11,7 @@ namespace tumble::neighbor {
 class CellGrid {
  public:
   CellGrid() = default;
-  // Box [lo, hi]^3, cells of side >= min_cell.
+  // Box [lo, hi], cells of every side >= min_cell, a whole number of cells in each direction.
   CellGrid(const Vec3& lo, const Vec3& hi, double min_cell);
 
   int nx() const { return n_[0]; }
@@ -37,7 +37,7 @@ class CellGrid {
 
  private:
   Vec3 lo_;
-  double inv_cell_ = 1;
+  double inv_cell_[3] = {1, 1, 1};
   int n_[3] = {1, 1, 1};
 };
 

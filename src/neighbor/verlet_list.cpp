@@ -1,6 +1,8 @@
 #include "neighbor/verlet_list.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
 
 namespace tumble::neighbor {
 
@@ -11,6 +13,12 @@ void VerletList::save_history(const Particles& p, ContactHistory& out) const {
     for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
       out.save(p.id[i], p.id[nbr[k]], spring[k]);
   out.finalize();
+}
+
+void VerletList::set_period_z(double period) {
+  if (period > 0 && grid_.nz() < 3)
+    throw std::invalid_argument("a periodic direction needs at least 3 neighbour cells");
+  period_z_ = period;
 }
 
 void VerletList::rebuild(Particles& p, const ContactHistory* history) {
@@ -38,14 +46,22 @@ void VerletList::rebuild(Particles& p, const ContactHistory* history) {
     const double ri = p.radius[i] + skin_;
     // Cells in increasing index order and particles in increasing order within a cell: each row
     // comes out sorted by partner index without a sort.
+    // Periodic in z (axially periodic cylinder): the z neighbours of the end cells wrap and
+    // distances use the nearest image. The three wrapped cells are distinct (nz >= 3, checked at
+    // construction), so every pair is still found exactly once.
+    const int c_lo = period_z_ > 0 ? ck - 1 : std::max(ck - 1, 0);
+    const int c_hi = period_z_ > 0 ? ck + 1 : std::min(ck + 1, grid_.nz() - 1);
     for (int a = std::max(ci - 1, 0); a <= std::min(ci + 1, grid_.nx() - 1); ++a)
       for (int b = std::max(cj - 1, 0); b <= std::min(cj + 1, grid_.ny() - 1); ++b)
-        for (int c = std::max(ck - 1, 0); c <= std::min(ck + 1, grid_.nz() - 1); ++c) {
+        for (int cc = c_lo; cc <= c_hi; ++cc) {
+          const int c = (cc + grid_.nz()) % grid_.nz();
           const std::uint32_t cell = grid_.index(a, b, c);
           for (std::uint32_t j = std::max<std::uint32_t>(cell_start_[cell], i + 1);
                j < cell_start_[cell + 1]; ++j) {
             const double cut = ri + p.radius[j];
-            if (norm2(xi - p.x[j]) < cut * cut) nbr.push_back(j);
+            Vec3 d = xi - p.x[j];
+            if (period_z_ > 0) d.z -= period_z_ * std::nearbyint(d.z / period_z_);
+            if (norm2(d) < cut * cut) nbr.push_back(j);
           }
         }
   }

@@ -20,6 +20,9 @@ class VerletList {
   // springs over (by old index). `history`, if non-null, supplies them instead, matched by global
   // id (restart, migration).
   void rebuild(Particles& p, const ContactHistory* history = nullptr);
+  // Makes z periodic with this period (the cell grid must span exactly one period in z).
+  void set_period_z(double period);
+  double period_z() const { return period_z_; }
   // Saves the live springs of the current list (for a checkpoint).
   void save_history(const Particles& p, ContactHistory& out) const;
 
@@ -34,6 +37,7 @@ class VerletList {
  private:
   CellGrid grid_;
   double skin_ = 0;
+  double period_z_ = 0;  // 0: not periodic
   // The list is valid for local carry-over when it describes the current particles.
   bool old_start_capacity_ok(std::size_t n) const { return start.size() == n + 1; }
   std::vector<Vec3> x_ref_;
