@@ -130,10 +130,7 @@ Expansion expand(const CampaignSpec& spec) {
         (void)make_collect_plan(spec.collect, s);
         const double steps = std::llround(s.run_time() / s.time_step());
         double particles = 1000;  // a given bed file: its size is not known without reading it
-        if (s.bed_file.empty()) {
-          const BedPlan plan = plan_bed(s);
-          particles = static_cast<double>(plan.n_large + plan.n_small);
-        }
+        if (s.bed_file.empty()) particles = static_cast<double>(planned_particle_count(s));
         cost = particles * steps;
       } catch (const InputError& err) {
         scene_error = err.what();

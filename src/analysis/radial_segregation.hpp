@@ -4,6 +4,7 @@
 // average. Large particles enriched at the wall give shell > bed.
 #include <vector>
 
+#include "analysis/cylinder_segregation.hpp"
 #include "core/particles.hpp"
 
 namespace tumble::analysis {
@@ -18,6 +19,7 @@ SegregationSample radial_segregation(const Particles& p, double tumbler_radius, 
 
 struct Series {
   std::vector<double> time, iteration, shell_large_fraction, bed_large_fraction, kinetic_energy;
+  CylinderSeries cylinder;  // cylinder scenes: Rapaport's measures (sphere scenes: empty)
   void append(double t, double iter, const SegregationSample& s, double ke) {
     time.push_back(t);
     iteration.push_back(iter);

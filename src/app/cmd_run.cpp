@@ -44,11 +44,14 @@ void register_run(CLI::App& app) {
     if (opts->check) {
       std::cout << scene_to_text(scene);
       if (scene.bed_file.empty()) {
-        const BedPlan plan = plan_bed(scene);
-        std::cout << "# bed: " << plan.n_large << " large + " << plan.n_small
-                  << " small = " << plan.n_large + plan.n_small << " particles; time step "
-                  << scene.time_step() << " s (stability bound " << time_step_bound(scene)
-                  << " s); " << std::llround(scene.run_time() / scene.time_step()) << " steps\n";
+        std::cout << "# bed: ";
+        if (!scene.cylinder()) {
+          const BedPlan plan = plan_bed(scene);
+          std::cout << plan.n_large << " large + " << plan.n_small << " small = ";
+        }
+        std::cout << planned_particle_count(scene) << " particles; time step " << scene.time_step()
+                  << " s (stability bound " << time_step_bound(scene) << " s); "
+                  << std::llround(scene.run_time() / scene.time_step()) << " steps\n";
       }
       return;
     }

@@ -98,12 +98,24 @@ BedPlan plan_bed(const Scene& s) {
   return plan;
 }
 
+std::int64_t planned_particle_count(const Scene& s) {
+  if (s.cylinder()) return s.count;
+  const BedPlan plan = plan_bed(s);
+  return plan.n_large + plan.n_small;
+}
+
 void set_species_properties(const Scene& s, Particles& p) {
   const double ms = s.mass_small(), ml = s.mass_large();
+  const double rho[2] = {s.density, s.density * s.density_ratio};
   for (std::size_t i = 0; i < p.size(); ++i) {
     const bool large = p.species[i] == 1;
-    const double m = large ? ml : ms;
-    p.radius[i] = 0.5 * (large ? s.d_large : s.d_small);
+    double m = large ? ml : ms;
+    if (s.size_spread > 0) {  // polydisperse: the radius is the particle's own
+      const double d = 2.0 * p.radius[i];
+      m = rho[large ? 1 : 0] * kPi / 6.0 * d * d * d;
+    } else {
+      p.radius[i] = 0.5 * (large ? s.d_large : s.d_small);
+    }
     p.inv_mass[i] = 1.0 / m;
     p.inv_inertia[i] = 1.0 / (0.4 * m * p.radius[i] * p.radius[i]);
   }

@@ -21,6 +21,8 @@ struct BedPlan {
 // Particle counts and their lattice positions for the scene, deterministic in the seed; throws
 // InputError if the bed does not fit in the tumbler.
 BedPlan plan_bed(const Scene& s);
+// Number of particles the scene's bed will hold (a cylinder: particles.count; a sphere: the plan).
+std::int64_t planned_particle_count(const Scene& s);
 // Builds the (unsettled) bed: species 0 = small, 1 = large; ids 0..N-1. Deterministic in the seed.
 Particles make_bed(const Scene& s);
 // Sets mass/inertia/radius-derived fields from species (used by every bed source).

@@ -11,10 +11,12 @@
 #include "cm/drift_grid.hpp"
 #include "core/error.hpp"
 #include "core/fill.hpp"
+#include "core/fill_cylinder.hpp"
 #include "core/simulation.hpp"
 #include "core/text_util.hpp"
 #include "io/bed_io.hpp"
 #include "io/checkpoint.hpp"
+#include "io/cylinder_series_io.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/snapshot.hpp"
 
@@ -29,20 +31,47 @@ double seconds_since(Clock::time_point t0) {
 }  // namespace
 
 Particles fill_and_settle(const Scene& scene, std::ostream* log) {
-  Particles bed = make_bed(scene);
-  if (log)
+  double shrink = 1;
+  Particles bed;
+  if (scene.cylinder()) {
+    CylinderBed cb = make_cylinder_bed(scene);
+    bed = std::move(cb.particles);
+    shrink = cb.shrink;
+  } else {
+    bed = make_bed(scene);
+  }
+  if (log) {
     *log << "[fill] " << bed.size() << " particles placed (seed " << scene.seed << ", start '"
-         << scene.start << "'); settling until rms speed < " << scene.settle_rms_speed << " m/s\n";
+         << scene.start << "'";
+    if (shrink < 1) *log << ", at " << shrink << " of their size, grown back while settling";
+    *log << "); settling until rms speed < " << scene.settle_rms_speed << "\n";
+  }
+  // The engine is built with the full radii (they size its cells); a shrunk placement starts
+  // with every radius scaled by `shrink` and grows back linearly over kGrowBlocks blocks of 200
+  // steps, rebuilding the neighbour list after each change.
+  std::vector<double> full_radius(bed.size());
+  for (std::size_t i = 0; i < bed.size(); ++i) full_radius[bed.id[i]] = bed.radius[i];
   Simulation sim(scene, std::move(bed), geometry::Protocol::at_rest());
+  constexpr int kGrowBlocks = 50;
+  auto set_scale = [&](double scale) {
+    Particles& p = sim.particles();
+    for (std::size_t i = 0; i < p.size(); ++i) p.radius[i] = scale * full_radius[p.id[i]];
+  };
+  if (shrink < 1) set_scale(shrink);
   sim.compute_forces();
   const auto t0 = Clock::now();
   auto last = t0;
   const double min_time =
       20 * scene.collision_time + std::sqrt(2 * scene.d_large / std::max(scene.g, 1e-12));
-  while (true) {
+  for (int block = 1;; ++block) {
+    if (shrink < 1 && block <= kGrowBlocks) {
+      set_scale(shrink + (1 - shrink) * block / kGrowBlocks);
+      sim.request_rebuild();
+    }
     for (int k = 0; k < 200; ++k) sim.step();
     const double rms = sim.rms_speed();
-    if (sim.time() > min_time && rms < scene.settle_rms_speed) break;
+    const bool grown = shrink == 1 || block >= kGrowBlocks;
+    if (grown && sim.time() > min_time && rms < scene.settle_rms_speed) break;
     if (sim.time() > scene.settle_max_time) {
       std::ostringstream os;
       os << "the bed did not settle within fill.settle_max_time = " << scene.settle_max_time
@@ -170,7 +199,20 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
     snaps.push_back({name, sim->time(), sim->particles().size()});
     io::write_xdmf(scene.output_dir, snaps);
   };
+  // Cylinder scenes measure Rapaport's S_a, S_r and profiles; sphere scenes Yu's shell fraction.
+  analysis::CylinderFrame frame;
+  frame.radius = scene.radius;
+  frame.length = scene.length;
+  frame.slice =
+      scene.slice_width > 0 ? scene.slice_width : 2.5 * (scene.d_small - 0.5 * scene.size_spread);
+  frame.b3 = std::pow(scene.d_large / scene.d_small, 3);
   auto sample = [&]() {
+    if (scene.cylinder()) {
+      analysis::sample_cylinder(sim->particles(), frame, sim->time(),
+                                scene.omega() * sim->time() / (2 * kPi), sim->energy().kinetic,
+                                series.cylinder);
+      return;
+    }
     series.append(sim->time(), sim->protocol().iteration(sim->time()),
                   analysis::radial_segregation(sim->particles(), scene.radius),
                   sim->energy().kinetic);
@@ -225,11 +267,15 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
       const double el = seconds_since(t0);
       const double rate = (s - first_step) * static_cast<double>(res.particles) / el;
       const double eta = el / (s - first_step) * (end_step - s);
-      *log << "[run] t = " << std::fixed << std::setprecision(3) << sim->time() << " s  iter "
-           << std::setprecision(2) << sim->protocol().iteration(sim->time()) << " ("
-           << sim->protocol().phase(sim->time()) << ")  step " << s << "/" << end_step << "  "
-           << std::scientific << std::setprecision(2) << rate << " particle-steps/s  ETA "
-           << format_hms(eta) << std::defaultfloat << std::endl;
+      *log << "[run] t = " << std::fixed << std::setprecision(3) << sim->time() << " s  ";
+      if (scene.mode == "single_axis")  // constant rotation: count revolutions
+        *log << "rev " << std::setprecision(2) << scene.omega() * sim->time() / (2 * kPi);
+      else
+        *log << "iter " << std::setprecision(2) << sim->protocol().iteration(sim->time()) << " ("
+             << sim->protocol().phase(sim->time()) << ")";
+      *log << "  step " << s << "/" << end_step << "  " << std::scientific << std::setprecision(2)
+           << rate << " particle-steps/s  ETA " << format_hms(eta) << std::defaultfloat
+           << std::endl;
     }
   }
   res.wall_seconds = seconds_since(t0);
@@ -250,6 +296,7 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
     f.write("series/shell_large_fraction", series.shell_large_fraction);
     f.write("series/bed_large_fraction", series.bed_large_fraction);
     f.write("series/kinetic_energy", series.kinetic_energy);
+    io::write_cylinder_series(f, series.cylinder);
     f.set_attr("/", "steps", static_cast<std::int64_t>(sim->step_count()));
     f.set_attr("/", "time", sim->time());
     f.set_attr("/", "particles", res.particles);

@@ -14,7 +14,12 @@
 
 namespace tumble {
 
-double Scene::omega() const { return rpm * 2.0 * kPi / 60.0; }
+double Scene::omega() const { return omega_set > 0 ? omega_set : rpm * 2.0 * kPi / 60.0; }
+double Scene::mean_cube(double d) const {
+  if (size_spread <= 0) return d * d * d;
+  const double a = d - size_spread;  // uniform in [a, d]: E[d^3] = (d^4 - a^4) / (4 (d - a))
+  return (d * d * d * d - a * a * a * a) / (4.0 * size_spread);
+}
 double Scene::mass_small() const { return density * kPi / 6.0 * d_small * d_small * d_small; }
 double Scene::mass_large() const {
   return density * density_ratio * kPi / 6.0 * d_large * d_large * d_large;
@@ -26,6 +31,8 @@ double Scene::run_time() const {
     const double period = (deg2rad(theta_z) + deg2rad(theta_x) + 4.0 * deg2rad(repose)) / w;
     return iterations * period;
   }
+  if (mode == "single_axis" && revolutions > 0 && omega() > 0)
+    return revolutions * 2.0 * kPi / omega();
   return duration;
 }
 
@@ -42,6 +49,19 @@ struct Value {
 const std::map<std::string, double Scene::*>& real_members() {
   static const std::map<std::string, double Scene::*> m = {
       {"tumbler.radius", &Scene::radius},
+      {"tumbler.length", &Scene::length},
+      {"particles.size_spread", &Scene::size_spread},
+      {"contact.kn", &Scene::kn},
+      {"contact.gamma_n", &Scene::gamma_n},
+      {"contact.gamma_s_ss", &Scene::gamma_s_ss},
+      {"contact.gamma_s_sl", &Scene::gamma_s_sl},
+      {"contact.gamma_s_ll", &Scene::gamma_s_ll},
+      {"contact.mu_max", &Scene::mu_max},
+      {"contact.kg", &Scene::kg},
+      {"contact.ratchet", &Scene::ratchet},
+      {"protocol.omega", &Scene::omega_set},
+      {"protocol.revolutions", &Scene::revolutions},
+      {"output.slice_width", &Scene::slice_width},
       {"particles.d_small", &Scene::d_small},
       {"particles.d_large", &Scene::d_large},
       {"particles.density", &Scene::density},
@@ -75,11 +95,20 @@ const std::map<std::string, double Scene::*>& real_members() {
 }
 const std::map<std::string, std::string Scene::*>& text_members() {
   static const std::map<std::string, std::string Scene::*> m = {
-      {"scene.name", &Scene::name},          {"scene.output_dir", &Scene::output_dir},
-      {"tumbler.shape", &Scene::shape},      {"contact.law", &Scene::law},
-      {"fill.start", &Scene::start},         {"fill.bed_file", &Scene::bed_file},
-      {"fill.bed_cache", &Scene::bed_cache}, {"protocol.mode", &Scene::mode},
-      {"protocol.axis", &Scene::axis},       {"output.drift_grid", &Scene::drift_grid},
+      {"scene.name", &Scene::name},           {"scene.output_dir", &Scene::output_dir},
+      {"tumbler.shape", &Scene::shape},       {"contact.law", &Scene::law},
+      {"fill.start", &Scene::start},          {"fill.bed_file", &Scene::bed_file},
+      {"fill.bed_cache", &Scene::bed_cache},  {"protocol.mode", &Scene::mode},
+      {"protocol.axis", &Scene::axis},        {"output.drift_grid", &Scene::drift_grid},
+      {"tumbler.periodic", &Scene::periodic}, {"time.integrator", &Scene::integrator},
+  };
+  return m;
+}
+
+const std::map<std::string, std::int64_t Scene::*>& int_members() {
+  static const std::map<std::string, std::int64_t Scene::*> m = {
+      {"fill.seed", &Scene::seed},
+      {"particles.count", &Scene::count},
   };
   return m;
 }
@@ -204,7 +233,7 @@ Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& 
       if (spec->type == KeySpec::Integer) {
         if (v.num != std::floor(v.num))
           throw InputError(where + " = " + v.text + " must be an integer");
-        s.seed = static_cast<std::int64_t>(v.num);  // the only integer key
+        s.*(int_members().at(key)) = static_cast<std::int64_t>(v.num);
       } else {
         s.*(real_members().at(key)) = v.num;
       }
@@ -233,6 +262,14 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 // with k/m maximised over every pair and wall contact, m the lighter partner. For the Yu law
 // k/m_eff = (π/t_c)² + γ_n², and a wall contact (m_eff = m) is the stiffest: the bound is ≈ t_c/π.
 double time_step_bound(const Scene& s) {
+  if (s.rapaport()) {
+    // Rapaport's k_n and γ_n are the same for every pair, so the lightest particle against the
+    // wall (m_eff = m) is the stiffest mode: k/m + (γ_n/2m)^2 with m the smallest mass.
+    const double d_min = s.d_small - s.size_spread;
+    const double m = s.density * std::min(1.0, s.density_ratio) * kPi / 6.0 * d_min * d_min * d_min;
+    const double half_rate = s.gamma_n / (2.0 * m);
+    return 1.0 / std::sqrt(s.kn / m + half_rate * half_rate);
+  }
   const double gamma_n = -std::log(s.restitution) / s.collision_time;
   const double w2 = (kPi / s.collision_time) * (kPi / s.collision_time) + gamma_n * gamma_n;
   const double ms = s.mass_small(), ml = s.mass_large();
@@ -252,6 +289,48 @@ void validate_scene(const Scene& s) {
                                   std::to_string(s.d_small) + ")");
   if (s.d_large / s.d_small > 8)
     fail("particles.d_large", "gives a size ratio above the supported maximum 8");
+  if (s.size_spread > 0 && !s.rapaport())
+    fail("particles.size_spread",
+         "> 0 needs contact.law = 'rapaport2007' (the yu2022 law tabulates two particle sizes)");
+  if (s.size_spread >= s.d_small)
+    fail("particles.size_spread", "must be below particles.d_small = " + std::to_string(s.d_small));
+  if (s.rapaport() && s.dt <= 0)
+    fail("time.dt", "must be set (> 0) for contact.law = 'rapaport2007' (MD units, e.g. 5e-3)");
+  if (s.cylinder()) {
+    if (s.length <= 0) fail("tumbler.length", "must be > 0 for tumbler.shape = 'cylinder'");
+    const double cell = s.d_large + s.skin * s.d_small;
+    if (s.length < 3 * cell)
+      fail("tumbler.length",
+           "must be at least 3 neighbour cells (" + std::to_string(3 * cell) + ") long");
+    if (s.count <= 0)
+      fail("particles.count", "must be > 0 for tumbler.shape = 'cylinder' (the particle number)");
+    if (s.mode == "biaxial")
+      fail("protocol.mode",
+           "= 'biaxial' is for the sphere; a cylinder turns about its axis: "
+           "use 'single_axis' with protocol.axis = 'z', or 'rest'");
+    if (s.mode == "single_axis" && s.axis != "z")
+      fail("protocol.axis", "must be 'z' for a cylinder (its axis)");
+    if (s.start == "large_top" || s.start == "large_xneg")
+      fail("fill.start", "= '" + s.start +
+                             "' is for the sphere; a cylinder starts 'mixed' or "
+                             "'large_zneg' (presegregated in two axial halves)");
+    // Cheap fit check (the placement itself is in fill_cylinder.cpp): solids must not exceed 60%
+    // of the cylinder.
+    const double fl = s.large_fraction / s.mean_cube(s.d_large);
+    const double fs = (1 - s.large_fraction) / s.mean_cube(s.d_small);
+    const double v_mean = kPi / 6.0 / (fl + fs);  // volume of the mean particle (by number)
+    const double v_cyl = kPi * s.radius * s.radius * s.length;
+    if (s.count * v_mean > 0.6 * v_cyl)
+      fail("particles.count",
+           "= " + std::to_string(s.count) + " does not fit: the solids would fill " +
+               std::to_string(s.count * v_mean / v_cyl) + " of the cylinder (at most 0.6)");
+  } else {
+    if (s.count > 0)
+      fail("particles.count", "is for cylinders; a sphere is filled by particles.fill_level");
+    if (s.periodic == "on") fail("tumbler.periodic", "= 'on' needs tumbler.shape = 'cylinder'");
+    if (s.start == "large_zneg")
+      fail("fill.start", "= 'large_zneg' is for the cylinder (axial halves)");
+  }
   if (s.d_large * 4 > s.radius)
     fail("tumbler.radius",
          "must be at least 4 large diameters (" + std::to_string(4 * s.d_large) + ")");
@@ -260,19 +339,19 @@ void validate_scene(const Scene& s) {
     std::ostringstream os;
     os.precision(4);
     os << "gives a time step " << s.time_step() << " s above the stability bound " << bound
-       << " s = 1/sqrt(max k/m) of the stiffest pair (about t_c/pi); allowed: time.dt <= " << bound
-       << " or time.dt_fraction <= " << bound / s.collision_time;
+       << " s = 1/sqrt(max k/m) of the stiffest pair (about t_c/pi); allowed: time.dt <= " << bound;
+    if (!s.rapaport()) os << " or time.dt_fraction <= " << bound / s.collision_time;
     fail(s.dt > 0 ? "time.dt" : "time.dt_fraction", os.str());
   }
-  if (s.mode != "rest" && s.rpm <= 0)
-    fail("protocol.rpm", "must be > 0 when protocol.mode is '" + s.mode + "'");
+  if (s.mode != "rest" && s.omega() <= 0)
+    fail("protocol.rpm", "(or protocol.omega) must be > 0 when protocol.mode is '" + s.mode + "'");
   if (s.mode == "biaxial" && s.theta_z + s.theta_x <= 0 && s.iterations > 0)
     fail("protocol.theta_z",
          "and protocol.theta_x are both 0: the biaxial protocol would not move");
   if (!s.bed_file.empty()) {
     std::ifstream f(s.bed_file);
     if (!f) fail("fill.bed_file", "names a file that cannot be read: '" + s.bed_file + "'");
-  } else {
+  } else if (!s.cylinder()) {
     // Raises InputError if the requested bed does not fit in the tumbler.
     (void)plan_bed(s);
   }
@@ -287,7 +366,7 @@ std::string scene_to_text(const Scene& s) {
     if (spec.type == KeySpec::Text)
       os << '"' << s.*(text_members().at(spec.key)) << '"';
     else if (spec.type == KeySpec::Integer)
-      os << s.seed;
+      os << s.*(int_members().at(spec.key));
     else
       os << s.*(real_members().at(spec.key));
     os << "\n";

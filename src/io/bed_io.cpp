@@ -21,6 +21,14 @@ std::string bed_key(const Scene& s) {
      << ";mu=" << s.friction << ";muw=" << s.wall_friction << ";gt=" << s.tangential_damping
      << ";g=" << s.g << ";dt=" << s.time_step() << ";seed=" << s.seed << ";start=" << s.start
      << ";settle=" << s.settle_rms_speed;
+  // Keys added with the cylinder and the Rapaport law; absent for sphere/Yu scenes so their cached
+  // beds keep their names.
+  if (s.cylinder())
+    os << ";cyl=" << s.length << "," << s.periodic << "," << s.count << "," << s.size_spread;
+  if (s.rapaport())
+    os << ";rap=" << s.kn << "," << s.gamma_n << "," << s.gamma_s_ss << "," << s.gamma_s_sl << ","
+       << s.gamma_s_ll << "," << s.mu_max << "," << s.kg << "," << s.ratchet << "," << s.size_spread
+       << "," << s.integrator;
   return os.str();
 }
 
@@ -53,12 +61,19 @@ namespace {
 void check_bed(const Particles& p, const Scene& s, const std::string& path) {
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double want = 0.5 * (p.species[i] == 1 ? s.d_large : s.d_small);
-    if (std::fabs(p.radius[i] - want) > 1e-9 * want)
+    const bool size_ok = s.size_spread > 0
+                             ? p.radius[i] <= want * (1 + 1e-9) &&
+                                   p.radius[i] >= want - 0.5 * s.size_spread - 1e-9 * want
+                             : std::fabs(p.radius[i] - want) <= 1e-9 * want;
+    if (!size_ok)
       throw InputError("bed '" + path + "': particle " + std::to_string(p.id[i]) + " has radius " +
                        std::to_string(p.radius[i]) + " but the scene's particles.d_" +
                        (p.species[i] == 1 ? "large" : "small") + " gives " + std::to_string(want));
-    // Settled beds press slightly into the wall; 10% of a radius means a different tumbler.
-    if (norm(p.x[i]) + p.radius[i] > s.radius + 0.1 * p.radius[i])
+    // Settled beds press slightly into the wall; 10% of a radius means a different tumbler (the
+    // soft particles of the Rapaport law overlap by several per cent per contact: half a radius).
+    const double from_axis = s.cylinder() ? std::hypot(p.x[i].x, p.x[i].y) : norm(p.x[i]);
+    const double tolerance = (s.rapaport() ? 0.5 : 0.1) * p.radius[i];
+    if (from_axis + p.radius[i] > s.radius + tolerance)
       throw InputError("bed '" + path + "': particle " + std::to_string(p.id[i]) +
                        " lies outside tumbler.radius = " + std::to_string(s.radius));
   }

@@ -1,6 +1,7 @@
 #include "io/checkpoint.hpp"
 
 #include "core/error.hpp"
+#include "io/cylinder_series_io.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/snapshot.hpp"
 
@@ -53,6 +54,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   f.write("series/shell_large_fraction", series.shell_large_fraction);
   f.write("series/bed_large_fraction", series.bed_large_fraction);
   f.write("series/kinetic_energy", series.kinetic_energy);
+  write_cylinder_series(f, series.cylinder);
   f.set_attr("/", "time", sim.time());
   f.set_attr("/", "step", static_cast<std::int64_t>(sim.step_count()));
   f.set_attr("/", "snapshots_written", snapshots_written);
@@ -91,6 +93,7 @@ CheckpointData read_checkpoint(const std::string& path) {
   c.series.shell_large_fraction = f.read_double("series/shell_large_fraction");
   c.series.bed_large_fraction = f.read_double("series/bed_large_fraction");
   c.series.kinetic_energy = f.read_double("series/kinetic_energy");
+  read_cylinder_series(f, c.series.cylinder);
   c.time = f.attr_double("/", "time");
   c.step = f.attr_int64("/", "step");
   c.snapshots_written = f.attr_int64("/", "snapshots_written");
