@@ -1,0 +1,160 @@
+"""Everything the report reads from a campaign directory (layout: docs/campaign.md), with h5py and
+the standard library: the manifest (latest record per case), the campaign file, ensemble.h5 (per
+parameter point: mean / ci95 / count of every field), the per-case fields files (for the scalar
+metrics and the convergence with replicas) and, when `tumble analyze campaign` has run,
+analysis.h5 (CM islands, island enrichment, Fig. 8 counts, lighter-particle maps)."""
+import glob
+import json
+import os
+
+import h5py
+import numpy as np
+
+
+def text(a):
+    return a.decode() if isinstance(a, bytes) else str(a)
+
+
+def manifest(d):
+    """Latest record of every case, by its time stamp (docs/campaign.md, Manifest)."""
+    lines = []
+    for f in sorted(glob.glob(os.path.join(d, "manifest", "*.jsonl"))):
+        with open(f) as fh:
+            for line in fh:
+                line = line.strip()
+                if not line:
+                    continue
+                try:
+                    lines.append(json.loads(line))
+                except json.JSONDecodeError:
+                    pass  # a torn last line after a machine crash: ignored, as the C++ reader does
+    lines.sort(key=lambda r: r.get("t", 0))
+    latest = {}
+    for r in lines:
+        latest[r["case"]] = r
+    return latest
+
+
+def cases_tsv(d):
+    """Every case the campaign expands to (also those never started), by case id."""
+    out = {}
+    path = os.path.join(d, "cases.tsv")
+    if not os.path.exists(path):
+        return out
+    with open(path) as fh:
+        cols = None
+        for line in fh:
+            parts = line.rstrip("\n").split("\t")
+            if line.startswith("#"):
+                cols = [c.strip("# ") for c in parts]
+                continue
+            if cols:
+                out[parts[1]] = dict(zip(cols, parts))
+    return out
+
+
+def parse_params(s):
+    out = {}
+    for kv in s.split(";"):
+        if "=" in kv:
+            k, v = kv.split("=", 1)
+            out[k] = v
+    return out
+
+
+def load_ensemble(path):
+    """Per point: attributes and, per field, the mean / ci95 / count rows."""
+    points = {}
+    with h5py.File(path, "r") as e:
+        root = {k: (text(v) if isinstance(v, (bytes, str)) else v) for k, v in e.attrs.items()}
+        stats = {}
+        for field in _fields(e):
+            stats[field] = {s: e[f"fields/{field}/{s}"][:] for s in ("mean", "ci95", "count")}
+        times = e["series/time"][:] if "series/time" in e else None
+        iters = e["series/iteration"][:] if "series/iteration" in e else None
+        for pid, g in e["points"].items():
+            a = {k: (text(v) if isinstance(v, (bytes, str, np.bytes_)) else v)
+                 for k, v in g.attrs.items()}
+            row = int(np.asarray(a["row"]).ravel()[0])
+            p = dict(id=pid, attrs=a, row=row, params=a.get("params", ""),
+                     grid_n=int(np.asarray(a.get("grid_n", 0)).ravel()[0]), fields={})
+            for field, st in stats.items():
+                p["fields"][field] = {s: st[s][row] for s in st}
+            if times is not None:
+                n = int(np.asarray(a.get("series_length", times.shape[1])).ravel()[0])
+                p["series_time"] = times[row][:n]
+                p["series_iteration"] = iters[row][:n]
+            points[pid] = p
+    return root, points
+
+
+def _fields(e):
+    out = []
+
+    def visit(name, obj):
+        if isinstance(obj, h5py.Dataset) and name.endswith("/mean") and name.startswith("fields/"):
+            out.append(name[len("fields/"):-len("/mean")])
+    e.visititems(visit)
+    return sorted(out)
+
+
+def load_case_fields(d):
+    """Per case (finished, with fields.h5): its attributes, maps and series."""
+    out = {}
+    for path in sorted(glob.glob(os.path.join(d, "cases", "*", "fields.h5"))):
+        with h5py.File(path, "r") as f:
+            c = {k: text(v) if isinstance(v, (bytes, str)) else v for k, v in f.attrs.items()}
+            c["dir"] = os.path.dirname(path)
+            c["data"] = {}
+            f.visititems(lambda n, o: c["data"].__setitem__(n, o[()])
+                         if isinstance(o, h5py.Dataset) else None)
+            out[c["case_id"]] = c
+    return out
+
+
+def load_analysis(d):
+    """analysis.h5 of `tumble analyze campaign`, per point; None if it has not been run."""
+    path = os.path.join(d, "analysis.h5")
+    if not os.path.exists(path):
+        return None
+    out = {}
+    with h5py.File(path, "r") as f:
+        for pid, g in f["points"].items():
+            a = {k: text(v) if isinstance(v, (bytes, str)) else v for k, v in g.attrs.items()}
+            v, off = g["islands/vertices"][:], g["islands/offsets"][:]
+            p = dict(attrs=a, islands=[v[off[k]:off[k + 1]] for k in range(len(off) - 1)],
+                     replica=g["replica"][:], enrichment_map=g["enrichment_map"][:],
+                     enrichment_snap=g["enrichment_snap"][:],
+                     cases=text(a.get("cases", "")).split("\n"),
+                     fates={k: g["fates/" + k][:] for k in
+                            ("persistent", "captured", "dispersed", "other", "same_island")},
+                     fates_from=g["fates/from_iteration"][:], fates_to=g["fates/to_iteration"][:])
+            if "fates/example" in g:
+                ex = g["fates/example"]
+                p["fate_example"] = dict(fate=ex["fate"][:], x_start=ex["x_start"][:],
+                                         x_end=ex["x_end"][:], case=text(ex.attrs["case"]),
+                                         frm=float(ex.attrs["from_iteration"]),
+                                         to=float(ex.attrs["to_iteration"]))
+            if "light/mean" in g:
+                p["light_mean"], p["light_ci95"] = g["light/mean"][:], g["light/ci95"][:]
+            out[pid] = p
+    return out
+
+
+def load_campaign(d):
+    """One campaign directory, all of the above."""
+    d = d.rstrip("/")
+    if d.endswith(".h5"):
+        d = os.path.dirname(d) or "."
+    c = dict(dir=d, name=os.path.basename(os.path.abspath(d)))
+    toml = os.path.join(d, "campaign.toml")
+    c["toml"] = open(toml).read() if os.path.exists(toml) else ""
+    c["manifest"] = manifest(d)
+    c["cases_tsv"] = cases_tsv(d)
+    ens = os.path.join(d, "ensemble.h5")
+    if not os.path.exists(ens):
+        raise SystemExit(f"{d}: no ensemble.h5 (run the campaign, or `tumble merge {d}`)")
+    c["root"], c["points"] = load_ensemble(ens)
+    c["case_fields"] = load_case_fields(d)
+    c["analysis"] = load_analysis(d)
+    return c

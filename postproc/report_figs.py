@@ -1,0 +1,177 @@
+"""Figures of the report: maps on the equal-area Lambert grid with the CM islands overlaid, time
+series with confidence bands, convergence with the number of replicas, Fig. 8 fates. Every map
+of one field shares one colour scale, so points can be compared by eye."""
+import math
+
+import numpy as np
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.collections import PolyCollection  # noqa: E402
+
+FATE_NAMES = ["persistent", "captured", "dispersed", "other"]
+FATE_COLOURS = ["#f39c12", "#2e6fd8", "#1e8449", "#222222"]  # Fig. 8: orange, blue, green, black
+
+
+def square_to_disc(a, b):
+    """Shirley-Chiu concentric map, as src/analysis/lambert.cpp."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    q = math.pi / 4
+    with np.errstate(divide="ignore", invalid="ignore"):
+        big_a = np.abs(a) > np.abs(b)
+        r = np.where(big_a, a, b)
+        phi = np.where(big_a, q * (b / np.where(a == 0, 1, a)),
+                       2 * q - q * (a / np.where(b == 0, 1, b)))
+    phi = np.where((a == 0) & (b == 0), 0, phi)
+    return r * np.cos(phi), r * np.sin(phi)
+
+
+def lambert_cells(n, sub=4):
+    """Polygon of every cell, flat index i n + j (cell (i, j): a along X, b along Z)."""
+    h = 2.0 / n
+    t = np.linspace(0, 1, sub + 1)[:-1]
+    polys = []
+    for i in range(n):
+        for j in range(n):
+            a0, b0 = -1 + i * h, -1 + j * h
+            a = np.concatenate([a0 + h * t, np.full(sub, a0 + h), a0 + h - h * t, np.full(sub, a0)])
+            b = np.concatenate([np.full(sub, b0), b0 + h * t, np.full(sub, b0 + h), b0 + h - h * t])
+            X, Z = square_to_disc(a, b)
+            polys.append(np.column_stack([X, Z]))
+    return polys
+
+
+_CELLS = {}
+
+
+def draw_map(ax, values, n, vmin, vmax, cmap="viridis", islands=(), mask=None, title=""):
+    """One Lambert map: NaN (never visited) and masked cells light grey; islands in red."""
+    if n not in _CELLS:
+        _CELLS[n] = lambert_cells(n)
+    v = np.asarray(values, float).ravel()
+    bad = ~np.isfinite(v)
+    if mask is not None:
+        bad |= np.asarray(mask, bool).ravel()
+    cm = plt.get_cmap(cmap)
+    norm = matplotlib.colors.Normalize(vmin, vmax)
+    colours = cm(norm(np.where(bad, vmin, v)))
+    colours[bad] = (0.85, 0.85, 0.85, 1)
+    ax.add_collection(PolyCollection(_CELLS[n], facecolors=colours, edgecolors="none"))
+    for poly in islands:
+        p = np.vstack([poly, poly[:1]])
+        ax.plot(p[:, 0], p[:, 1], color="red", lw=1.0)
+    ax.add_patch(plt.Circle((0, 0), 1, fill=False, color="0.3", lw=0.8))
+    ax.set_xlim(-1.03, 1.03)
+    ax.set_ylim(-1.03, 1.03)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    if title:
+        ax.set_title(title, fontsize=8)
+    return matplotlib.cm.ScalarMappable(norm=norm, cmap=cm)
+
+
+def finite_range(arrays, symmetric=False, floor=None):
+    vals = np.concatenate([np.asarray(a, float).ravel() for a in arrays] or [np.zeros(1)])
+    vals = vals[np.isfinite(vals)]
+    if vals.size == 0:
+        return (0.0, 1.0)
+    lo, hi = float(vals.min()), float(vals.max())
+    if symmetric:
+        m = max(abs(lo), abs(hi), 1e-12)
+        return (-m, m)
+    if floor is not None:
+        lo = min(lo, floor)
+    return (lo, hi if hi > lo else lo + 1e-12)
+
+
+def map_grid(rows, columns, out, suptitle, cmaps, ranges, cbar_labels):
+    """rows: [(label, n, islands, [values per column], [mask per column or None])]."""
+    nr, nc = len(rows), len(columns)
+    fig, axes = plt.subplots(nr, nc, figsize=(2.6 * nc + 0.8, 2.6 * nr + 0.6), squeeze=False)
+    mappables = [None] * nc
+    for r, (label, n, islands, values, masks) in enumerate(rows):
+        for c in range(nc):
+            mappables[c] = draw_map(axes[r][c], values[c], n, *ranges[c], cmap=cmaps[c],
+                                    islands=islands, mask=masks[c] if masks else None,
+                                    title=f"{label}\n{columns[c]}")
+    for c in range(nc):
+        fig.colorbar(mappables[c], ax=[axes[r][c] for r in range(nr)], shrink=0.8,
+                     label=cbar_labels[c])
+    fig.suptitle(suptitle, fontsize=10)
+    fig.savefig(out, dpi=90)
+    plt.close(fig)
+
+
+def series_fig(curves, ylabel, out, title):
+    """curves: [(label, x, mean, ci)]; the band is mean ± ci (95%)."""
+    fig, ax = plt.subplots(figsize=(6.4, 3.4))
+    for label, x, m, ci in curves:
+        line, = ax.plot(x, m, label=label, lw=1.4)
+        ok = np.isfinite(ci)
+        ax.fill_between(np.asarray(x)[ok], (m - ci)[ok], (m + ci)[ok], color=line.get_color(),
+                        alpha=0.25, lw=0)
+    ax.set_xlabel("protocol iteration N")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out, dpi=90)
+    plt.close(fig)
+
+
+def convergence_fig(panels, out):
+    """panels: [(title, ylabel, [(label, k, mean_k, ci_k)])]: running mean over the first k
+    replicas with its 95% CI."""
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.2), squeeze=False)
+    for ax, (title, ylabel, curves) in zip(axes[0], panels):
+        for label, k, m, ci in curves:
+            line, = ax.plot(k, m, "o-", label=label, ms=3)
+            ok = np.isfinite(ci)
+            ax.fill_between(np.asarray(k)[ok], (m - ci)[ok], (m + ci)[ok],
+                            color=line.get_color(), alpha=0.2, lw=0)
+        ax.set_xlabel("replicas k")
+        ax.set_ylabel(ylabel)
+        ax.set_title(title, fontsize=9)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out, dpi=90)
+    plt.close(fig)
+
+
+def lambert_points(x):
+    """Lambert image (viewed from below) of positions; NaN on the upper hemisphere."""
+    d = np.linalg.norm(x, axis=1)
+    u = x / d[:, None]
+    k = np.where(u[:, 1] <= 0, 1.0 / np.sqrt(np.maximum(1.0 - u[:, 1], 1e-12)), np.nan)
+    return u[:, 0] * k, u[:, 2] * k
+
+
+def fates_fig(panels, out):
+    """panels: [(title, islands, fate, x_start, x_end)]: large particles at the start and end of
+    the interval coloured by fate (Yu 2022 Fig. 8)."""
+    fig, axes = plt.subplots(len(panels), 2, figsize=(6.4, 3.2 * len(panels)), squeeze=False)
+    for r, (title, islands, fate, xs, xe) in enumerate(panels):
+        for c, (x, when) in enumerate(((xs, "start"), (xe, "end"))):
+            ax = axes[r][c]
+            X, Z = lambert_points(x)
+            for k in (3, 2, 1, 0):  # "other" underneath, as the paper's small black dots
+                sel = fate == k
+                ax.scatter(X[sel], Z[sel], s=3 if k == 3 else 7, c=FATE_COLOURS[k],
+                           label=f"{FATE_NAMES[k]} ({int(sel.sum())})", lw=0)
+            for poly in islands:
+                p = np.vstack([poly, poly[:1]])
+                ax.plot(p[:, 0], p[:, 1], color="k", lw=1.0)
+            ax.add_patch(plt.Circle((0, 0), 1, fill=False, color="0.4", lw=0.8))
+            ax.set_xlim(-1.03, 1.03)
+            ax.set_ylim(-1.03, 1.03)
+            ax.set_aspect("equal")
+            ax.axis("off")
+            ax.set_title(f"{title}: {when}", fontsize=8)
+            if c == 1:
+                ax.legend(fontsize=6, loc="lower right", markerscale=2)
+    fig.tight_layout()
+    fig.savefig(out, dpi=90)
+    plt.close(fig)

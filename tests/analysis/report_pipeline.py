@@ -1,0 +1,164 @@
+"""The analyses and the report on a real campaign directory, checked independently.
+
+  report_pipeline.py --tumble BIN --mpiexec MPIEXEC --np-flag=-n --campaign FILE --out DIR
+                     --report-dir OUT [--expect-failed N]
+  report_pipeline.py --tumble BIN --existing DIR --out COPY --report-dir OUT --expect-failed N
+
+Runs the campaign (2 ranks) unless --existing names a finished one, then `tumble analyze
+campaign` and postproc/report.py, and asserts, with h5py/numpy only:
+  * analysis.h5: a point with CM islands (57°,57°: the six period-3 islands at least) and
+    enrichment per case equal to a recomputation from the case's volume map and the coverage the
+    file records; a (68°,68°) point with no islands and NaN enrichment;
+  * Fig. 8 counts (when snapshots were kept): the four classes sum to the large particles of
+    the snapshots;
+  * the report: report.html, every figure it names present as a PNG, every <img> a data URI,
+    every CSV named; failed cases joined to their parameters in failed_cases.csv.
+"""
+import argparse
+import csv
+import glob
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SRC = os.path.dirname(os.path.dirname(HERE))
+
+
+def fail(msg):
+    print("FAIL: " + msg)
+    sys.exit(1)
+
+
+def run(cmd, **kw):
+    print("+ " + " ".join(cmd), flush=True)
+    t = time.time()
+    r = subprocess.run(cmd, capture_output=True, text=True, **kw)
+    print(r.stdout[-3000:] + r.stderr[-3000:])
+    if r.returncode != 0:
+        fail(f"exit code {r.returncode}: {' '.join(cmd)}")
+    return time.time() - t
+
+
+def text(a):
+    return a.decode() if isinstance(a, bytes) else str(a)
+
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--tumble", required=True)
+ap.add_argument("--mpiexec")
+ap.add_argument("--np-flag", default="-n")
+ap.add_argument("--campaign")
+ap.add_argument("--out")
+ap.add_argument("--existing")
+ap.add_argument("--report-dir", required=True)
+ap.add_argument("--expect-failed", type=int, default=0)
+a = ap.parse_args()
+
+if a.existing:
+    # A copy: the analysis writes into the campaign directory, which belongs to other tests.
+    d = a.out
+    shutil.rmtree(d, ignore_errors=True)
+    shutil.copytree(a.existing, d)
+else:
+    d = a.out
+    shutil.rmtree(d, ignore_errors=True)
+    cmd = [a.mpiexec, a.np_flag, "2"]
+    if "Open MPI" in subprocess.run([a.mpiexec, "--version"], capture_output=True,
+                                    text=True).stdout:
+        cmd.append("--oversubscribe")
+    run(cmd + [a.tumble, "campaign", a.campaign, "--output", d, "--quiet"])
+
+t_an = run([a.tumble, "analyze", "campaign", d])
+with h5py.File(os.path.join(d, "analysis.h5"), "r") as f:
+    pts = {pid: g for pid, g in f["points"].items()}
+    with_islands = [g for g in pts.values() if g.attrs["theta_z"] == 57 and g.attrs["theta_x"] == 57]
+    if not with_islands:
+        fail("no (57, 57) point in analysis.h5")
+    for g in with_islands:
+        if g.attrs["n_islands"] < 6:
+            fail(f"(57, 57) has {g.attrs['n_islands']} islands, expected the six period-3 ones")
+        cover = g["coverage"][:].ravel()
+        share = cover.mean()
+        if not 0.05 < share < 0.3 or abs(share - g.attrs["island_area_fraction"]) > 0.02:
+            fail(f"coverage mean {share} vs island_area_fraction {g.attrs['island_area_fraction']}")
+        ids = text(g.attrs["cases"]).split("\n")
+        for cid, e in zip(ids, g["enrichment_map"][:]):
+            with h5py.File(os.path.join(d, "cases", cid, "fields.h5"), "r") as cf:
+                vl = cf["concentration/volume_large"][:].ravel()
+            ok = np.isfinite(vl)
+            mine = (np.sum(cover[ok] * vl[ok]) / np.sum(vl[ok])) / (cover[ok].sum() / len(vl))
+            if not abs(mine - e) <= 1e-12 * abs(mine):
+                fail(f"case {cid}: enrichment {e} vs recomputed {mine}")
+        fates = {k: g["fates/" + k][:] for k in ("persistent", "captured", "dispersed", "other")}
+        for j, cid in enumerate(ids):
+            if fates["persistent"][j] < 0:
+                continue
+            snaps = sorted(glob.glob(os.path.join(d, "cases", cid, "snap_*.h5")))
+            with h5py.File(snaps[0], "r") as s:
+                n_large = int(np.sum(s["species"][:] == 1))
+            total = sum(int(fates[k][j]) for k in fates)
+            if total != n_large:
+                fail(f"case {cid}: Fig. 8 classes sum to {total}, snapshot has {n_large} large")
+            print(f"case {cid}: Fig. 8 counts " +
+                  ", ".join(f"{k} {int(fates[k][j])}" for k in fates) + f" of {n_large}")
+    for g in pts.values():
+        if g.attrs["theta_z"] == 68 and g.attrs["theta_x"] == 68:
+            if g.attrs["n_islands"] != 0 or np.isfinite(g["enrichment_map"][:]).any():
+                fail("(68, 68) should have no islands and undefined enrichment")
+
+rep = a.report_dir
+shutil.rmtree(rep, ignore_errors=True)
+t_rep = run(["/usr/bin/python3", os.path.join(SRC, "postproc", "report.py"), d, "-o", rep])
+page = open(os.path.join(rep, "report.html")).read()
+imgs = re.findall(r"<img [^>]*>", page)
+if len(imgs) < 5:
+    fail(f"report has {len(imgs)} images")
+for tag in imgs:
+    if 'src="data:image/png;base64,' not in tag:
+        fail("an image is not embedded: " + tag[:80])
+for name in re.findall(r'<a href="([^"]+)">', page):
+    if not os.path.exists(os.path.join(rep, name)):
+        fail(f"report links {name}, which was not written")
+for name in ("maps.csv", "series.csv", "case_scalars.csv", "scalar_summary.csv", "cases.csv",
+             "convergence.csv", "provenance.csv", "points.csv"):
+    if not os.path.exists(os.path.join(rep, name)):
+        fail(f"{name} missing")
+failed = []
+if os.path.exists(os.path.join(rep, "failed_cases.csv")):
+    failed = list(csv.DictReader(open(os.path.join(rep, "failed_cases.csv"))))
+if len(failed) != a.expect_failed:
+    fail(f"failed_cases.csv lists {len(failed)} cases, expected {a.expect_failed}")
+for r in failed:
+    if "theta_z=" not in r["parameters"] or not r["failure"]:
+        fail(f"failed case {r['case']} not joined to its parameters: {r}")
+# Time-lapse renders of one case's snapshots: one PNG per snapshot and a GIF with as many frames.
+snaps = sorted(glob.glob(os.path.join(d, "cases", "*", "snap_*.h5")))
+if snaps:
+    case = os.path.dirname(snaps[0])
+    snaps = [s for s in snaps if os.path.dirname(s) == case]
+    gif = os.path.join(rep, "timelapse.gif")
+    run(["/usr/bin/python3", os.path.join(SRC, "postproc", "render_bottom.py")] + snaps
+        + ["--gif", gif, "--frames", os.path.join(rep, "frames"), "--size", "300"])
+    from PIL import Image
+    frames = sorted(glob.glob(os.path.join(rep, "frames", "frame_*.png")))
+    n_gif = Image.open(gif).n_frames
+    if len(frames) != len(snaps) or n_gif != len(snaps) or len(snaps) < 2:
+        fail(f"time-lapse: {len(snaps)} snapshots, {len(frames)} PNGs, {n_gif} GIF frames")
+    for fr in frames:
+        w, h = Image.open(fr).size
+        px = np.asarray(Image.open(fr).convert("RGB"), float)
+        # Both species drawn: blue-dominant (large) and red-dominant (small) pixels present.
+        blue = np.sum((px[..., 2] > px[..., 0] + 40))
+        red = np.sum((px[..., 0] > px[..., 2] + 40))
+        if (w, h) != (300, 300) or blue < 50 or red < 500:
+            fail(f"{fr}: {w}x{h}, {blue} blue and {red} red pixels")
+    print(f"time-lapse: {len(frames)} frames and a {n_gif}-frame GIF")
+print(f"OK: analyze {t_an:.1f} s, report {t_rep:.1f} s, {len(imgs)} images, "
+      f"{len(failed)} failed cases joined to their parameters")
