@@ -113,7 +113,7 @@ def gather_points(camps):
     return rows
 
 
-def section_provenance(R, camps, pts, started):
+def section_provenance(R, camps, pts):
     R.h("<h2>1. Provenance</h2>")
     now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC")
     prov = [("report written", now), ("report generator commit", git_commit()),
@@ -183,7 +183,6 @@ def section_cases(R, camps):
             summary, "cases_summary.csv")
     R.csv("cases.csv", ["campaign", "case", "point", "replica", "status", "attempt", "failure",
                         "wall_s", "host", "params", "diagnostic"], all_rows)
-    R.csvs.append("cases.csv") if "cases.csv" not in R.csvs else None
     if fail_rows:
         R.h("<h3>Failed cases, with their parameters</h3>")
         R.table(["campaign", "case", "parameters", "failure", "attempts", "out of attempts",
@@ -511,7 +510,7 @@ def main():
         + ", ".join(html.escape(c["name"]) for c in camps) + f"; {len(pts)} parameter points. "
         "Every number is also in the CSV files next to this page.</p>")
     map_csv = []
-    section_provenance(R, camps, pts, started)
+    section_provenance(R, camps, pts)
     section_cases(R, camps)
     section_maps(R, pts, map_csv)
     section_light(R, pts, map_csv)
