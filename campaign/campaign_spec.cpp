@@ -57,10 +57,14 @@ std::string CollectSpec::canonical() const {
      << ";n=" << samples_per_iteration << ";k=" << canonical_number(displacement_periods)
      << ";grid=" << grid << ";frame=" << frame << ";shell=" << canonical_number(shell_inner)
      << ";dinner=" << canonical_number(displacement_inner);
+  if (cylinder) os << ";cylinder";
   return os.str();
 }
 
 namespace {
+
+// True if any collect.* key differs from its default (a [collect] table was given).
+bool collect_keys_given(const CollectSpec& c) { return c.canonical() != CollectSpec{}.canonical(); }
 
 // Error context: every message starts "campaign error (FILE): key 'K'".
 struct Ctx {
@@ -398,6 +402,24 @@ CampaignSpec parse_campaign(const std::string& toml_text, const std::string& ori
   std::stringstream ss;
   ss << in.rdbuf();
   s.scene_text = ss.str();
+  // The template's shape (or its override) decides what a case collects.
+  std::string shape = "sphere";
+  try {
+    const toml::table scene = toml::parse(s.scene_text, s.scene_path);
+    if (auto v = scene["tumbler"]["shape"].value<std::string>()) shape = *v;
+  } catch (const toml::parse_error&) {
+    // Reported with its line by the scene loader when the cases are expanded.
+  }
+  for (const auto& o : s.overrides)
+    if (o.rfind("tumbler.shape=", 0) == 0) shape = o.substr(14);
+  if (shape == "cylinder") {
+    if (collect_keys_given(s.collect))
+      c.fail("collect",
+             "is for the sphere's maps; a cylinder campaign collects S_a, S_r and the "
+             "band count over the whole run (remove the [collect] table)");
+    s.collect.cylinder = true;
+    s.collect.concentration = s.collect.displacement = false;
+  }
   return s;
 }
 

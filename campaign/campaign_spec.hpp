@@ -35,6 +35,9 @@ struct CollectSpec {
   double shell_inner = 0.9;         // c_L shell: shell_inner < r/R < 1
   double displacement_inner = 0.8;  // Δψ particles: displacement_inner <= r/R <= 1
   bool any() const { return concentration || displacement || series; }
+  // Set from the scene template (not a key): a cylinder campaign collects Rapaport's series
+  // (S_a, S_r, band count against revolutions) and no sphere fields.
+  bool cylinder = false;
   std::string canonical() const;  // enters the case id: different collection, different output
 };
 

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "campaign/collect_plan.hpp"
+#include "campaign/cylinder_fields.hpp"
 #include "campaign/field_collector.hpp"
 #include "campaign/hash.hpp"
 #include "campaign/json_line.hpp"
@@ -38,6 +39,43 @@ std::string fields_path(const std::string& dir, const std::string& id) {
   return case_dir(dir, id) + "/fields.h5";
 }
 
+// A cylinder case: the run itself samples S_a, S_r and the band count (and keeps them in its
+// checkpoints, so a resumed case ends with the whole series); the fields file is written from
+// the run's result. Failures propagate to run_case's handlers.
+void run_cylinder_case(const CaseContext& ctx, const CaseTask& task, const Case& c,
+                       const Scene& scene, const std::string& dir, std::ofstream& log,
+                       Clock::time_point t0, CaseOutcome& out) {
+  const std::string ckpt = dir + "/checkpoint.h5";
+  if (fs::exists(ckpt)) {
+    out.resumed_from_step = checkpoint_step(ckpt);
+    log << "[case] resuming from " << ckpt << " at step " << out.resumed_from_step << std::endl;
+  } else {
+    (void)settled_bed(scene, &log);
+  }
+  RunOptions ro;
+  ro.resume = true;
+  ro.write_snapshots = ctx.spec->snapshots;
+  ro.log = &log;
+  if (c.time_limit > 0) {
+    const double limit = c.time_limit;
+    ro.observers.push_back(
+        {16, [t0, limit](const Simulation& sim) {
+           const double el = std::chrono::duration<double>(Clock::now() - t0).count();
+           if (el > limit)
+             throw TimeLimitError("time limit: the attempt ran " + std::to_string(el) +
+                                  " s wall, more than its limit of " + std::to_string(limit) +
+                                  " s (at step " + std::to_string(sim.step_count()) + ")");
+         }});
+  }
+  const RunResult res = run_realization(scene, ro);
+  FieldsMeta meta{c.id,      c.point_id, c.params_text, ctx.spec->tier, scene_to_text(scene),
+                  c.replica, task.seed};
+  const std::string fields = fields_path(ctx.campaign_dir, c.id);
+  write_cylinder_fields(fields, meta, ctx.spec->collect, res.series.cylinder);
+  out.checksum = file_checksum(fields);
+  out.ok = true;
+}
+
 CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
   const CampaignSpec& spec = *ctx.spec;
   const Case& c = ctx.expansion->cases.at(task.case_index);
@@ -55,58 +93,62 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
     if (!c.scene_error.empty()) throw InputError(c.scene_error);
     const Scene scene = case_scene(spec, c, dir, ctx.bed_cache, task.seed);
     const CollectPlan plan = make_collect_plan(spec.collect, scene);
-    FieldCollector collector(plan, dir + "/state.h5");
+    if (scene.cylinder()) {
+      run_cylinder_case(ctx, task, c, scene, dir, log, t0, out);
+    } else {
+      FieldCollector collector(plan, dir + "/state.h5");
 
-    // Resume only from a checkpoint that the collector's saved state is not behind: the state is
-    // written after each sample, before the checkpoint of that step, so this always holds unless
-    // files were removed by hand; then start the case afresh.
-    const std::string ckpt = dir + "/checkpoint.h5";
-    if (fs::exists(ckpt)) {
-      const long long step = checkpoint_step(ckpt);
-      const bool loaded = collector.load();
-      if (loaded && (collector.finished() || step < collector.next_sample_step())) {
-        out.resumed_from_step = step;
-        log << "[case] resuming from " << ckpt << " at step " << step << "; collector at sample "
-            << collector.next_sample() << std::endl;
-      } else {
-        log << "[case] checkpoint and collector state disagree; starting afresh" << std::endl;
-        fs::remove(ckpt);
-        collector = FieldCollector(plan, dir + "/state.h5");
+      // Resume only from a checkpoint that the collector's saved state is not behind: the state is
+      // written after each sample, before the checkpoint of that step, so this always holds unless
+      // files were removed by hand; then start the case afresh.
+      const std::string ckpt = dir + "/checkpoint.h5";
+      if (fs::exists(ckpt)) {
+        const long long step = checkpoint_step(ckpt);
+        const bool loaded = collector.load();
+        if (loaded && (collector.finished() || step < collector.next_sample_step())) {
+          out.resumed_from_step = step;
+          log << "[case] resuming from " << ckpt << " at step " << step << "; collector at sample "
+              << collector.next_sample() << std::endl;
+        } else {
+          log << "[case] checkpoint and collector state disagree; starting afresh" << std::endl;
+          fs::remove(ckpt);
+          collector = FieldCollector(plan, dir + "/state.h5");
+        }
       }
-    }
-    if (out.resumed_from_step == 0) {
-      fs::remove(dir + "/state.h5");
-      // Settle (or find) the bed in the shared cache first, so that every attempt of every
-      // case, fresh or repeated, starts from the same bytes on disk.
-      (void)settled_bed(scene, &log);
-    }
+      if (out.resumed_from_step == 0) {
+        fs::remove(dir + "/state.h5");
+        // Settle (or find) the bed in the shared cache first, so that every attempt of every
+        // case, fresh or repeated, starts from the same bytes on disk.
+        (void)settled_bed(scene, &log);
+      }
 
-    RunOptions ro;
-    ro.resume = true;  // uses DIR/cases/<id>/checkpoint.h5 when it exists
-    ro.write_snapshots = spec.snapshots;
-    ro.log = &log;
-    ro.observers.push_back({1, [&collector](const Simulation& sim) { collector.observe(sim); }});
-    if (c.time_limit > 0) {
-      const double limit = c.time_limit;
-      ro.observers.push_back(
-          {16, [t0, limit](const Simulation& sim) {
-             const double el = std::chrono::duration<double>(Clock::now() - t0).count();
-             if (el > limit)
-               throw TimeLimitError("time limit: the attempt ran " + std::to_string(el) +
-                                    " s wall, more than its limit of " + std::to_string(limit) +
-                                    " s (at step " + std::to_string(sim.step_count()) + ")");
-           }});
+      RunOptions ro;
+      ro.resume = true;  // uses DIR/cases/<id>/checkpoint.h5 when it exists
+      ro.write_snapshots = spec.snapshots;
+      ro.log = &log;
+      ro.observers.push_back({1, [&collector](const Simulation& sim) { collector.observe(sim); }});
+      if (c.time_limit > 0) {
+        const double limit = c.time_limit;
+        ro.observers.push_back(
+            {16, [t0, limit](const Simulation& sim) {
+               const double el = std::chrono::duration<double>(Clock::now() - t0).count();
+               if (el > limit)
+                 throw TimeLimitError("time limit: the attempt ran " + std::to_string(el) +
+                                      " s wall, more than its limit of " + std::to_string(limit) +
+                                      " s (at step " + std::to_string(sim.step_count()) + ")");
+             }});
+      }
+      (void)run_realization(scene, ro);
+      if (!collector.finished())
+        throw RunError("the run ended before the collector's last sample (" +
+                       std::to_string(collector.next_sample()) + ")");
+      FieldsMeta meta{c.id,      c.point_id, c.params_text, spec.tier, scene_to_text(scene),
+                      c.replica, task.seed};
+      const std::string fields = fields_path(ctx.campaign_dir, c.id);
+      collector.write_fields(fields, meta);
+      out.checksum = file_checksum(fields);
+      out.ok = true;
     }
-    (void)run_realization(scene, ro);
-    if (!collector.finished())
-      throw RunError("the run ended before the collector's last sample (" +
-                     std::to_string(collector.next_sample()) + ")");
-    FieldsMeta meta{c.id,      c.point_id, c.params_text, spec.tier, scene_to_text(scene),
-                    c.replica, task.seed};
-    const std::string fields = fields_path(ctx.campaign_dir, c.id);
-    collector.write_fields(fields, meta);
-    out.checksum = file_checksum(fields);
-    out.ok = true;
   } catch (const TimeLimitError& e) {
     out.failure = "time_limit";
     out.diagnostic = e.what();

@@ -11,6 +11,16 @@ CollectPlan make_collect_plan(const CollectSpec& spec, const Scene& scene) {
   CollectPlan p;
   p.spec = spec;
   p.radius = scene.radius;
+  if (spec.cylinder != scene.cylinder())
+    fail("tumbler.shape",
+         "differs between the campaign's template and a case (sweeps and "
+         "overrides may not change the tumbler's shape)");
+  if (scene.cylinder()) {  // the run samples S_a, S_r every output.analysis_interval itself
+    if (!(scene.analysis_interval > 0))
+      fail("output.analysis_interval", "must be > 0 in a cylinder campaign (it sets the series)");
+    p.total_steps = std::llround(scene.run_time() / scene.time_step());
+    return p;
+  }
   if (scene.mode != "biaxial")
     fail("collect.fields",
          "needs protocol.mode = 'biaxial' (samples are placed by protocol "

@@ -91,8 +91,15 @@ Expansion expand(const CampaignSpec& spec) {
       if (auto it = given.find("particles.d_small"); it != given.end() && it->second.numeric)
         d_small = it->second.num;
       Case c;
-      c.params.push_back({"theta_z", named_value("theta_z", e.base.theta_z)});
-      c.params.push_back({"theta_x", named_value("theta_x", e.base.theta_x)});
+      if (e.base.cylinder()) {  // the cylinder turns about its axis: no biaxial angles
+        for (const char* angle : {"theta_z", "theta_x"})
+          if (given.count(angle))
+            throw InputError("campaign error (" + spec.file + "): sweep key '" + angle +
+                             "' is a biaxial-sphere parameter; the template is a cylinder");
+      } else {
+        c.params.push_back({"theta_z", named_value("theta_z", e.base.theta_z)});
+        c.params.push_back({"theta_x", named_value("theta_x", e.base.theta_x)});
+      }
       c.params.push_back({"f", named_value("f", e.base.large_fraction)});
       c.params.push_back({"R_rho", named_value("R_rho", e.base.density_ratio)});
       c.params.push_back({"size_ratio", named_value("size_ratio", e.base.d_large / d_small)});

@@ -13,6 +13,7 @@ namespace tumble::campaign {
 namespace fs = std::filesystem;
 
 std::vector<std::string> field_names(const CollectSpec& s) {
+  if (s.cylinder) return {"series/Sa", "series/Sr", "series/bands"};
   std::vector<std::string> n;
   if (s.concentration)
     n.insert(n.end(), {"concentration/c_L", "concentration/c_S", "concentration/solid_fraction"});
