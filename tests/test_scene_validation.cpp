@@ -2,6 +2,7 @@
 // particle is made (parse_scene does all checks; nothing is written to disk).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "core/error.hpp"
@@ -60,8 +61,12 @@ TEST(SceneValidation, WrongTypesAndChoices) {
 TEST(SceneValidation, TimeStepAboveTheStabilityBound) {
   const Scene ok = parse_scene("", {}, "t");
   const double bound = time_step_bound(ok);
-  // Bound ≈ t_c/π for the Yu law (wall contacts are the stiffest).
-  EXPECT_NEAR(bound, ok.collision_time / kPi, 0.01 * ok.collision_time);
+  // Yu law: the wall contact is the stiffest, ω0² = (π/t_c)² + γ_n², damping rate γ_n; the damped
+  // chain bound (√(4γ² + ω0²) − 2γ)/ω0² is 0.291 t_c at e = 0.87 (t_c/π = 0.318 t_c undamped).
+  const double g = -std::log(ok.restitution) / ok.collision_time;
+  const double w0 = std::sqrt(std::pow(kPi / ok.collision_time, 2) + g * g);
+  EXPECT_NEAR(bound, (std::sqrt(4 * g * g + w0 * w0) - 2 * g) / (w0 * w0), 1e-12 * bound);
+  EXPECT_NEAR(bound / ok.collision_time, 0.291, 0.001);
   const std::string m = error_of("", {"time.dt=" + std::to_string(1.01 * bound)});
   EXPECT_NE(m.find("time.dt"), std::string::npos) << m;
   EXPECT_NE(m.find("stability bound"), std::string::npos) << m;

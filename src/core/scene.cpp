@@ -257,27 +257,59 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   return parse_scene(ss.str(), overrides, path);
 }
 
-// Velocity Verlet is stable for a harmonic mode while ω δt < 2. The stiffest mode of a packing is
-// estimated by a particle of mass m between two of its stiffest contacts (a 1D chain), ω = 2√(k/m),
-// with k/m maximised over every pair and wall contact, m the lighter partner. For the Yu law
-// k/m_eff = (π/t_c)² + γ_n², and a wall contact (m_eff = m) is the stiffest: the bound is ≈ t_c/π.
+// Velocity Verlet with the dashpot evaluated at the half-step velocity (equivalently leapfrog)
+// integrates x'' = -Ω² x - C x' stably iff Ω² δt² + 2 C δt < 4. The stiffest mode of a packing is
+// estimated by a particle between two of its stiffest contacts (a 1D chain, alternating mode),
+// which doubles both the spring and the damping seen by one contact: Ω² = 4 ω0², C = 4 γ, with ω0²
+// = max k/m over every pair and wall contact (m the lighter partner) and γ = c / 2m the damping
+// rate of that contact. Hence
+//   δt <= (sqrt(4 γ² + ω0²) - 2 γ) / ω0²,
+// which is 1/ω0 without damping (≈ t_c/π for the Yu law) and shrinks as damping grows (e = 0.05:
+// 0.075 t_c). For the Yu law the wall contact (m_eff = m) is the stiffest: ω0² = (π/t_c)² + γ_n²,
+// γ = γ_n. Measured in tests/test_extremes.cpp: the former undamped bound let a bed with e = 0.05
+// gain energy.
+double damped_bound(double w0_squared, double gamma) {
+  return (std::sqrt(4 * gamma * gamma + w0_squared) - 2 * gamma) / w0_squared;
+}
+
 double time_step_bound(const Scene& s) {
   if (s.rapaport()) {
     // Rapaport's k_n and γ_n are the same for every pair, so the lightest particle against the
-    // wall (m_eff = m) is the stiffest mode: k/m + (γ_n/2m)^2 with m the smallest mass.
-    const double d_min = s.d_small - s.size_spread;
-    const double m = s.density * std::min(1.0, s.density_ratio) * kPi / 6.0 * d_min * d_min * d_min;
-    const double half_rate = s.gamma_n / (2.0 * m);
-    return 1.0 / std::sqrt(s.kn / m + half_rate * half_rate);
+    // wall (m_eff = m) is the stiffest mode, m the smallest mass of either species.
+    const double ds = s.d_small - s.size_spread, dl = s.d_large - s.size_spread;
+    const double m = s.density * kPi / 6.0 * std::min(ds * ds * ds, s.density_ratio * dl * dl * dl);
+    return damped_bound(s.kn / m, s.gamma_n / (2.0 * m));
   }
   const double gamma_n = -std::log(s.restitution) / s.collision_time;
   const double w2 = (kPi / s.collision_time) * (kPi / s.collision_time) + gamma_n * gamma_n;
   const double ms = s.mass_small(), ml = s.mass_large();
-  double k_over_m = w2;  // wall contacts: k = w2 * m
+  double scale = 1;  // k/m relative to the wall contact's w2 (pairs: m_eff / lighter mass <= 1/2)
   for (double a : {ms, ml})
-    for (double b : {ms, ml})
-      k_over_m = std::max(k_over_m, w2 * (a * b / (a + b)) / std::min(a, b));
-  return 2.0 / (2.0 * std::sqrt(k_over_m));
+    for (double b : {ms, ml}) scale = std::max(scale, (a * b / (a + b)) / std::min(a, b));
+  return damped_bound(scale * w2, scale * gamma_n);
+}
+
+// Static overlap under the bed's own weight, as a fraction of d_small: a column of H / d_small
+// small particles (H = 2R × the bed's volume share of the tumbler) resting on one small-small
+// contact. Used to refuse contacts so soft that particles would pass through each other.
+double weight_overlap_fraction(const Scene& s) {
+  double share = s.fill_level;
+  if (s.cylinder()) {
+    const double fl = s.large_fraction / s.mean_cube(s.d_large);
+    const double fs = (1 - s.large_fraction) / s.mean_cube(s.d_small);
+    const double v_solid = s.count * kPi / 6.0 / (fl + fs);
+    share = std::min(1.0, v_solid / s.packing_fraction / (kPi * s.radius * s.radius * s.length));
+  }
+  const double column = 2 * s.radius * share / s.d_small;
+  const double ms = s.mass_small();
+  double k;
+  if (s.rapaport()) {
+    k = s.kn;
+  } else {
+    const double gamma_n = -std::log(s.restitution) / s.collision_time;
+    k = ((kPi / s.collision_time) * (kPi / s.collision_time) + gamma_n * gamma_n) * 0.5 * ms;
+  }
+  return column * ms * s.g / k / s.d_small;
 }
 
 void validate_scene(const Scene& s) {
@@ -338,10 +370,31 @@ void validate_scene(const Scene& s) {
   if (s.time_step() > bound) {
     std::ostringstream os;
     os.precision(4);
+    // The allowed values are rounded down, so that pasting them back is accepted.
+    auto down = [](double v) {
+      const double unit = std::pow(10.0, std::floor(std::log10(v)) - 3);
+      return std::floor(v / unit) * unit;
+    };
     os << "gives a time step " << s.time_step() << " s above the stability bound " << bound
-       << " s = 1/sqrt(max k/m) of the stiffest pair (about t_c/pi); allowed: time.dt <= " << bound;
-    if (!s.rapaport()) os << " or time.dt_fraction <= " << bound / s.collision_time;
+       << " s = 1/sqrt(max k/m) of the stiffest pair (about t_c/pi); allowed: time.dt <= "
+       << down(bound);
+    if (!s.rapaport()) os << " or time.dt_fraction <= " << down(bound / s.collision_time);
     fail(s.dt > 0 ? "time.dt" : "time.dt_fraction", os.str());
+  }
+  constexpr double kMaxWeightOverlap = 0.25;
+  if (const double ov = weight_overlap_fraction(s); ov > kMaxWeightOverlap) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "makes the contacts so soft that the bed's weight would press the bottom particles "
+          "into each other by about "
+       << 100 * ov << "% of d_small (at most " << 100 * kMaxWeightOverlap << "%); ";
+    // The overlap scales as 1/k: k ∝ 1/t_c² (Yu), k = k_n (Rapaport).
+    if (s.rapaport())
+      os << "use contact.kn >= " << s.kn * ov / kMaxWeightOverlap;
+    else
+      os << "use contact.collision_time <= "
+         << s.collision_time * std::sqrt(kMaxWeightOverlap / ov);
+    fail(s.rapaport() ? "contact.kn" : "contact.collision_time", os.str());
   }
   if (s.mode != "rest" && s.omega() <= 0)
     fail("protocol.rpm", "(or protocol.omega) must be > 0 when protocol.mode is '" + s.mode + "'");

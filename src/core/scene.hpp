@@ -101,6 +101,8 @@ Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& 
 void validate_scene(const Scene& s);
 // The time-step stability bound of the stiffest pair (see scene.cpp for the derivation).
 double time_step_bound(const Scene& s);
+// Estimated overlap of the bottom particles under the bed's weight, as a fraction of d_small.
+double weight_overlap_fraction(const Scene& s);
 // Rendering of the resolved scene as TOML-like text (provenance).
 std::string scene_to_text(const Scene& s);
 
