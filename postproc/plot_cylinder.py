@@ -10,6 +10,7 @@ each. Colours as the paper: red big-rich, blue small-rich, relative to the bed's
 """
 import argparse
 import os
+import re
 
 import h5py
 import matplotlib
@@ -63,6 +64,7 @@ def main():
 
     for r in runs:
         rev = r["revolutions"]
+        tag = re.sub(r"[^A-Za-z0-9_.-]+", "_", r["label"]).strip("_")
         fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(6.5, 5), sharex=True)
         n_ax = r["axial_profile"].shape[1]
         space_time(ax1, rev, r["axial_profile"], n_ax, "axial slice")
@@ -71,7 +73,7 @@ def main():
         ax2.set_xlabel("revolutions")
         ax1.set_title(f"{r['label']}: big-particle volume fraction minus mean")
         fig.colorbar(im, ax=[ax1, ax2], shrink=0.8)
-        fig.savefig(os.path.join(a.out, f"cylinder_space_time_{r['label']}.png"), dpi=130)
+        fig.savefig(os.path.join(a.out, f"cylinder_space_time_{tag}.png"), dpi=130)
         plt.close(fig)
 
         # Surface profiles averaged over the last ten samples (Fig. 15).
@@ -85,7 +87,7 @@ def main():
         ax.set_title(f"{r['label']}: surface, last {k} samples")
         ax.legend()
         fig.tight_layout()
-        fig.savefig(os.path.join(a.out, f"cylinder_surface_{r['label']}.png"), dpi=130)
+        fig.savefig(os.path.join(a.out, f"cylinder_surface_{tag}.png"), dpi=130)
         plt.close(fig)
     print("plots in", a.out)
 

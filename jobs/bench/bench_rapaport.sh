@@ -19,7 +19,7 @@ command -v taskset > /dev/null && pin=(taskset -c 0)
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 scene=scenes/rapaport/$run.toml
 common=(--set "scene.output_dir=$out/run" --set fill.bed_cache=beds --set output.snapshot_interval=1e9
-  --set output.analysis_interval=0 --set output.progress_interval=1e9)
+  --set output.analysis_interval=0 --set output.progress_interval=1e6)
 echo "Rapaport 2007 run #$run on $(hostname), $(nproc) cores visible, pinned: ${pin[*]:-no}"
 # Warm-up (settles the bed on first use, then rotates into steady flow; ends with a checkpoint).
 "${pin[@]}" "$tumble" run "$scene" "${common[@]}" --set output.checkpoint_interval=1e9 \
@@ -29,11 +29,10 @@ grep -E "\[fill\] (settled|reusing)" "$out/warmup.log" || true
 /usr/bin/time -v "${pin[@]}" "$tumble" run "$scene" "${common[@]}" \
   --set output.checkpoint_interval=1e9 --resume --max-steps "$steps" > "$out/timed.log" 2> "$out/time.txt"
 omega=$(awk -F' = ' '/^omega =/{print $2}' "$scene")
-awk -v steps="$steps" -v omega="$omega" '
-  /particle-steps\/s\)/ { match($0, /\(([0-9.e+]+) particle-steps\/s\)/, m); ps = m[1] }
-  /\[run\] rapaport/ { match($0, /: ([0-9]+) particles/, n); N = n[1] }
-  END {
-    sph = ps / N * 3600; rph = sph * 0.005 * omega / (2 * 3.141592653589793)
-    printf "Tumble run=%s particles=%d steps=%d psteps_per_s=%.4g steps_per_hour=%.4g revolutions_per_hour=%.3g (paper: 23000 steps/h, 3.7 rev/h)\n", "'"$run"'", N, steps, ps, sph, rph
-  }' "$out/timed.log"
+ps=$(sed -n 's/.*(\([0-9.e+]*\) particle-steps\/s).*/\1/p' "$out/timed.log" | tail -1)
+n=$(sed -n 's/.*: \([0-9]*\) particles, dt.*/\1/p' "$out/timed.log" | head -1)
+awk -v ps="$ps" -v n="$n" -v steps="$steps" -v omega="$omega" -v run="$run" 'BEGIN {
+  sph = ps / n * 3600; rph = sph * 0.005 * omega / (2 * 3.141592653589793)
+  printf "Tumble run=%s particles=%d steps=%d psteps_per_s=%.4g steps_per_hour=%.4g revolutions_per_hour=%.3g (paper: 23000 steps/h, 3.7 rev/h)\n", run, n, steps, ps, sph, rph
+}'
 awk '/Maximum resident/{printf "peak_rss_mb=%.1f\n", $6/1024}' "$out/time.txt"
