@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 #include <type_traits>
 
@@ -48,13 +49,22 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     }
   for (int a = 0; a < 2; ++a) rwall_[a] = rpair_[a][a];
 
-  // Chosen once per scene: law, wall and, for frictionless scenes, no tangential history.
+  // Chosen once per scene: law, wall and, for frictionless scenes, no tangential history and no
+  // rotation; one species present: no species lookups. TUMBLE_GENERAL_KERNELS=1 turns the last two
+  // specialisations off, for measuring what they gain (jobs/bench/bench_specialisations.sh).
+  species0_ = p_.size() > 0 ? p_.species[0] : 0;
+  one_species_ = true;
+  for (std::int32_t sp : p_.species) one_species_ = one_species_ && sp == species0_;
+  const char* general = std::getenv("TUMBLE_GENERAL_KERNELS");
+  const bool force_general = general != nullptr && std::string(general) == "1";
+  if (force_general) one_species_ = false;
   if (rapaport_) {
     const bool friction = s.mu_max > 0 && (gs_max > 0 || s.kg > 0);
     select_kernels<contact::Rapaport2007Law>(friction, friction, cylinder_.periodic);
   } else {
     select_kernels<contact::Yu2022Law>(s.friction > 0, s.wall_friction > 0, cylinder_.periodic);
   }
+  if (force_general) rotation_ = true;
 
   // Cells cover the tumbler's bounding box; side >= largest cutoff. A periodic cylinder's box is
   // exactly one period long in z.
@@ -73,20 +83,28 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
   }
 }
 
+template <class Law, bool kFriction, bool kPeriodic>
+Simulation::Kernel Simulation::pair_kernel_for(bool one_species) {
+  return one_species ? &Simulation::pair_forces<Law, kFriction, kPeriodic, true>
+                     : &Simulation::pair_forces<Law, kFriction, kPeriodic, false>;
+}
+
 template <class Law>
 void Simulation::select_kernels(bool friction, bool wall_friction, bool periodic) {
   if (friction)
-    pair_kernel_ = periodic ? &Simulation::pair_forces<Law, true, true>
-                            : &Simulation::pair_forces<Law, true, false>;
+    pair_kernel_ = periodic ? pair_kernel_for<Law, true, true>(one_species_)
+                            : pair_kernel_for<Law, true, false>(one_species_);
   else
-    pair_kernel_ = periodic ? &Simulation::pair_forces<Law, false, true>
-                            : &Simulation::pair_forces<Law, false, false>;
+    pair_kernel_ = periodic ? pair_kernel_for<Law, false, true>(one_species_)
+                            : pair_kernel_for<Law, false, false>(one_species_);
   if (is_cylinder_)
     wall_kernel_ = wall_friction ? &Simulation::cylinder_wall_forces<Law, true>
                                  : &Simulation::cylinder_wall_forces<Law, false>;
   else
     wall_kernel_ = wall_friction ? &Simulation::sphere_wall_forces<Law, true>
                                  : &Simulation::sphere_wall_forces<Law, false>;
+  // Without friction nothing exerts a torque: the integrator leaves the spins alone.
+  rotation_ = friction || wall_friction;
 }
 
 template <class Law>
@@ -151,13 +169,12 @@ void Simulation::maybe_rebuild(double max_displacement2) {
   }
 }
 
-void Simulation::step() {
+// First kick and drift; the force and torque accumulators are cleared and the largest
+// displacement since the last neighbour rebuild found in the same pass. kRotation = false (no
+// friction anywhere: no torque ever) leaves the spins alone.
+template <bool kRotation>
+double Simulation::kick_drift(double kick) {
   const std::size_t n = p_.size();
-  const double h = 0.5 * dt_;
-  // Leapfrog: one kick of a whole step per step (half-step velocities), except the very first,
-  // which starts the half-step velocities from v(0). Velocity Verlet: two half kicks. Both give
-  // the same positions (the forces see the half-step velocity in either form).
-  const double kick = leapfrog_ && step_ > 0 ? dt_ : h;
   Vec3* __restrict x = p_.x.data();
   Vec3* __restrict v = p_.v.data();
   Vec3* __restrict w = p_.w.data();
@@ -165,38 +182,57 @@ void Simulation::step() {
   Vec3* __restrict t = p_.t.data();
   const double* __restrict im = p_.inv_mass.data();
   const double* __restrict ii = p_.inv_inertia.data();
-  // First half kick and drift; the accumulators are cleared and the largest displacement since
-  // the last neighbour rebuild found in the same pass.
   const Vec3* __restrict x_ref = list_.reference_positions().data();
   const bool have_ref = list_.reference_positions().size() == n;
   double max_d2 = have_ref ? 0.0 : 1e300;
   for (std::size_t i = 0; i < n; ++i) {
     v[i] += kick * (im[i] * f[i] + gravity_);
-    w[i] += (kick * ii[i]) * t[i];
+    if constexpr (kRotation) {
+      w[i] += (kick * ii[i]) * t[i];
+      t[i] = Vec3{};
+    }
     x[i] += dt_ * v[i];
-    f[i] = t[i] = Vec3{};
+    f[i] = Vec3{};
     if (have_ref) max_d2 = std::max(max_d2, norm2(x[i] - x_ref[i]));
   }
-  time_ += dt_;
-  ++step_;
-  maybe_rebuild(max_d2);  // may permute particles: reload the pointers below
-  (this->*pair_kernel_)();
-  (this->*wall_kernel_)();
-  if (leapfrog_) return;
-  // Second half kick.
-  v = p_.v.data();
-  w = p_.w.data();
-  f = p_.f.data();
-  t = p_.t.data();
-  im = p_.inv_mass.data();
-  ii = p_.inv_inertia.data();
+  return max_d2;
+}
+
+template <bool kRotation>
+void Simulation::half_kick() {
+  const std::size_t n = p_.size();
+  const double h = 0.5 * dt_;
+  Vec3* __restrict v = p_.v.data();
+  Vec3* __restrict w = p_.w.data();
+  const Vec3* __restrict f = p_.f.data();
+  const Vec3* __restrict t = p_.t.data();
+  const double* __restrict im = p_.inv_mass.data();
+  const double* __restrict ii = p_.inv_inertia.data();
   for (std::size_t i = 0; i < n; ++i) {
     v[i] += h * (im[i] * f[i] + gravity_);
-    w[i] += (h * ii[i]) * t[i];
+    if constexpr (kRotation) w[i] += (h * ii[i]) * t[i];
   }
 }
 
-template <class Law, bool kFriction, bool kPeriodic>
+void Simulation::step() {
+  // Leapfrog: one kick of a whole step per step (half-step velocities), except the very first,
+  // which starts the half-step velocities from v(0). Velocity Verlet: two half kicks. Both give
+  // the same positions (the forces see the half-step velocity in either form).
+  const double kick = leapfrog_ && step_ > 0 ? dt_ : 0.5 * dt_;
+  const double max_d2 = rotation_ ? kick_drift<true>(kick) : kick_drift<false>(kick);
+  time_ += dt_;
+  ++step_;
+  maybe_rebuild(max_d2);  // may permute particles
+  (this->*pair_kernel_)();
+  (this->*wall_kernel_)();
+  if (leapfrog_) return;
+  if (rotation_)
+    half_kick<true>();
+  else
+    half_kick<false>();
+}
+
+template <class Law, bool kFriction, bool kPeriodic, bool kOneSpecies>
 void Simulation::pair_forces() {
   const std::size_t n = p_.size();
   const Vec3* __restrict x = p_.x.data();
@@ -210,6 +246,7 @@ void Simulation::pair_forces() {
   const std::uint32_t* __restrict nbr = list_.nbr.data();
   Vec3* __restrict spring = list_.spring.data();
   const double period = 2 * cylinder_.half_length;
+  const typename Law::Pair only = table<Law>(species0_, species0_);  // kOneSpecies: the pair
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 xi = x[i];
     const double ri = rad[i];
@@ -230,8 +267,8 @@ void Simulation::pair_forces() {
       const double li = Law::lever(ri, dist, rsum), lj = Law::lever(rad[j], dist, rsum);
       const Vec3 vrel = v[i] - v[j] - cross(li * w[i] + lj * w[j], nrm);
       Vec3 ft;
-      const Vec3 fc = Law::template force<kFriction>(table<Law>(sp[i], sp[j]), nrm, rsum - dist,
-                                                     vrel, spring[k], dt_, ft);
+      const Vec3 fc = Law::template force<kFriction>(kOneSpecies ? only : table<Law>(sp[i], sp[j]),
+                                                     nrm, rsum - dist, vrel, spring[k], dt_, ft);
       fi += fc;
       f[j] -= fc;
       if constexpr (kFriction) {

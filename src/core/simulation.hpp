@@ -54,6 +54,8 @@ class Simulation {
   const geometry::CylinderWall& cylinder() const { return cylinder_; }
   bool is_cylinder() const { return is_cylinder_; }
   bool leapfrog() const { return leapfrog_; }
+  bool rotation() const { return rotation_; }
+  bool one_species() const { return one_species_; }
   double time() const { return time_; }
   std::int64_t step_count() const { return step_; }
   double dt() const { return dt_; }
@@ -66,8 +68,15 @@ class Simulation {
   const contact::Rapaport2007Pair& rapaport_wall(int a) const { return rwall_[a]; }
 
  private:
-  template <class Law, bool kFriction, bool kPeriodic>
+  using Kernel = void (Simulation::*)();
+  template <class Law, bool kFriction, bool kPeriodic, bool kOneSpecies>
   void pair_forces();
+  template <class Law, bool kFriction, bool kPeriodic>
+  static Kernel pair_kernel_for(bool one_species);
+  template <bool kRotation>
+  double kick_drift(double kick);
+  template <bool kRotation>
+  void half_kick();
   template <class Law, bool kFriction>
   void sphere_wall_forces();
   template <class Law, bool kFriction>
@@ -92,6 +101,9 @@ class Simulation {
   bool is_cylinder_ = false;
   bool rapaport_ = false;
   bool leapfrog_ = false;
+  bool rotation_ = true;      // false: no friction anywhere, the spins never change
+  bool one_species_ = false;  // every particle of species species0_: no pair-table lookups
+  std::int32_t species0_ = 0;
   neighbor::VerletList list_;
   std::vector<std::uint32_t>
       wall_candidates_;  // particles that may touch the (curved) wall before the next rebuild
@@ -107,8 +119,8 @@ class Simulation {
   std::int64_t last_build_step_ = -1000;
   std::uint64_t fast_rebuilds_ = 0;
   bool force_rebuild_ = false;
-  void (Simulation::*pair_kernel_)() = nullptr;
-  void (Simulation::*wall_kernel_)() = nullptr;
+  Kernel pair_kernel_ = nullptr;
+  Kernel wall_kernel_ = nullptr;
 };
 
 }  // namespace tumble
