@@ -5,7 +5,7 @@
 #   one_species   a monodisperse bed (bst_small with f = 0): no species-pair table lookups
 #   frictionless  the shared 10,522-particle bed with mu = mu_w = 0: no tangential history (always
 #                 compiled out) and no rotation update in the integrator
-# usage: jobs/bench/bench_specialisations.sh [STEPS=5000] [REPEATS=3]
+# usage: jobs/bench/bench_specialisations.sh [STEPS=5000] [REPEATS=3] [one_species,frictionless]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 STEPS=${1:-5000}
@@ -46,7 +46,13 @@ bench() {  # label, scene, overrides...
            l, s, g, ss, gg, 100 * (s / g - 1) }'
 }
 
-bench one_species scenes/bst_small.toml --set particles.large_fraction=0 \
-  --set protocol.mode=single_axis --set protocol.axis=x --set output.analysis_interval=0
-bench frictionless jobs/bench/bst_R35_bench.toml --set contact.friction=0 \
-  --set contact.wall_friction=0 --set output.analysis_interval=0
+want=${3:-one_species,frictionless}
+if [[ ,$want, == *,one_species,* ]]; then
+  bench one_species scenes/bst_small.toml --set particles.large_fraction=0 \
+    --set protocol.mode=single_axis --set protocol.axis=x --set protocol.duration=1000 \
+    --set output.analysis_interval=0
+fi
+if [[ ,$want, == *,frictionless,* ]]; then
+  bench frictionless jobs/bench/bst_R35_bench.toml --set contact.friction=0 \
+    --set contact.wall_friction=0 --set output.analysis_interval=0
+fi
