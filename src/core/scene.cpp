@@ -290,8 +290,9 @@ double time_step_bound(const Scene& s) {
 }
 
 // Static overlap under the bed's own weight, as a fraction of d_small: a column of H / d_small
-// small particles (H = 2R × the bed's volume share of the tumbler) resting on one small-small
-// contact. Used to refuse contacts so soft that particles would pass through each other.
+// small particles of the denser species' density (H = 2R × the bed's volume share of the tumbler)
+// resting on one small-small contact. Used to refuse contacts so soft that particles would pass
+// through each other.
 double weight_overlap_fraction(const Scene& s) {
   double share = s.fill_level;
   if (s.cylinder()) {
@@ -302,6 +303,7 @@ double weight_overlap_fraction(const Scene& s) {
   }
   const double column = 2 * s.radius * share / s.d_small;
   const double ms = s.mass_small();
+  const double heavy = std::max(1.0, s.density_ratio);  // a column of the denser species
   double k;
   if (s.rapaport()) {
     k = s.kn;
@@ -309,7 +311,7 @@ double weight_overlap_fraction(const Scene& s) {
     const double gamma_n = -std::log(s.restitution) / s.collision_time;
     k = ((kPi / s.collision_time) * (kPi / s.collision_time) + gamma_n * gamma_n) * 0.5 * ms;
   }
-  return column * ms * s.g / k / s.d_small;
+  return column * heavy * ms * s.g / k / s.d_small;
 }
 
 void validate_scene(const Scene& s) {

@@ -34,7 +34,7 @@ if sorted(kinds) != ["input", "run", "time_limit"]:
     cc.fail("failure kinds %s" % sorted(kinds))
 if kinds["input"]["attempt"] != 1 or "stability bound" not in kinds["input"]["diagnostic"]:
     cc.fail("the invalid scene: %s" % kinds["input"])
-if kinds["run"]["attempt"] != 2 or "left the tumbler" not in kinds["run"]["diagnostic"]:
+if kinds["run"]["attempt"] != 2 or "did not settle" not in kinds["run"]["diagnostic"]:
     cc.fail("the run-time failure: %s" % kinds["run"])
 if kinds["time_limit"]["attempt"] != 2 or "time limit" not in kinds["time_limit"]["diagnostic"]:
     cc.fail("the time limit: %s" % kinds["time_limit"])
