@@ -176,11 +176,7 @@ bool FieldCollector::load() {
   return true;
 }
 
-void FieldCollector::write_fields(const std::string& path, const FieldsMeta& m) const {
-  const CollectSpec& s = plan_.spec;
-  const hsize_t n = static_cast<hsize_t>(s.grid);
-  io::AtomicH5Writer out(path);
-  io::H5File& f = out.file();
+void write_case_attributes(io::H5File& f, const FieldsMeta& m, const CollectSpec& spec) {
   f.set_attr("/", "kind", std::string("tumble case fields"));
   f.set_attr("/", "case_id", m.case_id);
   f.set_attr("/", "point_id", m.point_id);
@@ -188,16 +184,24 @@ void FieldCollector::write_fields(const std::string& path, const FieldsMeta& m) 
   f.set_attr("/", "tier", m.tier);
   f.set_attr("/", "replica", static_cast<std::int64_t>(m.replica));
   f.set_attr("/", "seed", static_cast<std::int64_t>(m.seed));
-  f.set_attr("/", "collect", s.canonical());
+  f.set_attr("/", "collect", spec.canonical());
+  f.set_attr("/", "tumble_version", std::string(kVersion));
+  f.set_attr("/", "git_hash", std::string(kGitHash));
+  f.set_attr("/", "scene", m.scene_text);
+}
+
+void FieldCollector::write_fields(const std::string& path, const FieldsMeta& m) const {
+  const CollectSpec& s = plan_.spec;
+  const hsize_t n = static_cast<hsize_t>(s.grid);
+  io::AtomicH5Writer out(path);
+  io::H5File& f = out.file();
+  write_case_attributes(f, m, s);
   f.set_attr("/", "grid_n", static_cast<std::int64_t>(s.grid));
   f.set_attr("/", "frame", s.frame);
   f.set_attr("/", "window_first_iteration",
              static_cast<double>(plan_.window_first) / s.samples_per_iteration);
   f.set_attr("/", "window_last_iteration",
              static_cast<double>(plan_.window_last) / s.samples_per_iteration);
-  f.set_attr("/", "tumble_version", std::string(kVersion));
-  f.set_attr("/", "git_hash", std::string(kGitHash));
-  f.set_attr("/", "scene", m.scene_text);
   if (s.concentration) {
     const double cell_volume = analysis::shell_cell_volume(grid_, plan_.radius, s.shell_inner);
     f.write("concentration/c_L", conc_.c_large(), {n, n});

@@ -16,6 +16,7 @@
 #include "analysis/displacement.hpp"
 #include "analysis/lambert.hpp"
 #include "campaign/collect_plan.hpp"
+#include "io/hdf5_file.hpp"
 
 namespace tumble {
 class Simulation;
@@ -31,6 +32,10 @@ struct FieldsMeta {
   int replica = 0;
   long long seed = 0;
 };
+
+// The attributes every case fields file carries (sphere and cylinder cases alike): identity,
+// parameters, collection, code version and the resolved scene.
+void write_case_attributes(io::H5File& f, const FieldsMeta& meta, const CollectSpec& spec);
 
 class FieldCollector {
  public:

@@ -282,13 +282,15 @@ void Simulation::pair_forces() {
   }
 }
 
-template <class Law, bool kFriction>
-void Simulation::sphere_wall_forces() {
+// The rough wall of either tumbler (the sphere, or the cylinder's curved wall): every force term
+// of the law, the wall surface moving with Ω × r.
+template <class Law, bool kFriction, class Wall>
+void Simulation::rough_wall_forces(const Wall& wall) {
   const Vec3 omega = protocol_.omega(time_);
   for (const std::uint32_t i : wall_candidates_) {
     Vec3 nrm, point;
     const double ri = p_.radius[i];
-    const double overlap = wall_.overlap(p_.x[i], ri, nrm, point);
+    const double overlap = wall.overlap(p_.x[i], ri, nrm, point);
     if (overlap <= 0) {
       if constexpr (kFriction) p_.wall_spring[i] = Vec3{};
       continue;
@@ -303,28 +305,16 @@ void Simulation::sphere_wall_forces() {
   }
 }
 
-// The cylinder: the curved wall with every force term of the law, the end caps smooth (normal
-// force only: Rapaport's f_v + f_d). The caps turn in their own plane, so their normal velocity
-// is zero.
+template <class Law, bool kFriction>
+void Simulation::sphere_wall_forces() {
+  rough_wall_forces<Law, kFriction>(wall_);
+}
+
+// The cylinder: the curved wall rough, the end caps smooth (normal force only: Rapaport's f_v +
+// f_d). The caps turn in their own plane, so their normal velocity is zero.
 template <class Law, bool kFriction>
 void Simulation::cylinder_wall_forces() {
-  const Vec3 omega = protocol_.omega(time_);
-  for (const std::uint32_t i : wall_candidates_) {
-    Vec3 nrm, point;
-    const double ri = p_.radius[i];
-    const double overlap = cylinder_.overlap(p_.x[i], ri, nrm, point);
-    if (overlap <= 0) {
-      if constexpr (kFriction) p_.wall_spring[i] = Vec3{};
-      continue;
-    }
-    const double li = Law::lever(ri, ri - overlap, ri);
-    const Vec3 vrel = p_.v[i] - cross(li * p_.w[i], nrm) - cross(omega, point);
-    Vec3 ft;
-    const Vec3 fc = Law::template force<kFriction>(wall_table<Law>(p_.species[i]), nrm, overlap,
-                                                   vrel, p_.wall_spring[i], dt_, ft);
-    p_.f[i] += fc;
-    if constexpr (kFriction) p_.t[i] += li * cross(ft, nrm);
-  }
+  rough_wall_forces<Law, kFriction>(cylinder_);
   for (const std::uint32_t i : cap_candidates_) {
     double nz;
     const double overlap = cylinder_.cap_overlap(p_.x[i], p_.radius[i], nz);

@@ -77,6 +77,8 @@ class Simulation {
   double kick_drift(double kick);
   template <bool kRotation>
   void half_kick();
+  template <class Law, bool kFriction, class Wall>
+  void rough_wall_forces(const Wall& wall);
   template <class Law, bool kFriction>
   void sphere_wall_forces();
   template <class Law, bool kFriction>
