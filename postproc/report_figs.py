@@ -58,17 +58,22 @@ def draw_map(ax, values, n, vmin, vmax, cmap="viridis", islands=(), mask=None, t
     colours = cm(norm(np.where(bad, vmin, v)))
     colours[bad] = (0.85, 0.85, 0.85, 1)
     ax.add_collection(PolyCollection(_CELLS[n], facecolors=colours, edgecolors="none"))
+    disc_frame(ax, islands, "red", "0.3")
+    if title:
+        ax.set_title(title, fontsize=8)
+    return matplotlib.cm.ScalarMappable(norm=norm, cmap=cm)
+
+
+def disc_frame(ax, islands, island_colour, rim_colour):
+    """The Lambert disc's frame: island outlines, the unit rim, equal axes, no ticks."""
     for poly in islands:
         p = np.vstack([poly, poly[:1]])
-        ax.plot(p[:, 0], p[:, 1], color="red", lw=1.0)
-    ax.add_patch(plt.Circle((0, 0), 1, fill=False, color="0.3", lw=0.8))
+        ax.plot(p[:, 0], p[:, 1], color=island_colour, lw=1.0)
+    ax.add_patch(plt.Circle((0, 0), 1, fill=False, color=rim_colour, lw=0.8))
     ax.set_xlim(-1.03, 1.03)
     ax.set_ylim(-1.03, 1.03)
     ax.set_aspect("equal")
     ax.axis("off")
-    if title:
-        ax.set_title(title, fontsize=8)
-    return matplotlib.cm.ScalarMappable(norm=norm, cmap=cm)
 
 
 def finite_range(arrays, symmetric=False, floor=None):
@@ -161,14 +166,7 @@ def fates_fig(panels, out):
                 sel = fate == k
                 ax.scatter(X[sel], Z[sel], s=3 if k == 3 else 7, c=FATE_COLOURS[k],
                            label=f"{FATE_NAMES[k]} ({int(sel.sum())})", lw=0)
-            for poly in islands:
-                p = np.vstack([poly, poly[:1]])
-                ax.plot(p[:, 0], p[:, 1], color="k", lw=1.0)
-            ax.add_patch(plt.Circle((0, 0), 1, fill=False, color="0.4", lw=0.8))
-            ax.set_xlim(-1.03, 1.03)
-            ax.set_ylim(-1.03, 1.03)
-            ax.set_aspect("equal")
-            ax.axis("off")
+            disc_frame(ax, islands, "k", "0.4")
             ax.set_title(f"{title}: {when}", fontsize=8)
             if c == 1:
                 ax.legend(fontsize=6, loc="lower right", markerscale=2)

@@ -43,6 +43,26 @@ class PlacementGrid {
   std::unordered_map<long long, std::vector<std::uint32_t>> cells_;
 };
 
+// Sites of a cubic lattice of side a whose cells lie inside the cylinder, bottom first.
+std::vector<Vec3> lattice_sites(const Scene& s, double a) {
+  const double R = s.radius - 0.5 * a, hl = 0.5 * s.length - 0.5 * a;
+  std::vector<Vec3> sites;
+  const int nr = static_cast<int>(std::ceil(s.radius / a));
+  const int nz = static_cast<int>(std::ceil(0.5 * s.length / a));
+  for (int i = -nr; i < nr; ++i)
+    for (int j = -nr; j < nr; ++j)
+      for (int k = -nz; k < nz; ++k) {
+        const Vec3 c{(i + 0.5) * a, (j + 0.5) * a, (k + 0.5) * a};
+        if (R > 0 && c.x * c.x + c.y * c.y <= R * R && std::fabs(c.z) <= hl) sites.push_back(c);
+      }
+  std::sort(sites.begin(), sites.end(), [](const Vec3& p, const Vec3& q) {
+    if (p.y != q.y) return p.y < q.y;
+    if (p.x != q.x) return p.x < q.x;
+    return p.z < q.z;
+  });
+  return sites;
+}
+
 // Presegregated start: places the particles (radii `rad`, already multiplied by the shrink
 // factor) bottom first on a cubic lattice of side `a`, each particle on the lowest free site where
 // it fits, the large particles confined to z < z_split and the small to z >= z_split. Returns
@@ -50,19 +70,7 @@ class PlacementGrid {
 bool place(const Scene& s, const std::vector<double>& rad, const std::vector<std::int32_t>& sp,
            double a, double z_split, std::vector<Vec3>& pos) {
   const double R = s.radius, hl = 0.5 * s.length;
-  std::vector<Vec3> sites;
-  const int nr = static_cast<int>(std::ceil(R / a)), nz = static_cast<int>(std::ceil(hl / a));
-  for (int i = -nr; i < nr; ++i)
-    for (int j = -nr; j < nr; ++j)
-      for (int k = -nz; k < nz; ++k) {
-        const Vec3 c{(i + 0.5) * a, (j + 0.5) * a, (k + 0.5) * a};
-        if (c.x * c.x + c.y * c.y < R * R && std::fabs(c.z) < hl) sites.push_back(c);
-      }
-  std::sort(sites.begin(), sites.end(), [](const Vec3& p, const Vec3& q) {
-    if (p.y != q.y) return p.y < q.y;
-    if (p.x != q.x) return p.x < q.x;
-    return p.z < q.z;
-  });
+  const std::vector<Vec3> sites = lattice_sites(s, a);
   const double rmax = *std::max_element(rad.begin(), rad.end());
   PlacementGrid grid(2 * rmax);
   std::vector<char> used(sites.size(), 0);
@@ -95,26 +103,6 @@ bool place(const Scene& s, const std::vector<double>& rad, const std::vector<std
     grid.add(sites[k], static_cast<std::uint32_t>(p));
   }
   return true;
-}
-
-// Sites of a cubic lattice of side a whose cells lie inside the cylinder, bottom first.
-std::vector<Vec3> lattice_sites(const Scene& s, double a) {
-  const double R = s.radius - 0.5 * a, hl = 0.5 * s.length - 0.5 * a;
-  std::vector<Vec3> sites;
-  const int nr = static_cast<int>(std::ceil(s.radius / a));
-  const int nz = static_cast<int>(std::ceil(0.5 * s.length / a));
-  for (int i = -nr; i < nr; ++i)
-    for (int j = -nr; j < nr; ++j)
-      for (int k = -nz; k < nz; ++k) {
-        const Vec3 c{(i + 0.5) * a, (j + 0.5) * a, (k + 0.5) * a};
-        if (R > 0 && c.x * c.x + c.y * c.y <= R * R && std::fabs(c.z) <= hl) sites.push_back(c);
-      }
-  std::sort(sites.begin(), sites.end(), [](const Vec3& p, const Vec3& q) {
-    if (p.y != q.y) return p.y < q.y;
-    if (p.x != q.x) return p.x < q.x;
-    return p.z < q.z;
-  });
-  return sites;
 }
 
 // Mixed start, as the paper: one particle per site of a lattice spread over the cylinder, species
