@@ -1,5 +1,7 @@
 // `tumble run SCENE.toml`: one DEM realization. Parses, validates the whole scene before any work,
 // and calls the library.
+#include <mpi.h>
+
 #include <iostream>
 
 #include "app/commands.hpp"
@@ -10,7 +12,8 @@
 namespace tumble::app {
 
 void register_run(CLI::App& app) {
-  auto* cmd = app.add_subcommand("run", "run one DEM realization of a scene");
+  auto* cmd = app.add_subcommand(
+      "run", "run one DEM realization of a scene (on all ranks of mpirun, domain-decomposed)");
   struct Opts {
     std::string scene;
     std::vector<std::string> overrides;
@@ -60,6 +63,10 @@ void register_run(CLI::App& app) {
     ro.resume = opts->resume;
     ro.max_steps = opts->max_steps;
     ro.log = &std::cout;
+    // Under mpirun every rank runs this one realization together (domain decomposition).
+    int ranks = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    if (ranks > 1) ro.comm = MPI_COMM_WORLD;
     run_realization(scene, ro);
   });
 }

@@ -28,9 +28,32 @@ namespace {
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
+int rank_in(MPI_Comm comm) {
+  int r = 0;
+  if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &r);
+  return r;
+}
+int size_of(MPI_Comm comm) {
+  int n = 1;
+  if (comm != MPI_COMM_NULL) MPI_Comm_size(comm, &n);
+  return n;
+}
 }  // namespace
 
-Particles fill_and_settle(const Scene& scene, std::ostream* log) {
+Particles share_of(const Particles& all, MPI_Comm comm) {
+  const int p = size_of(comm), r = rank_in(comm);
+  if (p == 1) return all;
+  const auto n = static_cast<std::int64_t>(all.size());
+  std::vector<std::uint32_t> rows;
+  for (std::int64_t i = n * r / p; i < n * (r + 1) / p; ++i)
+    rows.push_back(static_cast<std::uint32_t>(i));
+  Particles mine = all;
+  mine.permute(rows);
+  mine.resize(rows.size());
+  return mine;
+}
+
+Particles fill_and_settle(const Scene& scene, std::ostream* log, MPI_Comm comm) {
   double shrink = 1;
   Particles bed;
   if (scene.cylinder()) {
@@ -51,7 +74,7 @@ Particles fill_and_settle(const Scene& scene, std::ostream* log) {
   // steps, rebuilding the neighbour list after each change.
   std::vector<double> full_radius(bed.size());
   for (std::size_t i = 0; i < bed.size(); ++i) full_radius[bed.id[i]] = bed.radius[i];
-  Simulation sim(scene, std::move(bed), geometry::Protocol::at_rest());
+  Simulation sim(scene, share_of(bed, comm), geometry::Protocol::at_rest(), 0, 0, comm);
   constexpr int kGrowBlocks = 50;
   auto set_scale = [&](double scale) {
     Particles& p = sim.particles();
@@ -89,29 +112,34 @@ Particles fill_and_settle(const Scene& scene, std::ostream* log) {
   if (log)
     *log << "[fill] settled at t = " << sim.time() << " s (" << sim.step_count() << " steps, "
          << std::setprecision(3) << seconds_since(t0) << " s wall)" << std::endl;
-  Particles out = sim.particles();
+  Particles out = sim.gather_all();
   for (std::size_t i = 0; i < out.size(); ++i) {
     out.v[i] = out.w[i] = out.f[i] = out.t[i] = out.wall_spring[i] = Vec3{};
   }
   return out;
 }
 
-Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused) {
+Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_Comm comm) {
   if (reused) *reused = true;
   if (!scene.bed_file.empty()) {
     if (log) *log << "[fill] starting from bed file " << scene.bed_file << "\n";
     return io::read_bed(scene.bed_file, scene);
   }
   const std::string cached = io::bed_cache_path(scene);
-  if (fs::exists(cached)) {
+  int have = fs::exists(cached) ? 1 : 0;  // rank 0 decides for all
+  if (size_of(comm) > 1) MPI_Bcast(&have, 1, MPI_INT, 0, comm);
+  if (have) {
     if (log) *log << "[fill] reusing settled bed " << cached << "\n";
     return io::read_bed(cached, scene);
   }
   if (reused) *reused = false;
-  Particles bed = fill_and_settle(scene, log);
-  fs::create_directories(scene.bed_cache);
-  io::write_bed(cached, bed, scene);
-  if (log) *log << "[fill] saved settled bed to " << cached << "\n";
+  Particles bed = fill_and_settle(scene, log, comm);
+  if (rank_in(comm) == 0) {
+    fs::create_directories(scene.bed_cache);
+    io::write_bed(cached, bed, scene);
+    if (log) *log << "[fill] saved settled bed to " << cached << "\n";
+  }
+  if (size_of(comm) > 1) MPI_Barrier(comm);
   return bed;
 }
 
@@ -124,7 +152,8 @@ void check_restart_compatible(const Scene& scene, const std::string& ckpt_scene_
   for (const auto& [key, value] : scene.resolved) {
     if (key.rfind("output.", 0) == 0 || key == "protocol.iterations" ||
         key == "protocol.duration" || key == "scene.output_dir" || key == "scene.name" ||
-        key.rfind("fill.", 0) == 0 || key.rfind("neighbor.", 0) == 0)
+        key.rfind("fill.", 0) == 0 || key.rfind("neighbor.", 0) == 0 ||
+        key.rfind("parallel.", 0) == 0)
       continue;
     auto it = old.resolved.find(key);
     if (it == old.resolved.end() || it->second != value)
@@ -142,10 +171,15 @@ std::int64_t steps_for(double interval, double dt, double fallback) {
 }  // namespace
 
 RunResult run_realization(const Scene& scene, const RunOptions& opt) {
-  std::ostream* log = opt.log;
+  const MPI_Comm comm = size_of(opt.comm) > 1 ? opt.comm : MPI_COMM_NULL;
+  const bool lead = rank_in(comm) == 0;  // writes the serial files and the log
+  std::ostream* log = lead ? opt.log : nullptr;
+  if (comm != MPI_COMM_NULL && !opt.observers.empty())
+    throw InputError("in-situ observers need a serial run (one rank per realization)");
   RunResult res;
   res.output_dir = scene.output_dir;
-  fs::create_directories(scene.output_dir);
+  if (lead) fs::create_directories(scene.output_dir);
+  if (comm != MPI_COMM_NULL) MPI_Barrier(comm);
   const std::string ckpt_path = scene.output_dir + "/checkpoint.h5";
 
   geometry::Protocol protocol =
@@ -169,14 +203,24 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
   std::unique_ptr<Simulation> sim;
   analysis::Series series;
   std::vector<io::SnapshotEntry> snaps;
+  // Every rank takes the same branch: rank 0 looks for the checkpoint.
+  int have_restart = restart.empty() ? 0 : 1;
+  if (comm != MPI_COMM_NULL) MPI_Bcast(&have_restart, 1, MPI_INT, 0, comm);
+  if (!have_restart)
+    restart.clear();
+  else if (restart.empty())
+    restart = opt.restart_file.empty() ? ckpt_path : opt.restart_file;
   if (!restart.empty()) {
-    io::CheckpointData c = io::read_checkpoint(restart);
+    io::CheckpointData c = io::read_checkpoint(restart, comm);
     check_restart_compatible(scene, c.scene_text);
-    const std::size_t n = c.particles.size();
+    double rows = static_cast<double>(c.particles.size());
+    if (comm != MPI_COMM_NULL) MPI_Allreduce(MPI_IN_PLACE, &rows, 1, MPI_DOUBLE, MPI_SUM, comm);
+    const auto n = static_cast<std::size_t>(rows);
     if (log)
       *log << "[run] restarting from " << restart << " at t = " << c.time << " s (step " << c.step
            << ")\n";
-    sim = std::make_unique<Simulation>(scene, std::move(c.particles), protocol, c.time, c.step);
+    sim =
+        std::make_unique<Simulation>(scene, std::move(c.particles), protocol, c.time, c.step, comm);
     sim->restore(c.history);
     series = std::move(c.series);
     for (std::int64_t k = 0; k < c.snapshots_written; ++k) {
@@ -185,19 +229,26 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
       snaps.push_back({name, static_cast<double>(k * snap_every) * dt, n});
     }
   } else {
-    Particles bed = settled_bed(scene, log, &res.reused_bed);
-    sim = std::make_unique<Simulation>(scene, std::move(bed), protocol);
+    Particles bed = settled_bed(scene, log, &res.reused_bed, comm);
+    sim = std::make_unique<Simulation>(scene, share_of(bed, comm), protocol, 0, 0, comm);
     sim->compute_forces();
   }
-  res.particles = static_cast<std::int64_t>(sim->particles().size());
+  res.particles = sim->global_count();
+  // Analyses see the whole bed: a domain-decomposed run gathers it (sorted by id) when sampling.
+  Particles gathered;
+  auto whole_bed = [&]() -> const Particles& {
+    if (comm == MPI_COMM_NULL) return sim->particles();
+    gathered = sim->gather_all();
+    return gathered;
+  };
 
   auto snapshot = [&]() {
     if (!opt.write_snapshots) return;
     char name[64];
     std::snprintf(name, sizeof name, "snap_%06zu.h5", snaps.size());
     io::write_snapshot(scene.output_dir + "/" + name, *sim, scene);
-    snaps.push_back({name, sim->time(), sim->particles().size()});
-    io::write_xdmf(scene.output_dir, snaps);
+    snaps.push_back({name, sim->time(), static_cast<std::size_t>(res.particles)});
+    if (lead) io::write_xdmf(scene.output_dir, snaps);
   };
   // Cylinder scenes measure Rapaport's S_a, S_r and profiles; sphere scenes Yu's shell fraction.
   analysis::CylinderFrame frame;
@@ -207,15 +258,15 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
       scene.slice_width > 0 ? scene.slice_width : 2.5 * (scene.d_small - 0.5 * scene.size_spread);
   frame.b3 = std::pow(scene.d_large / scene.d_small, 3);
   auto sample = [&]() {
+    const double kinetic = sim->energy().kinetic;  // collective: before the gather, on all ranks
+    const Particles& all = whole_bed();
     if (scene.cylinder()) {
-      analysis::sample_cylinder(sim->particles(), frame, sim->time(),
-                                scene.omega() * sim->time() / (2 * kPi), sim->energy().kinetic,
-                                series.cylinder);
+      analysis::sample_cylinder(all, frame, sim->time(), scene.omega() * sim->time() / (2 * kPi),
+                                kinetic, series.cylinder);
       return;
     }
     series.append(sim->time(), sim->protocol().iteration(sim->time()),
-                  analysis::radial_segregation(sim->particles(), scene.radius),
-                  sim->energy().kinetic);
+                  analysis::radial_segregation(all, scene.radius), kinetic);
   };
   // The MCM's drift grid (output.drift_grid = on): large particles at the free surface of the
   // flowing layer, every 0.1 s of the "rotate" segments, as Yu 2022 App. A.
@@ -255,7 +306,7 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
     if (drift && s % drift_every == 0 &&
         std::string(sim->protocol().phase(sim->time())) ==
             (protocol.periodic() ? "rotate" : "spin"))
-      drift->sample(sim->particles(), sim->protocol().omega(sim->time()));
+      drift->sample(whole_bed(), sim->protocol().omega(sim->time()));
     if (s % 1000 == 0) sim->check_health();
     if (s % snap_every == 0 || s == total_steps) snapshot();
     if (ckpt_now) {  // also where --max-steps stops, so the run can be continued
@@ -274,8 +325,11 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
         *log << "iter " << std::setprecision(2) << sim->protocol().iteration(sim->time()) << " ("
              << sim->protocol().phase(sim->time()) << ")";
       *log << "  step " << s << "/" << end_step << "  " << std::scientific << std::setprecision(2)
-           << rate << " particle-steps/s  ETA " << format_hms(eta) << std::defaultfloat
-           << std::endl;
+           << rate << " particle-steps/s  ETA " << format_hms(eta) << std::defaultfloat;
+      if (const parallel::Domain* dom = sim->domain())
+        *log << "  " << dom->size() << " ranks, imbalance " << std::fixed << std::setprecision(3)
+             << dom->imbalance() << std::defaultfloat;
+      *log << std::endl;
     }
   }
   res.wall_seconds = seconds_since(t0);
@@ -289,7 +343,7 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
   // Results: the time series and a summary, written atomically.
   res.results_file = scene.output_dir + "/results.h5";
   {
-    io::AtomicH5Writer out(res.results_file);
+    io::AtomicH5Writer out(res.results_file, comm);  // rank 0's series (all ranks hold it)
     io::H5File& f = out.file();
     f.write("series/time", series.time);
     f.write("series/iteration", series.iteration);
@@ -305,7 +359,7 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
     io::write_provenance(f, scene);
     out.commit();
   }
-  if (drift) {
+  if (drift && lead) {
     const std::string path = scene.output_dir + "/drift_grid.h5";
     cm::write_drift_grid(
         path, drift->grid("DEM scene " + scene.name + ", seed " + std::to_string(scene.seed) +

@@ -86,6 +86,7 @@ const std::map<std::string, double Scene::*>& real_members() {
       {"time.dt", &Scene::dt},
       {"time.dt_fraction", &Scene::dt_fraction},
       {"neighbor.skin", &Scene::skin},
+      {"parallel.rebalance_threshold", &Scene::rebalance_threshold},
       {"output.snapshot_interval", &Scene::snapshot_interval},
       {"output.checkpoint_interval", &Scene::checkpoint_interval},
       {"output.progress_interval", &Scene::progress_interval},

@@ -58,6 +58,8 @@ struct Scene {
   std::string integrator = "velocity_verlet";  // velocity_verlet | leapfrog
   // [neighbor]
   double skin = 0.1;  // Verlet skin / d_small (fastest measured, docs/performance.md)
+  // [parallel]
+  double rebalance_threshold = 1.1;  // re-bisect when max/mean owned particles exceeds this
   // [output]
   double snapshot_interval = 0;    // simulated seconds between snapshots (0: one per iteration)
   double checkpoint_interval = 0;  // simulated seconds between checkpoints (0: one per iteration)

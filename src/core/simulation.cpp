@@ -11,8 +11,9 @@
 namespace tumble {
 
 Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol protocol,
-                       double time, std::int64_t step)
+                       double time, std::int64_t step, MPI_Comm comm)
     : p_(std::move(particles)),
+      n_local_(p_.size()),
       protocol_(std::move(protocol)),
       gravity_{0, -s.g, 0},
       dt_(s.time_step()),
@@ -52,9 +53,23 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
   // Chosen once per scene: law, wall and, for frictionless scenes, no tangential history and no
   // rotation; one species present: no species lookups. TUMBLE_GENERAL_KERNELS=1 turns the last two
   // specialisations off, for measuring what they gain (jobs/bench/bench_specialisations.sh).
-  species0_ = p_.size() > 0 ? p_.species[0] : 0;
-  one_species_ = true;
-  for (std::int32_t sp : p_.species) one_species_ = one_species_ && sp == species0_;
+  int ranks = 1;
+  if (comm != MPI_COMM_NULL) MPI_Comm_size(comm, &ranks);
+  // Species present and the largest radius over the whole bed (every rank must choose the same
+  // kernels and cell size).
+  int sp_range[2] = {1 << 30, 1 << 30};  // {min species, -max species}
+  for (std::int32_t sp : p_.species) {
+    sp_range[0] = std::min(sp_range[0], static_cast<int>(sp));
+    sp_range[1] = std::min(sp_range[1], -static_cast<int>(sp));
+  }
+  double rmax = 0;
+  for (double r : p_.radius) rmax = std::max(rmax, r);
+  if (ranks > 1) {
+    MPI_Allreduce(MPI_IN_PLACE, sp_range, 2, MPI_INT, MPI_MIN, comm);
+    MPI_Allreduce(MPI_IN_PLACE, &rmax, 1, MPI_DOUBLE, MPI_MAX, comm);
+  }
+  species0_ = sp_range[0] == (1 << 30) ? 0 : sp_range[0];
+  one_species_ = sp_range[0] == (1 << 30) || sp_range[0] == -sp_range[1];
   const char* general = std::getenv("TUMBLE_GENERAL_KERNELS");
   const bool force_general = general != nullptr && std::string(general) == "1";
   if (force_general) one_species_ = false;
@@ -68,8 +83,6 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
 
   // Cells cover the tumbler's bounding box; side >= largest cutoff. A periodic cylinder's box is
   // exactly one period long in z.
-  double rmax = 0;
-  for (double r : p_.radius) rmax = std::max(rmax, r);
   const double skin = s.skin * s.d_small;
   const double R = s.radius + skin;
   if (is_cylinder_) {
@@ -81,6 +94,57 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     list_ =
         neighbor::VerletList(neighbor::CellGrid({-R, -R, -R}, {R, R, R}, 2 * rmax + skin), skin);
   }
+  // More than one rank: the parallel layer bisects the tumbler's box among them. Ghosts are the
+  // particles within one list cutoff (2 r_max + skin) of a rank's domain.
+  if (ranks > 1) {
+    const double hz = is_cylinder_ ? 0.5 * s.length + (cylinder_.periodic ? 0 : skin) : R;
+    const parallel::Box root{{-R, -R, -hz}, {R, R, hz}};
+    dom_ = std::make_unique<parallel::Domain>(comm, root, cylinder_.periodic ? s.length : 0.0,
+                                              s.rebalance_threshold);
+    halo_reach_ = 2 * rmax + skin;
+  }
+}
+
+double Simulation::sum(double local) const {
+  if (!dom_) return local;
+  double total = 0;
+  MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, dom_->comm());
+  return total;
+}
+
+std::int64_t Simulation::global_count() const {
+  return static_cast<std::int64_t>(std::llround(sum(static_cast<double>(n_local_))));
+}
+
+Particles Simulation::gather_all() const {
+  if (dom_) return dom_->gather_all(p_, n_local_);
+  return p_;
+}
+
+void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
+  if (cylinder_.periodic) {  // owners are found from positions inside the period
+    const double L = 2 * cylinder_.half_length;
+    for (std::size_t i = 0; i < n_local_; ++i)
+      p_.x[i].z -= L * std::floor((p_.x[i].z + cylinder_.half_length) / L);
+  }
+  // The live springs leave with the pair's particles: saved by id with the position of the pair,
+  // routed to every rank near that position, matched by id after the move.
+  std::vector<neighbor::SavedSpring> records;
+  if (history) {
+    records = history->records();
+  } else if (list_.start.size() == n_local_ + 1) {
+    neighbor::ContactHistory h;
+    list_.save_history(p_, h);
+    records = h.records();
+  }
+  p_.resize(n_local_);  // drop the ghosts
+  dom_->distribute(p_, records, halo_reach_);
+  n_local_ = p_.size();
+  list_.sort(p_);
+  dom_->exchange_ghosts(p_, n_local_, halo_reach_);
+  neighbor::ContactHistory h;
+  h.set_records(std::move(records));
+  list_.build_with_ghosts(p_, n_local_, h);
 }
 
 template <class Law, bool kFriction, bool kPeriodic>
@@ -128,13 +192,16 @@ void Simulation::rebuild_lists(const neighbor::ContactHistory* history) {
     const double L = 2 * cylinder_.half_length;
     for (Vec3& x : p_.x) x.z -= L * std::floor((x.z + cylinder_.half_length) / L);
   }
-  list_.rebuild(p_, history);
+  if (dom_)
+    rebuild_distributed(history);
+  else
+    list_.rebuild(p_, history);
   // Only particles within one skin of the wall can touch it before the next rebuild (no particle
   // moves more than skin/2 in between).
   wall_candidates_.clear();
   cap_candidates_.clear();
   const double skin = list_.skin();
-  for (std::size_t i = 0; i < p_.size(); ++i) {
+  for (std::size_t i = 0; i < n_local_; ++i) {
     const auto k = static_cast<std::uint32_t>(i);
     if (is_cylinder_) {
       if (cylinder_.near_curved(p_.x[i], p_.radius[i], skin)) wall_candidates_.push_back(k);
@@ -161,6 +228,8 @@ void Simulation::restore(const neighbor::ContactHistory& history) {
 
 void Simulation::maybe_rebuild(double max_displacement2) {
   const double half = 0.5 * list_.skin();
+  if (dom_)  // every rank rebuilds at the same step (migration is collective)
+    MPI_Allreduce(MPI_IN_PLACE, &max_displacement2, 1, MPI_DOUBLE, MPI_MAX, dom_->comm());
   if (force_rebuild_ || max_displacement2 > half * half) {
     if (!force_rebuild_ && step_ - last_build_step_ < 10) ++fast_rebuilds_;
     rebuild_lists(nullptr);
@@ -174,7 +243,7 @@ void Simulation::maybe_rebuild(double max_displacement2) {
 // friction anywhere: no torque ever) leaves the spins alone.
 template <bool kRotation>
 double Simulation::kick_drift(double kick) {
-  const std::size_t n = p_.size();
+  const std::size_t n = n_local_;
   Vec3* __restrict x = p_.x.data();
   Vec3* __restrict v = p_.v.data();
   Vec3* __restrict w = p_.w.data();
@@ -184,6 +253,8 @@ double Simulation::kick_drift(double kick) {
   const double* __restrict ii = p_.inv_inertia.data();
   const Vec3* __restrict x_ref = list_.reference_positions().data();
   const bool have_ref = list_.reference_positions().size() == n;
+  // Ghost accumulators collect the partner halves of border pairs; they are thrown away.
+  for (std::size_t g = n; g < p_.size(); ++g) f[g] = t[g] = Vec3{};
   double max_d2 = have_ref ? 0.0 : 1e300;
   for (std::size_t i = 0; i < n; ++i) {
     v[i] += kick * (im[i] * f[i] + gravity_);
@@ -200,7 +271,7 @@ double Simulation::kick_drift(double kick) {
 
 template <bool kRotation>
 void Simulation::half_kick() {
-  const std::size_t n = p_.size();
+  const std::size_t n = n_local_;
   const double h = 0.5 * dt_;
   Vec3* __restrict v = p_.v.data();
   Vec3* __restrict w = p_.w.data();
@@ -220,6 +291,7 @@ void Simulation::step() {
   // the same positions (the forces see the half-step velocity in either form).
   const double kick = leapfrog_ && step_ > 0 ? dt_ : 0.5 * dt_;
   const double max_d2 = rotation_ ? kick_drift<true>(kick) : kick_drift<false>(kick);
+  if (dom_) dom_->refresh_ghosts(p_, n_local_);
   time_ += dt_;
   ++step_;
   maybe_rebuild(max_d2);  // may permute particles
@@ -234,7 +306,7 @@ void Simulation::step() {
 
 template <class Law, bool kFriction, bool kPeriodic, bool kOneSpecies>
 void Simulation::pair_forces() {
-  const std::size_t n = p_.size();
+  const std::size_t n = n_local_;  // rows: owned particles (partners may be ghosts)
   const Vec3* __restrict x = p_.x.data();
   const Vec3* __restrict v = p_.v.data();
   const Vec3* __restrict w = p_.w.data();
@@ -324,23 +396,28 @@ void Simulation::cylinder_wall_forces() {
 }
 
 void Simulation::check_health() const {
-  for (std::size_t i = 0; i < p_.size(); ++i) {
+  std::string problem;
+  for (std::size_t i = 0; i < n_local_ && problem.empty(); ++i) {
     const Vec3& x = p_.x[i];
     const Vec3& v = p_.v[i];
+    std::ostringstream os;
     if (!std::isfinite(x.x + x.y + x.z + v.x + v.y + v.z)) {
-      std::ostringstream os;
       os << "non-finite state of particle " << p_.id[i] << " at t = " << time_ << " s (step "
          << step_ << "): the time step may be too large for the contact stiffness";
-      throw RunError(os.str());
-    }
-    if (is_cylinder_ ? cylinder_.escaped(x) : wall_.escaped(x)) {
-      std::ostringstream os;
+    } else if (is_cylinder_ ? cylinder_.escaped(x) : wall_.escaped(x)) {
       os << "particle " << p_.id[i] << " left the tumbler at t = " << time_ << " s (step " << step_
          << "), at (" << x.x << ", " << x.y << ", " << x.z << "), tumbler radius " << wall_.radius;
       if (is_cylinder_) os << ", length " << 2 * cylinder_.half_length;
-      throw RunError(os.str());
     }
+    problem = os.str();
   }
+  // Every rank throws together (a rank left behind would wait forever in the next collective).
+  if (dom_) {
+    int bad = problem.empty() ? 0 : 1, any = 0;
+    MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, dom_->comm());
+    if (any && problem.empty()) problem = "another rank of this realization reported a failure";
+  }
+  if (!problem.empty()) throw RunError(problem);
 }
 
 double Simulation::wall_overlap(const Vec3& x, double r, Vec3& n, Vec3& point) const {
@@ -351,7 +428,7 @@ template <class Law>
 double Simulation::elastic_energy() const {
   double e = 0;
   const double period = 2 * cylinder_.half_length;
-  for (std::size_t i = 0; i < p_.size(); ++i) {
+  for (std::size_t i = 0; i < n_local_; ++i) {
     Vec3 nrm, point;
     const double ov = wall_overlap(p_.x[i], p_.radius[i], nrm, point);
     if (ov > 0) e += Law::elastic_energy(wall_table<Law>(p_.species[i]), ov, p_.wall_spring[i]);
@@ -366,8 +443,11 @@ double Simulation::elastic_energy() const {
       Vec3 d = p_.x[i] - p_.x[j];
       if (cylinder_.periodic) d.z -= period * std::nearbyint(d.z / period);
       const double ovp = p_.radius[i] + p_.radius[j] - norm(d);
+      // A pair across a rank border is held by both ranks: half from each.
+      const double share = j >= n_local_ ? 0.5 : 1.0;
       if (ovp > 0)
-        e += Law::elastic_energy(table<Law>(p_.species[i], p_.species[j]), ovp, list_.spring[k]);
+        e += share *
+             Law::elastic_energy(table<Law>(p_.species[i], p_.species[j]), ovp, list_.spring[k]);
     }
   }
   return e;
@@ -375,21 +455,26 @@ double Simulation::elastic_energy() const {
 
 EnergyBreakdown Simulation::energy() const {
   EnergyBreakdown e;
-  for (std::size_t i = 0; i < p_.size(); ++i) {
+  for (std::size_t i = 0; i < n_local_; ++i) {
     const double m = 1.0 / p_.inv_mass[i];
     e.kinetic += 0.5 * m * norm2(p_.v[i]) + 0.5 / p_.inv_inertia[i] * norm2(p_.w[i]);
     e.potential -= m * dot(gravity_, p_.x[i]);
   }
   e.elastic =
       rapaport_ ? elastic_energy<contact::Rapaport2007Law>() : elastic_energy<contact::Yu2022Law>();
+  if (dom_) {
+    double parts[3] = {e.kinetic, e.potential, e.elastic};
+    MPI_Allreduce(MPI_IN_PLACE, parts, 3, MPI_DOUBLE, MPI_SUM, dom_->comm());
+    e = {parts[0], parts[1], parts[2]};
+  }
   return e;
 }
 
 double Simulation::rms_speed() const {
-  if (p_.size() == 0) return 0;
   double s = 0;
-  for (const auto& v : p_.v) s += norm2(v);
-  return std::sqrt(s / p_.size());
+  for (std::size_t i = 0; i < n_local_; ++i) s += norm2(p_.v[i]);
+  const double n = sum(static_cast<double>(n_local_));
+  return n > 0 ? std::sqrt(sum(s) / n) : 0.0;
 }
 
 }  // namespace tumble

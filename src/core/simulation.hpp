@@ -4,7 +4,10 @@
 // the integrator (velocity Verlet, or leapfrog). Physics options are resolved once at construction
 // into member-function pointers to kernels instantiated for exactly those options (law, wall,
 // friction, axial periodicity): the per-contact loops have no option branches.
+#include <mpi.h>
+
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "contact/laws.hpp"
@@ -14,6 +17,7 @@
 #include "geometry/protocol.hpp"
 #include "geometry/sphere_wall.hpp"
 #include "neighbor/verlet_list.hpp"
+#include "parallel/domain.hpp"
 
 namespace tumble {
 
@@ -26,9 +30,13 @@ struct EnergyBreakdown {
 
 class Simulation {
  public:
-  // `time` and `step` let a restart continue the clock.
+  // `time` and `step` let a restart continue the clock. `comm`: the ranks that share this
+  // realization (MPI_COMM_NULL or a one-rank communicator: serial). With more than one rank,
+  // `particles` is this rank's share of the bed (any split in which every particle is on exactly
+  // one rank); the engine bisects the tumbler among the ranks and moves each particle to its
+  // owner. Every public call is then collective over `comm`.
   Simulation(const Scene& scene, Particles particles, geometry::Protocol protocol, double time = 0,
-             std::int64_t step = 0);
+             std::int64_t step = 0, MPI_Comm comm = MPI_COMM_NULL);
 
   // Advances one time step.
   void step();
@@ -46,8 +54,17 @@ class Simulation {
   EnergyBreakdown energy() const;
   double rms_speed() const;
 
+  // This rank's particles: the owned ones first (local_count()), then the ghosts (parallel runs
+  // only; copies of neighbours' particles, refreshed every step).
   const Particles& particles() const { return p_; }
   Particles& particles() { return p_; }
+  std::size_t local_count() const { return n_local_; }
+  // Collective: every particle of the realization, sorted by id (a copy of particles() when
+  // serial).
+  Particles gather_all() const;
+  std::int64_t global_count() const;
+  // The parallel layer, or nullptr for a serial run.
+  const parallel::Domain* domain() const { return dom_.get(); }
   const neighbor::VerletList& neighbors() const { return list_; }
   const geometry::Protocol& protocol() const { return protocol_; }
   const geometry::SphereWall& wall() const { return wall_; }
@@ -95,8 +112,14 @@ class Simulation {
   double wall_overlap(const Vec3& x, double r, Vec3& n, Vec3& point) const;
   void maybe_rebuild(double max_displacement2);
   void rebuild_lists(const neighbor::ContactHistory* history);
+  // Parallel rebuild: migrate (with contact records), sort, exchange ghosts, list.
+  void rebuild_distributed(const neighbor::ContactHistory* history);
+  double sum(double local) const;  // over the ranks (identity when serial)
 
   Particles p_;
+  std::size_t n_local_ = 0;  // owned particles: p_[0, n_local_); ghosts after them
+  std::unique_ptr<parallel::Domain> dom_;
+  double halo_reach_ = 0;  // ghosts: particles within this distance of a rank's domain
   geometry::Protocol protocol_;
   geometry::SphereWall wall_;
   geometry::CylinderWall cylinder_;

@@ -7,9 +7,10 @@
 
 namespace tumble::io {
 namespace {
-std::vector<double> flat(const std::vector<Vec3>& a) {
-  std::vector<double> out(3 * a.size());
-  for (std::size_t i = 0; i < a.size(); ++i)
+// The first n vectors as a flat row-major (n, 3) array.
+std::vector<double> flat(const std::vector<Vec3>& a, std::size_t n) {
+  std::vector<double> out(3 * n);
+  for (std::size_t i = 0; i < n; ++i)
     for (int d = 0; d < 3; ++d) out[3 * i + d] = a[i][d];
   return out;
 }
@@ -20,35 +21,42 @@ std::vector<Vec3> unflat(const std::vector<double>& a) {
 }
 }  // namespace
 
+template <class T>
+std::vector<T> head(const std::vector<T>& a, std::size_t n) {
+  return std::vector<T>(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(n));
+}
+
 void write_checkpoint(const std::string& path, const Simulation& sim, const Scene& scene,
                       const analysis::Series& series, std::int64_t snapshots_written) {
+  // Owned particles only (ghosts are rebuilt on restart), in memory order.
   const Particles& p = sim.particles();
-  const hsize_t n = p.size();
-  AtomicH5Writer out(path);
+  const std::size_t n = sim.local_count();
+  AtomicH5Writer out(path, sim.domain() ? sim.domain()->comm() : MPI_COMM_NULL);
   H5File& f = out.file();
-  f.write("particles/x", flat(p.x), {n, 3});
-  f.write("particles/v", flat(p.v), {n, 3});
-  f.write("particles/w", flat(p.w), {n, 3});
-  f.write("particles/f", flat(p.f), {n, 3});
-  f.write("particles/t", flat(p.t), {n, 3});
-  f.write("particles/wall_spring", flat(p.wall_spring), {n, 3});
-  f.write("particles/radius", p.radius);
-  f.write("particles/inv_mass", p.inv_mass);
-  f.write("particles/inv_inertia", p.inv_inertia);
-  f.write("particles/species", p.species);
-  f.write("particles/id", p.id);
+  f.write_rows("particles/x", flat(p.x, n), 3);
+  f.write_rows("particles/v", flat(p.v, n), 3);
+  f.write_rows("particles/w", flat(p.w, n), 3);
+  f.write_rows("particles/f", flat(p.f, n), 3);
+  f.write_rows("particles/t", flat(p.t, n), 3);
+  f.write_rows("particles/wall_spring", flat(p.wall_spring, n), 3);
+  f.write_rows("particles/radius", head(p.radius, n));
+  f.write_rows("particles/inv_mass", head(p.inv_mass, n));
+  f.write_rows("particles/inv_inertia", head(p.inv_inertia, n));
+  f.write_rows("particles/species", head(p.species, n));
+  f.write_rows("particles/id", head(p.id, n));
   neighbor::ContactHistory h;
   sim.neighbors().save_history(p, h);
   std::vector<std::int64_t> pairs;
-  std::vector<double> springs;
+  std::vector<double> springs, anchors;
   for (const auto& r : h.records()) {
     pairs.push_back(r.lo);
     pairs.push_back(r.hi);
     for (int d = 0; d < 3; ++d) springs.push_back(r.spring[d]);
+    for (int d = 0; d < 3; ++d) anchors.push_back(r.anchor[d]);
   }
-  const hsize_t nc = h.records().size();
-  f.write("contacts/pair_ids", pairs, {nc, 2});
-  f.write("contacts/spring", springs, {nc, 3});
+  f.write_rows("contacts/pair_ids", pairs, 2);
+  f.write_rows("contacts/spring", springs, 3);
+  f.write_rows("contacts/anchor", anchors, 3);
   f.write("series/time", series.time);
   f.write("series/iteration", series.iteration);
   f.write("series/shell_large_fraction", series.shell_large_fraction);
@@ -63,30 +71,49 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   out.commit();
 }
 
-CheckpointData read_checkpoint(const std::string& path) {
-  H5File f(path, H5File::Mode::Read);
+CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
+  int rank = 0, size = 1;
+  if (comm != MPI_COMM_NULL) {
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &size);
+  }
+  H5File f(path, H5File::Mode::Read);  // every rank reads its own rows independently
   if (!f.has_attr("/", "kind") || f.attr_string("/", "kind") != "tumble checkpoint")
     throw InputError("'" + path + "' is not a Tumble checkpoint");
   CheckpointData c;
+  const auto n = static_cast<std::int64_t>(f.shape("particles/id")[0]);
+  const auto b0 = static_cast<hsize_t>(n * rank / size),
+             b1 = static_cast<hsize_t>(n * (rank + 1) / size);
+  auto rows = [&](const std::string& name) { return f.read_rows_double(name, b0, b1 - b0); };
   Particles& p = c.particles;
-  p.x = unflat(f.read_double("particles/x"));
+  p.x = unflat(rows("particles/x"));
   p.resize(p.x.size());
-  p.v = unflat(f.read_double("particles/v"));
-  p.w = unflat(f.read_double("particles/w"));
-  p.f = unflat(f.read_double("particles/f"));
-  p.t = unflat(f.read_double("particles/t"));
-  p.wall_spring = unflat(f.read_double("particles/wall_spring"));
-  p.radius = f.read_double("particles/radius");
-  p.inv_mass = f.read_double("particles/inv_mass");
-  p.inv_inertia = f.read_double("particles/inv_inertia");
-  p.species = f.read_int32("particles/species");
-  p.id = f.read_int64("particles/id");
-  const auto pairs = f.read_int64("contacts/pair_ids");
-  const auto springs = f.read_double("contacts/spring");
+  p.v = unflat(rows("particles/v"));
+  p.w = unflat(rows("particles/w"));
+  p.f = unflat(rows("particles/f"));
+  p.t = unflat(rows("particles/t"));
+  p.wall_spring = unflat(rows("particles/wall_spring"));
+  p.radius = rows("particles/radius");
+  p.inv_mass = rows("particles/inv_mass");
+  p.inv_inertia = rows("particles/inv_inertia");
+  p.species = f.read_rows_int32("particles/species", b0, b1 - b0);
+  p.id = f.read_rows_int64("particles/id", b0, b1 - b0);
+  // Contact records: a block each (routed to the pairs' ranks by their anchors). Checkpoints
+  // written before anchors existed give every rank every record instead.
+  const auto nc = static_cast<std::int64_t>(f.shape("contacts/spring")[0]);
+  const bool anchored = f.exists("contacts/anchor");
+  const auto c0 = anchored ? static_cast<hsize_t>(nc * rank / size) : 0;
+  const auto c1 = anchored ? static_cast<hsize_t>(nc * (rank + 1) / size) : nc;
+  const auto pairs = f.read_rows_int64("contacts/pair_ids", c0, c1 - c0);
+  const auto springs = f.read_rows_double("contacts/spring", c0, c1 - c0);
+  const auto anchors = anchored ? f.read_rows_double("contacts/anchor", c0, c1 - c0)
+                                : std::vector<double>(springs.size(), 0.0);
   std::vector<neighbor::SavedSpring> recs(pairs.size() / 2);
   for (std::size_t k = 0; k < recs.size(); ++k)
-    recs[k] = {
-        pairs[2 * k], pairs[2 * k + 1], {springs[3 * k], springs[3 * k + 1], springs[3 * k + 2]}};
+    recs[k] = {pairs[2 * k],
+               pairs[2 * k + 1],
+               {springs[3 * k], springs[3 * k + 1], springs[3 * k + 2]},
+               {anchors[3 * k], anchors[3 * k + 1], anchors[3 * k + 2]}};
   c.history.set_records(std::move(recs));
   c.series.time = f.read_double("series/time");
   c.series.iteration = f.read_double("series/iteration");

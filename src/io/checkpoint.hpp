@@ -6,6 +6,12 @@
 // A restart rebuilds the list from the same positions in the same order (the cell sort is stable
 // and idempotent), re-attaches the springs by global id and reuses the stored forces, so every
 // later floating-point operation repeats exactly.
+//
+// Domain-decomposed runs write one file collectively (parallel HDF5): each rank its own particles
+// and contact records, one after the other. The layout is the same as a serial checkpoint's, and
+// any number of ranks can read it (each takes a block of rows; the engine moves them to their
+// owners), so a checkpoint written on 2 ranks restarts on 1 or 3 and vice versa. Each contact
+// record carries an anchor (where the pair was) that routes it to the ranks near the pair.
 #include <string>
 
 #include "analysis/radial_segregation.hpp"
@@ -26,6 +32,8 @@ struct CheckpointData {
 
 void write_checkpoint(const std::string& path, const Simulation& sim, const Scene& scene,
                       const analysis::Series& series, std::int64_t snapshots_written);
-CheckpointData read_checkpoint(const std::string& path);
+// Whole checkpoint (serial), or with `comm` of more than one rank this rank's block of the
+// particle rows and of the contact records (collective).
+CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm = MPI_COMM_NULL);
 
 }  // namespace tumble::io

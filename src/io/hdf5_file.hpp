@@ -3,6 +3,7 @@
 // scalar/string attributes. Everything Tumble writes goes through here, so that the parallel
 // (MPI-IO) variant can be added in one place.
 #include <hdf5.h>
+#include <mpi.h>
 
 #include <cstdint>
 #include <string>
@@ -14,6 +15,11 @@ class H5File {
  public:
   enum class Mode { Read, Truncate };
   H5File(const std::string& path, Mode mode);
+  // Parallel HDF5 (MPI-IO), collective over `comm`: every rank opens and closes the file and
+  // makes every call below in the same order. write() and set_attr() store rank 0's values (the
+  // shapes must agree); write_rows() stores each rank's rows after those of lower ranks.
+  // (MPI_COMM_NULL or one rank: an ordinary serial file.)
+  H5File(const std::string& path, Mode mode, MPI_Comm comm);
   ~H5File();
   H5File(const H5File&) = delete;
   H5File& operator=(const H5File&) = delete;
@@ -34,6 +40,20 @@ class H5File {
              std::vector<hsize_t> dims = {});
   void write(const std::string& name, const double* data, std::vector<hsize_t> dims);
 
+  // Distributed rows of a 1-D (cols = 0) or 2-D dataset; ranks may hold none. Collective.
+  void write_rows(const std::string& name, const std::vector<double>& local, hsize_t cols = 0);
+  void write_rows(const std::string& name, const std::vector<std::int64_t>& local,
+                  hsize_t cols = 0);
+  void write_rows(const std::string& name, const std::vector<std::int32_t>& local,
+                  hsize_t cols = 0);
+  // Rows [begin, begin + count) of a 1-D or 2-D dataset (any rank, independently).
+  std::vector<double> read_rows_double(const std::string& name, hsize_t begin, hsize_t count) const;
+  std::vector<std::int64_t> read_rows_int64(const std::string& name, hsize_t begin,
+                                            hsize_t count) const;
+  std::vector<std::int32_t> read_rows_int32(const std::string& name, hsize_t begin,
+                                            hsize_t count) const;
+  bool parallel() const { return comm_ != MPI_COMM_NULL; }
+
   std::vector<double> read_double(const std::string& name) const;
   std::vector<std::int64_t> read_int64(const std::string& name) const;
   std::vector<std::int32_t> read_int32(const std::string& name) const;
@@ -52,10 +72,17 @@ class H5File {
   void write_raw(const std::string& name, hid_t type, const void* data, std::vector<hsize_t> dims,
                  std::size_t n);
   void read_raw(const std::string& name, hid_t type, void* data) const;
+  void write_rows_raw(const std::string& name, hid_t type, const void* data, hsize_t rows,
+                      hsize_t cols);
+  void read_rows_raw(const std::string& name, hid_t type, void* data, hsize_t begin,
+                     hsize_t count) const;
+  std::string shared(const std::string& value) const;  // rank 0's value on every rank
   std::size_t count(const std::string& name) const;
 
   hid_t file_ = -1;
   std::string path_;
+  MPI_Comm comm_ = MPI_COMM_NULL;  // parallel file when set
+  int rank_ = 0;
 };
 
 // Writes through a temporary file that is renamed into place only once complete, so a crash
@@ -63,6 +90,8 @@ class H5File {
 class AtomicH5Writer {
  public:
   explicit AtomicH5Writer(const std::string& final_path);
+  // Collective over `comm` (a parallel file; rank 0 renames it once every rank has closed it).
+  AtomicH5Writer(const std::string& final_path, MPI_Comm comm);
   H5File& file() { return *file_; }
   // Closes the file, fsyncs and renames it over the final path.
   void commit();
@@ -71,6 +100,7 @@ class AtomicH5Writer {
  private:
   std::string final_path_, tmp_path_;
   H5File* file_ = nullptr;
+  MPI_Comm comm_ = MPI_COMM_NULL;
   bool committed_ = false;
 };
 

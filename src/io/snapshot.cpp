@@ -23,12 +23,18 @@ void write_provenance(H5File& f, const Scene& scene) {
 }
 
 void write_snapshot(const std::string& path, const Simulation& sim, const Scene& scene) {
-  const Particles& p = sim.particles();
+  // Rows sorted by id. Domain-decomposed: each rank first collects one contiguous block of ids,
+  // then all write their blocks into one file collectively.
+  const parallel::Domain* dom = sim.domain();
+  Particles block;
+  if (dom) block = dom->id_block(sim.particles(), sim.local_count(), sim.global_count());
+  const Particles& p = dom ? block : sim.particles();
   const std::size_t n = p.size();
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  if (!dom)
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
   const Mat3 q = sim.protocol().orientation(sim.time());
   std::vector<std::int64_t> id(n);
   std::vector<std::int32_t> species(n);
@@ -46,16 +52,15 @@ void write_snapshot(const std::string& path, const Simulation& sim, const Scene&
       w[3 * k + d] = p.w[i][d];
     }
   }
-  AtomicH5Writer out(path);
+  AtomicH5Writer out(path, dom ? dom->comm() : MPI_COMM_NULL);
   H5File& f = out.file();
-  const hsize_t hn = n;
-  f.write("id", id);
-  f.write("species", species);
-  f.write("radius", radius);
-  f.write("x", x, {hn, 3});
-  f.write("x_tumbler", xt, {hn, 3});
-  f.write("v", v, {hn, 3});
-  f.write("w", w, {hn, 3});
+  f.write_rows("id", id);
+  f.write_rows("species", species);
+  f.write_rows("radius", radius);
+  f.write_rows("x", x, 3);
+  f.write_rows("x_tumbler", xt, 3);
+  f.write_rows("v", v, 3);
+  f.write_rows("w", w, 3);
   std::vector<double> orient(9);
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) orient[3 * a + b] = q.a[a][b];

@@ -4,12 +4,12 @@
 
 namespace tumble::neighbor {
 
-void ContactHistory::save(std::int64_t id_i, std::int64_t id_j, const Vec3& s) {
+void ContactHistory::save(std::int64_t id_i, std::int64_t id_j, const Vec3& s, const Vec3& anchor) {
   if (s.x == 0.0 && s.y == 0.0 && s.z == 0.0) return;
   if (id_i < id_j)
-    saved_.push_back({id_i, id_j, s});
+    saved_.push_back({id_i, id_j, s, anchor});
   else
-    saved_.push_back({id_j, id_i, -s});
+    saved_.push_back({id_j, id_i, -s, anchor});
 }
 
 void ContactHistory::finalize() {
@@ -21,7 +21,7 @@ void ContactHistory::finalize() {
 Vec3 ContactHistory::lookup(std::int64_t id_i, std::int64_t id_j) const {
   const bool flip = id_i > id_j;
   const std::int64_t lo = flip ? id_j : id_i, hi = flip ? id_i : id_j;
-  auto it = std::lower_bound(saved_.begin(), saved_.end(), SavedSpring{lo, hi, {}},
+  auto it = std::lower_bound(saved_.begin(), saved_.end(), SavedSpring{lo, hi, {}, {}},
                              [](const SavedSpring& a, const SavedSpring& b) {
                                return a.lo != b.lo ? a.lo < b.lo : a.hi < b.hi;
                              });

@@ -13,19 +13,22 @@ namespace tumble::neighbor {
 struct SavedSpring {
   std::int64_t lo, hi;  // global ids, lo < hi
   Vec3 spring;          // as seen from particle `lo`
+  Vec3 anchor;          // position of one of the pair when saved: routes the record between ranks
 };
 
 class ContactHistory {
  public:
   void clear() { saved_.clear(); }
-  // Phase 1: record the spring of pair (id_i, id_j) as seen from i (skips zero springs).
-  void save(std::int64_t id_i, std::int64_t id_j, const Vec3& spring_i);
+  // Phase 1: record the spring of pair (id_i, id_j) as seen from i (skips zero springs); `anchor`
+  // is where the pair is (the ranks whose domains lie near it receive the record).
+  void save(std::int64_t id_i, std::int64_t id_j, const Vec3& spring_i, const Vec3& anchor = {});
   // Sort the saved records for lookup (call between the phases).
   void finalize();
   // Phase 2: the spring of (id_i, id_j) as seen from i, or zero if the pair had none.
   Vec3 lookup(std::int64_t id_i, std::int64_t id_j) const;
 
   const std::vector<SavedSpring>& records() const { return saved_; }
+  std::vector<SavedSpring>& mutable_records() { return saved_; }
   void set_records(std::vector<SavedSpring> r) {
     saved_ = std::move(r);
     finalize();

@@ -11,7 +11,7 @@ void VerletList::save_history(const Particles& p, ContactHistory& out) const {
   const std::size_t n = start.empty() ? 0 : start.size() - 1;
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
-      out.save(p.id[i], p.id[nbr[k]], spring[k]);
+      out.save(p.id[i], p.id[nbr[k]], spring[k], p.x[i]);
   out.finalize();
 }
 
@@ -19,6 +19,74 @@ void VerletList::set_period_z(double period) {
   if (period > 0 && grid_.nz() < 3)
     throw std::invalid_argument("a periodic direction needs at least 3 neighbour cells");
   period_z_ = period;
+}
+
+void VerletList::add_row(const Particles& p, std::size_t i, bool with_ghosts) {
+  int ci, cj, ck;
+  grid_.coords(grid_.cell_of(p.x[i]), ci, cj, ck);
+  const Vec3 xi = p.x[i];
+  const double ri = p.radius[i] + skin_;
+  auto consider = [&](std::uint32_t j) {
+    const double cut = ri + p.radius[j];
+    Vec3 d = xi - p.x[j];
+    if (period_z_ > 0) d.z -= period_z_ * std::nearbyint(d.z / period_z_);
+    if (norm2(d) < cut * cut) nbr.push_back(j);
+  };
+  // Cells in increasing index order and particles in increasing order within a cell: each row
+  // comes out sorted by partner index without a sort.
+  // Periodic in z (axially periodic cylinder): the z neighbours of the end cells wrap and
+  // distances use the nearest image. The three wrapped cells are distinct (nz >= 3, checked at
+  // construction), so every pair is still found exactly once.
+  const int c_lo = period_z_ > 0 ? ck - 1 : std::max(ck - 1, 0);
+  const int c_hi = period_z_ > 0 ? ck + 1 : std::min(ck + 1, grid_.nz() - 1);
+  for (int a = std::max(ci - 1, 0); a <= std::min(ci + 1, grid_.nx() - 1); ++a)
+    for (int b = std::max(cj - 1, 0); b <= std::min(cj + 1, grid_.ny() - 1); ++b)
+      for (int cc = c_lo; cc <= c_hi; ++cc) {
+        const int c = (cc + grid_.nz()) % grid_.nz();
+        const std::uint32_t cell = grid_.index(a, b, c);
+        for (std::uint32_t j = std::max<std::uint32_t>(cell_start_[cell], i + 1);
+             j < cell_start_[cell + 1]; ++j)
+          consider(j);
+        if (with_ghosts)
+          for (std::uint32_t g = ghost_start_[cell]; g < ghost_start_[cell + 1]; ++g)
+            consider(ghost_of_cell_[g]);
+      }
+}
+
+void VerletList::sort(Particles& p) {
+  grid_.sort(p.x, perm_, cell_start_);
+  p.permute(perm_);
+}
+
+void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
+                                   const ContactHistory& history) {
+  // Bin the ghosts by cell without moving them: their order is the order refresh_ghosts() fills.
+  const std::size_t cells = grid_.cell_count();
+  ghost_start_.assign(cells + 1, 0);
+  ghost_of_cell_.resize(p.size() - n_local);
+  std::vector<std::uint32_t> cell(p.size() - n_local);
+  for (std::size_t g = n_local; g < p.size(); ++g) {
+    cell[g - n_local] = grid_.cell_of(p.x[g]);
+    ++ghost_start_[cell[g - n_local] + 1];
+  }
+  for (std::size_t c = 0; c < cells; ++c) ghost_start_[c + 1] += ghost_start_[c];
+  std::vector<std::uint32_t> fill(ghost_start_.begin(), ghost_start_.end() - 1);
+  for (std::size_t g = n_local; g < p.size(); ++g)
+    ghost_of_cell_[fill[cell[g - n_local]]++] = static_cast<std::uint32_t>(g);
+
+  start.assign(n_local + 1, 0);
+  nbr.clear();
+  for (std::size_t i = 0; i < n_local; ++i) {
+    start[i] = static_cast<std::uint32_t>(nbr.size());
+    add_row(p, i, true);
+  }
+  start[n_local] = static_cast<std::uint32_t>(nbr.size());
+  spring.assign(nbr.size(), Vec3{});
+  for (std::size_t i = 0; i < n_local; ++i)
+    for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
+      spring[k] = history.lookup(p.id[i], p.id[nbr[k]]);
+  x_ref_.assign(p.x.begin(), p.x.begin() + static_cast<std::ptrdiff_t>(n_local));
+  ++builds;
 }
 
 void VerletList::rebuild(Particles& p, const ContactHistory* history) {
@@ -40,30 +108,7 @@ void VerletList::rebuild(Particles& p, const ContactHistory* history) {
   nbr.reserve(old_nbr_.size() + old_nbr_.size() / 8 + 16);
   for (std::size_t i = 0; i < n; ++i) {
     start[i] = static_cast<std::uint32_t>(nbr.size());
-    int ci, cj, ck;
-    grid_.coords(grid_.cell_of(p.x[i]), ci, cj, ck);
-    const Vec3 xi = p.x[i];
-    const double ri = p.radius[i] + skin_;
-    // Cells in increasing index order and particles in increasing order within a cell: each row
-    // comes out sorted by partner index without a sort.
-    // Periodic in z (axially periodic cylinder): the z neighbours of the end cells wrap and
-    // distances use the nearest image. The three wrapped cells are distinct (nz >= 3, checked at
-    // construction), so every pair is still found exactly once.
-    const int c_lo = period_z_ > 0 ? ck - 1 : std::max(ck - 1, 0);
-    const int c_hi = period_z_ > 0 ? ck + 1 : std::min(ck + 1, grid_.nz() - 1);
-    for (int a = std::max(ci - 1, 0); a <= std::min(ci + 1, grid_.nx() - 1); ++a)
-      for (int b = std::max(cj - 1, 0); b <= std::min(cj + 1, grid_.ny() - 1); ++b)
-        for (int cc = c_lo; cc <= c_hi; ++cc) {
-          const int c = (cc + grid_.nz()) % grid_.nz();
-          const std::uint32_t cell = grid_.index(a, b, c);
-          for (std::uint32_t j = std::max<std::uint32_t>(cell_start_[cell], i + 1);
-               j < cell_start_[cell + 1]; ++j) {
-            const double cut = ri + p.radius[j];
-            Vec3 d = xi - p.x[j];
-            if (period_z_ > 0) d.z -= period_z_ * std::nearbyint(d.z / period_z_);
-            if (norm2(d) < cut * cut) nbr.push_back(j);
-          }
-        }
+    add_row(p, i, false);
   }
   start[n] = static_cast<std::uint32_t>(nbr.size());
 

@@ -20,6 +20,12 @@ class VerletList {
   // springs over (by old index). `history`, if non-null, supplies them instead, matched by global
   // id (restart, migration).
   void rebuild(Particles& p, const ContactHistory* history = nullptr);
+  // Domain-decomposed runs, in two phases around the ghost exchange: sort(p) orders the owned
+  // particles by cell; build_with_ghosts() then lists, for each of the first `n_local`
+  // particles, its owned partners of higher index and every ghost (index >= n_local) in reach,
+  // with springs from `history` (matched by global id).
+  void sort(Particles& p);
+  void build_with_ghosts(const Particles& p, std::size_t n_local, const ContactHistory& history);
   // Makes z periodic with this period (the cell grid must span exactly one period in z).
   void set_period_z(double period);
   double period_z() const { return period_z_; }
@@ -38,11 +44,14 @@ class VerletList {
   CellGrid grid_;
   double skin_ = 0;
   double period_z_ = 0;  // 0: not periodic
+  // Appends the partners of row i: owned j > i from the sorted cells, and ghosts if binned.
+  void add_row(const Particles& p, std::size_t i, bool with_ghosts);
   // The list is valid for local carry-over when it describes the current particles.
   bool old_start_capacity_ok(std::size_t n) const { return start.size() == n + 1; }
   std::vector<Vec3> x_ref_;
   std::vector<std::uint32_t> perm_, cell_start_;
-  std::vector<std::uint32_t> old_start_, old_nbr_;  // previous list, reused buffers
+  std::vector<std::uint32_t> ghost_start_, ghost_of_cell_;  // ghosts binned by cell (not moved)
+  std::vector<std::uint32_t> old_start_, old_nbr_;          // previous list, reused buffers
   std::vector<Vec3> old_spring_;
 };
 

@@ -1,0 +1,208 @@
+#include "parallel/domain.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+#include "parallel/particle_pack.hpp"
+
+namespace tumble::parallel {
+
+std::vector<double> exchange(MPI_Comm comm, const std::vector<std::vector<double>>& out,
+                             std::vector<int>& from) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  std::vector<int> to(size), sd(size), rd(size);
+  from.assign(size, 0);
+  for (int r = 0; r < size; ++r) to[r] = static_cast<int>(out[r].size());
+  MPI_Alltoall(to.data(), 1, MPI_INT, from.data(), 1, MPI_INT, comm);
+  std::vector<double> flat;
+  for (int r = 0; r < size; ++r) {
+    sd[r] = static_cast<int>(flat.size());
+    flat.insert(flat.end(), out[r].begin(), out[r].end());
+  }
+  std::exclusive_scan(from.begin(), from.end(), rd.begin(), 0);
+  std::vector<double> in(static_cast<std::size_t>(rd.back()) + from.back());
+  MPI_Alltoallv(flat.data(), to.data(), sd.data(), MPI_DOUBLE, in.data(), from.data(), rd.data(),
+                MPI_DOUBLE, comm);
+  return in;
+}
+
+Domain::Domain(MPI_Comm comm, const Box& root, double period_z, double rebalance_threshold)
+    : root_(root), period_z_(period_z), threshold_(rebalance_threshold) {
+  MPI_Comm_dup(comm, &comm_);
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
+  send_.resize(size_);
+  recv_rows_.assign(size_, 0);
+}
+
+Domain::~Domain() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!finalized && comm_ != MPI_COMM_NULL) MPI_Comm_free(&comm_);
+}
+
+double Domain::measure_imbalance(std::size_t n_local) const {
+  const double n = static_cast<double>(n_local);
+  double mx = 0, sum = 0;
+  MPI_Allreduce(&n, &mx, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  MPI_Allreduce(&n, &sum, 1, MPI_DOUBLE, MPI_SUM, comm_);
+  return sum > 0 ? mx / (sum / size_) : 1.0;
+}
+
+void Domain::migrate(Particles& p) {
+  std::vector<std::vector<double>> out(size_);
+  std::vector<std::uint32_t> keep;
+  keep.reserve(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const int r = tree_.owner(p.x[i]);
+    if (r == rank_)
+      keep.push_back(static_cast<std::uint32_t>(i));
+    else
+      pack_state(p, i, out[r]);
+  }
+  std::vector<int> from;
+  const std::vector<double> in = exchange(comm_, out, from);
+  if (keep.size() != p.size()) {
+    p.permute(keep);  // the kept ones first, in order
+    p.resize(keep.size());
+  }
+  unpack_state(in.data(), in.size() / kStateDoubles, p);
+}
+
+void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& records, double reach) {
+  if (!have_tree_) {
+    tree_ = RcbTree::build(comm_, root_, p.x, p.size());
+    have_tree_ = true;
+    ++bisections_;
+  }
+  migrate(p);
+  imbalance_ = measure_imbalance(p.size());
+  if (imbalance_ > threshold_) {  // the bed has moved: bisect again on the current positions
+    tree_ = RcbTree::build(comm_, root_, p.x, p.size());
+    ++bisections_;
+    migrate(p);
+    imbalance_ = measure_imbalance(p.size());
+  }
+  // Contact records: to every rank near the pair (both owners are within `reach` of the anchor).
+  std::vector<std::vector<double>> out(size_);
+  std::vector<int> near;
+  for (const auto& s : records) {
+    near.clear();
+    tree_.ranks_near(s.anchor, reach, period_z_, near);
+    for (int r : near) {
+      if (r == rank_) continue;
+      auto& o = out[r];
+      o.insert(o.end(), {static_cast<double>(s.lo), static_cast<double>(s.hi), s.spring.x,
+                         s.spring.y, s.spring.z, s.anchor.x, s.anchor.y, s.anchor.z});
+    }
+  }
+  std::vector<int> from;
+  const std::vector<double> in = exchange(comm_, out, from);
+  for (std::size_t k = 0; k + 8 <= in.size(); k += 8)
+    records.push_back({static_cast<std::int64_t>(in[k]),
+                       static_cast<std::int64_t>(in[k + 1]),
+                       {in[k + 2], in[k + 3], in[k + 4]},
+                       {in[k + 5], in[k + 6], in[k + 7]}});
+}
+
+void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach) {
+  std::vector<std::vector<double>> out(size_);
+  for (auto& s : send_) s.clear();
+  std::vector<int> near;
+  for (std::size_t i = 0; i < n_local; ++i) {
+    near.clear();
+    tree_.ranks_near(p.x[i], reach, period_z_, near);
+    for (int r : near) {
+      if (r == rank_) continue;
+      send_[r].push_back(static_cast<std::uint32_t>(i));
+      pack_state(p, i, out[r]);
+    }
+  }
+  std::vector<int> from;
+  const std::vector<double> in = exchange(comm_, out, from);
+  p.resize(n_local);
+  unpack_state(in.data(), in.size() / kStateDoubles, p);
+  for (int r = 0; r < size_; ++r) recv_rows_[r] = from[r] / kStateDoubles;
+  ghost_count_ = static_cast<std::int64_t>(p.size() - n_local);
+}
+
+void Domain::refresh_ghosts(Particles& p, std::size_t n_local) {
+  // Point to point with the neighbours only: what each sends and receives is fixed until the
+  // next rebuild, and arrives in the same order as the ghosts were appended.
+  std::size_t total_out = 0;
+  for (const auto& s : send_) total_out += s.size();
+  buf_out_.resize(total_out * kMotionDoubles);
+  buf_in_.resize((p.size() - n_local) * kMotionDoubles);
+  std::vector<MPI_Request> req;
+  req.reserve(2 * size_);
+  std::size_t at = 0;
+  for (int r = 0; r < size_; ++r) {
+    if (recv_rows_[r] == 0) continue;
+    req.emplace_back();
+    MPI_Irecv(buf_in_.data() + at, recv_rows_[r] * kMotionDoubles, MPI_DOUBLE, r, 7, comm_,
+              &req.back());
+    at += static_cast<std::size_t>(recv_rows_[r]) * kMotionDoubles;
+  }
+  double* o = buf_out_.data();
+  for (int r = 0; r < size_; ++r) {
+    if (send_[r].empty()) continue;
+    double* begin = o;
+    for (std::uint32_t i : send_[r]) {
+      put(o, p.x[i]);
+      put(o, p.v[i]);
+      put(o, p.w[i]);
+    }
+    req.emplace_back();
+    MPI_Isend(begin, static_cast<int>(o - begin), MPI_DOUBLE, r, 7, comm_, &req.back());
+  }
+  MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  const double* in = buf_in_.data();
+  for (std::size_t g = n_local; g < p.size(); ++g) {
+    p.x[g] = take(in);
+    p.v[g] = take(in);
+    p.w[g] = take(in);
+  }
+}
+
+namespace {
+Particles sorted_by_id(const std::vector<double>& rows) {
+  Particles all;
+  unpack_state(rows.data(), rows.size() / kStateDoubles, all);
+  std::vector<std::uint32_t> order(all.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return all.id[a] < all.id[b]; });
+  all.permute(order);
+  return all;
+}
+}  // namespace
+
+Particles Domain::gather_all(const Particles& p, std::size_t n_local) const {
+  std::vector<double> mine;
+  mine.reserve(n_local * kStateDoubles);
+  for (std::size_t i = 0; i < n_local; ++i) pack_state(p, i, mine);
+  const int n = static_cast<int>(mine.size());
+  std::vector<int> counts(size_), displs(size_);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
+  std::exclusive_scan(counts.begin(), counts.end(), displs.begin(), 0);
+  std::vector<double> all(static_cast<std::size_t>(displs.back()) + counts.back());
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                 comm_);
+  return sorted_by_id(all);
+}
+
+Particles Domain::id_block(const Particles& p, std::size_t n_local, std::int64_t n_total) const {
+  std::vector<std::vector<double>> out(size_);
+  for (std::size_t i = 0; i < n_local; ++i) {
+    // Rank r holds ids [n r / P, n (r+1) / P): the first r with block_begin(r+1) > id.
+    int r = static_cast<int>(p.id[i] * size_ / std::max<std::int64_t>(n_total, 1));
+    while (r + 1 < size_ && block_begin(n_total, r + 1, size_) <= p.id[i]) ++r;
+    while (r > 0 && block_begin(n_total, r, size_) > p.id[i]) --r;
+    pack_state(p, i, out[r]);
+  }
+  std::vector<int> from;
+  return sorted_by_id(exchange(comm_, out, from));
+}
+
+}  // namespace tumble::parallel

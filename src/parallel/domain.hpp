@@ -1,0 +1,83 @@
+#pragma once
+// The parallel layer of one realization: which rank owns which region (RCB tree), migration of
+// owned particles and of their contact history when they cross a border, and the ghost (halo)
+// particles every rank needs from its neighbours: sent in full at each neighbour rebuild, their
+// positions and velocities refreshed every step. Pairs across a rank border are computed on both
+// sides (Newton off, design.md §4); each side keeps its own copy of the pair's spring, and the two
+// copies stay equal because the pair force is evaluated with the same operations on both sides.
+//
+// Works on any communicator it is handed (a campaign's rank group as well as MPI_COMM_WORLD); it
+// duplicates it so that its messages never meet anyone else's.
+#include <mpi.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "core/particles.hpp"
+#include "neighbor/contact_history.hpp"
+#include "parallel/rcb.hpp"
+
+namespace tumble::parallel {
+
+class Domain {
+ public:
+  // `root`: the tumbler's bounding box; `period_z` > 0: periodic in z with that period;
+  // `rebalance_threshold`: re-bisect when max/mean owned particles exceeds it.
+  Domain(MPI_Comm comm, const Box& root, double period_z, double rebalance_threshold);
+  ~Domain();
+  Domain(const Domain&) = delete;
+  Domain& operator=(const Domain&) = delete;
+
+  // Collective. `p` holds only owned particles (no ghosts). Sends every particle to the owner of
+  // its position (bisecting afresh on the first call and whenever the imbalance exceeds the
+  // threshold), and every contact record to each rank whose domain lies within `reach` of its
+  // anchor, so both owners of a pair find it after the move.
+  void distribute(Particles& p, std::vector<neighbor::SavedSpring>& records, double reach);
+  // Collective. Appends to `p` (after its `n_local` owned particles) a ghost copy of every other
+  // rank's particle that lies within `reach` of this rank's domain; remembers what went where.
+  void exchange_ghosts(Particles& p, std::size_t n_local, double reach);
+  // Collective, every step: refreshes the ghosts' positions and velocities from their owners.
+  void refresh_ghosts(Particles& p, std::size_t n_local);
+
+  // Collective. All particles of every rank, sorted by id (analyses, bed files).
+  Particles gather_all(const Particles& p, std::size_t n_local) const;
+  // Collective. The particles whose ids fall in this rank's block of [0, n_total) (ids must be
+  // 0..n_total-1), sorted by id: contiguous rows for a collective file write.
+  Particles id_block(const Particles& p, std::size_t n_local, std::int64_t n_total) const;
+
+  MPI_Comm comm() const { return comm_; }
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  const RcbTree& tree() const { return tree_; }
+  // max / mean of owned particles after the last distribute().
+  double imbalance() const { return imbalance_; }
+  std::int64_t bisections() const { return bisections_; }
+  std::int64_t ghosts() const { return ghost_count_; }
+
+ private:
+  void migrate(Particles& p);
+  double measure_imbalance(std::size_t n_local) const;
+
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  int rank_ = 0, size_ = 1;
+  Box root_;
+  double period_z_ = 0, threshold_ = 1.1;
+  RcbTree tree_;
+  bool have_tree_ = false;
+  double imbalance_ = 1;
+  std::int64_t bisections_ = 0, ghost_count_ = 0;
+  // Ghost traffic: local indices sent to each rank; rows received from each rank.
+  std::vector<std::vector<std::uint32_t>> send_;
+  std::vector<int> recv_rows_;
+  std::vector<double> buf_out_, buf_in_;
+};
+
+// Alltoallv of doubles: `out[r]` goes to rank r; returns what arrived, rank by rank, and the
+// number of doubles from each rank in `from`.
+std::vector<double> exchange(MPI_Comm comm, const std::vector<std::vector<double>>& out,
+                             std::vector<int>& from);
+
+// The block of [0, n) that rank r of p ranks owns in id-blocked layouts.
+inline std::int64_t block_begin(std::int64_t n, int r, int p) { return n * r / p; }
+
+}  // namespace tumble::parallel

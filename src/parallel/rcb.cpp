@@ -1,0 +1,156 @@
+#include "parallel/rcb.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tumble::parallel {
+
+double distance2(const Box& b, const Vec3& p) {
+  double d2 = 0;
+  for (int d = 0; d < 3; ++d) {
+    const double e = std::max({b.lo[d] - p[d], 0.0, p[d] - b.hi[d]});
+    d2 += e * e;
+  }
+  return d2;
+}
+
+RcbTree RcbTree::build(MPI_Comm comm, const Box& root, const std::vector<Vec3>& x,
+                       std::size_t count) {
+  int nranks = 1;
+  MPI_Comm_size(comm, &nranks);
+  RcbTree t;
+  t.root_ = root;
+  t.nodes_.push_back({-1, 0, 0, nranks, -1, -1, root});
+  // Node of every local particle at the current level (all start at the root).
+  std::vector<int> node_of(count, 0);
+  std::vector<int> level{0};
+  while (!level.empty()) {
+    std::vector<int> split;  // nodes of this level with more than one rank
+    for (int k : level)
+      if (t.nodes_[k].r1 - t.nodes_[k].r0 > 1) split.push_back(k);
+    if (split.empty()) break;
+    const std::size_t m = split.size();
+    std::vector<int> slot(t.nodes_.size(), -1);  // node -> position in `split`
+    for (std::size_t s = 0; s < m; ++s) slot[split[s]] = static_cast<int>(s);
+    std::vector<int> dim(m);
+    std::vector<double> a(m), b(m), cut(m);
+    for (std::size_t s = 0; s < m; ++s) {
+      const Box& bx = t.nodes_[split[s]].box;
+      const Vec3 ext = bx.hi - bx.lo;
+      dim[s] = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+      a[s] = bx.lo[dim[s]];
+      b[s] = bx.hi[dim[s]];
+    }
+    // Totals per node and the target count below each cut.
+    std::vector<double> local(m, 0), total(m);
+    for (std::size_t i = 0; i < count; ++i)
+      if (slot[node_of[i]] >= 0) local[slot[node_of[i]]] += 1;
+    MPI_Allreduce(local.data(), total.data(), static_cast<int>(m), MPI_DOUBLE, MPI_SUM, comm);
+    std::vector<double> target(m);
+    for (std::size_t s = 0; s < m; ++s) {
+      const Node& nd = t.nodes_[split[s]];
+      const int n = nd.r1 - nd.r0;
+      target[s] = total[s] * (n / 2) / n;
+    }
+    // Bisection on the cut coordinate: 60 halvings reach round-off for any box.
+    for (int it = 0; it < 60; ++it) {
+      for (std::size_t s = 0; s < m; ++s) cut[s] = 0.5 * (a[s] + b[s]);
+      std::fill(local.begin(), local.end(), 0.0);
+      for (std::size_t i = 0; i < count; ++i) {
+        const int s = slot[node_of[i]];
+        if (s >= 0 && x[i][dim[s]] < cut[s]) local[s] += 1;
+      }
+      MPI_Allreduce(local.data(), total.data(), static_cast<int>(m), MPI_DOUBLE, MPI_SUM, comm);
+      for (std::size_t s = 0; s < m; ++s) (total[s] < target[s] ? a[s] : b[s]) = cut[s];
+    }
+    // The bisection ends on a particle; move each cut to the middle of the gap between the
+    // particles on either side, so that a particle sits on no border.
+    std::vector<double> edge(2 * m, -1e300);  // {max below, -min above} per node
+    for (std::size_t i = 0; i < count; ++i) {
+      const int s = slot[node_of[i]];
+      if (s < 0) continue;
+      const double c = b[s], xd = x[i][dim[s]];  // b: the particles below it are the target
+      if (xd < c)
+        edge[2 * s] = std::max(edge[2 * s], xd);
+      else
+        edge[2 * s + 1] = std::max(edge[2 * s + 1], -xd);
+    }
+    MPI_Allreduce(MPI_IN_PLACE, edge.data(), static_cast<int>(2 * m), MPI_DOUBLE, MPI_MAX, comm);
+    std::vector<int> next;
+    for (std::size_t s = 0; s < m; ++s) {
+      const int k = split[s];
+      double c = b[s];
+      if (edge[2 * s] > -1e300 && edge[2 * s + 1] > -1e300)
+        c = 0.5 * (edge[2 * s] - edge[2 * s + 1]);
+      Node lo = t.nodes_[k], hi = t.nodes_[k];
+      const int half = (lo.r1 - lo.r0) / 2;
+      lo.r1 = lo.r0 + half;
+      hi.r0 = lo.r1;
+      lo.box.hi[dim[s]] = c;
+      hi.box.lo[dim[s]] = c;
+      lo.dim = hi.dim = -1;
+      lo.lo = lo.hi = hi.lo = hi.hi = -1;
+      t.nodes_[k].dim = dim[s];
+      t.nodes_[k].cut = c;
+      t.nodes_[k].lo = static_cast<int>(t.nodes_.size());
+      t.nodes_.push_back(lo);
+      t.nodes_[k].hi = static_cast<int>(t.nodes_.size());
+      t.nodes_.push_back(hi);
+      next.push_back(t.nodes_[k].lo);
+      next.push_back(t.nodes_[k].hi);
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+      const Node& nd = t.nodes_[node_of[i]];
+      if (nd.dim >= 0) node_of[i] = x[i][nd.dim] < nd.cut ? nd.lo : nd.hi;
+    }
+    level = std::move(next);
+  }
+  t.collect_boxes();
+  return t;
+}
+
+void RcbTree::collect_boxes() {
+  int n = 0;
+  for (const Node& nd : nodes_) n = std::max(n, nd.r1);
+  boxes_.assign(n, root_);
+  for (const Node& nd : nodes_)
+    if (nd.dim < 0) boxes_[nd.r0] = nd.box;
+}
+
+int RcbTree::owner(const Vec3& p) const {
+  int k = 0;
+  while (nodes_[k].dim >= 0) k = p[nodes_[k].dim] < nodes_[k].cut ? nodes_[k].lo : nodes_[k].hi;
+  return nodes_[k].r0;
+}
+
+void RcbTree::near(int k, const Vec3& p, double reach2, bool closed_z,
+                   std::vector<int>& out) const {
+  const Node& nd = nodes_[k];
+  // The root's outer faces are open (strays belong to the nearest leaf), so only inner cuts
+  // bound a node: test the distance to the node's box with the root's faces pushed to infinity
+  // (except the ends of a periodic z: images are tested explicitly).
+  Box b = nd.box;
+  for (int d = 0; d < (closed_z ? 2 : 3); ++d) {
+    if (b.lo[d] <= root_.lo[d]) b.lo[d] = -1e300;
+    if (b.hi[d] >= root_.hi[d]) b.hi[d] = 1e300;
+  }
+  if (distance2(b, p) > reach2) return;
+  if (nd.dim < 0) {
+    if (std::find(out.begin(), out.end(), nd.r0) == out.end()) out.push_back(nd.r0);
+    return;
+  }
+  near(nd.lo, p, reach2, closed_z, out);
+  near(nd.hi, p, reach2, closed_z, out);
+}
+
+void RcbTree::ranks_near(const Vec3& p, double reach, double period_z,
+                         std::vector<int>& out) const {
+  const bool periodic = period_z > 0;
+  near(0, p, reach * reach, periodic, out);
+  if (periodic) {  // images across the periodic ends
+    near(0, p + Vec3{0, 0, period_z}, reach * reach, true, out);
+    near(0, p - Vec3{0, 0, period_z}, reach * reach, true, out);
+  }
+}
+
+}  // namespace tumble::parallel

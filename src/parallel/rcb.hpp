@@ -1,0 +1,57 @@
+#pragma once
+// Recursive coordinate bisection of a box over the ranks of a communicator, weighted by particle
+// count: a half-full tumbler is far from uniform, so equal boxes would leave ranks idle. Every
+// node splits its rank range [r0, r1) into halves n/2 and n - n/2 (any rank count works, 3 too)
+// along its longest side, at the coordinate that puts the same fraction of the node's particles
+// below the cut. Each cut is found by bisection on the coordinate with one Allreduce per trial for
+// a whole tree level at once, so building the tree costs ~60 log2(P) reductions whatever P is.
+#include <mpi.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "core/vec3.hpp"
+
+namespace tumble::parallel {
+
+struct Box {
+  Vec3 lo, hi;
+};
+
+class RcbTree {
+ public:
+  RcbTree() = default;
+  // One leaf (rank 0) covering `root`.
+  explicit RcbTree(const Box& root) : root_(root) { nodes_.push_back({-1, 0, 0, 1, -1, -1, root}); }
+
+  // Collective over `comm`: builds the tree for its size from every rank's local positions.
+  static RcbTree build(MPI_Comm comm, const Box& root, const std::vector<Vec3>& x,
+                       std::size_t count);
+
+  // Owner rank of a point (points outside the root box go to the nearest leaf along each cut).
+  int owner(const Vec3& p) const;
+  // Ranks whose box lies within `reach` of p (periodic in z with `period_z` > 0); p's own owner
+  // included. Appends to `out` (no duplicates).
+  void ranks_near(const Vec3& p, double reach, double period_z, std::vector<int>& out) const;
+  const Box& box(int rank) const { return boxes_[rank]; }
+  int ranks() const { return static_cast<int>(boxes_.size()); }
+
+ private:
+  struct Node {
+    int dim;     // cut dimension (-1: leaf)
+    double cut;  // points with p[dim] < cut go low
+    int r0, r1;  // rank range
+    int lo, hi;  // children (node indices)
+    Box box;
+  };
+  void near(int node, const Vec3& p, double reach2, bool closed_z, std::vector<int>& out) const;
+  void collect_boxes();
+  Box root_;
+  std::vector<Node> nodes_;
+  std::vector<Box> boxes_;  // leaf box of each rank
+};
+
+// Squared distance from a point to a box (0 inside).
+double distance2(const Box& b, const Vec3& p);
+
+}  // namespace tumble::parallel

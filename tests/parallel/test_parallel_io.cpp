@@ -1,0 +1,169 @@
+// Collective checkpoints and snapshots (parallel HDF5) and restarts on another rank count: a
+// checkpoint written on the world's ranks restarts on 1 rank, and one written on 1 rank restarts
+// on the world's ranks; both continue the same trajectory as an uninterrupted serial run (to
+// round-off over a short horizon).
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "core/realization.hpp"
+#include "core/simulation.hpp"
+#include "io/checkpoint.hpp"
+#include "io/hdf5_file.hpp"
+#include "io/snapshot.hpp"
+
+using namespace tumble;
+
+namespace {
+
+int rank_of(MPI_Comm c) {
+  int r = 0;
+  MPI_Comm_rank(c, &r);
+  return r;
+}
+
+std::string dir(const std::string& name) {
+  const auto d = std::filesystem::path(TUMBLE_TEST_SCRATCH) / name;
+  if (rank_of(MPI_COMM_WORLD) == 0) std::filesystem::create_directories(d);
+  MPI_Barrier(MPI_COMM_WORLD);
+  return d.string();
+}
+
+Scene scene() {
+  return parse_scene(
+      "",
+      {"tumbler.radius=0.02", "contact.collision_time=1e-3", "fill.bed_cache=" + dir("beds"),
+       "protocol.mode=biaxial", "protocol.rpm=15", "neighbor.skin=0.05"},
+      "tiny");
+}
+
+geometry::Protocol protocol(const Scene& s) {
+  return geometry::Protocol::biaxial(deg2rad(s.theta_z), deg2rad(s.theta_x), deg2rad(s.repose),
+                                     s.omega());
+}
+
+// The settled bed, settled once by world rank 0 and read by all (collective over the world: call
+// it on every rank before any rank-0-only section).
+const Particles& bed(const Scene& s) {
+  static Particles b;
+  static bool done = false;
+  if (!done) {
+    if (rank_of(MPI_COMM_WORLD) == 0) settled_bed(s, nullptr);
+    MPI_Barrier(MPI_COMM_WORLD);
+    b = settled_bed(s, nullptr);
+    done = true;
+  }
+  return b;
+}
+
+// Runs `steps` steps on `comm` from a checkpoint (or the bed), and writes a checkpoint at the end.
+std::unique_ptr<Simulation> continue_run(const Scene& s, MPI_Comm comm, const std::string& from,
+                                         int steps, const std::string& to) {
+  std::unique_ptr<Simulation> sim;
+  if (from.empty()) {
+    sim = std::make_unique<Simulation>(s, share_of(bed(s), comm), protocol(s), 0, 0, comm);
+    sim->compute_forces();
+  } else {
+    io::CheckpointData c = io::read_checkpoint(from, comm);
+    sim =
+        std::make_unique<Simulation>(s, std::move(c.particles), protocol(s), c.time, c.step, comm);
+    sim->restore(c.history);
+  }
+  for (int k = 0; k < steps; ++k) {
+    if (k == steps - 1) sim->request_rebuild();  // checkpoints follow a rebuild (as the run loop)
+    sim->step();
+  }
+  if (!to.empty()) io::write_checkpoint(to, *sim, s, {}, 0);
+  return sim;
+}
+
+double max_deviation(const Particles& a, const Particles& b) {
+  std::vector<Vec3> by_id(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) by_id[a.id[i]] = a.x[i];
+  double worst = 0;
+  for (std::size_t i = 0; i < b.size(); ++i) worst = std::max(worst, norm(b.x[i] - by_id[b.id[i]]));
+  return worst;
+}
+
+}  // namespace
+
+TEST(ParallelIO, CheckpointRestartsOnAnotherRankCount) {
+  const Scene s = scene();
+  const std::string d = dir("restart");
+  const int me = rank_of(MPI_COMM_WORLD);
+  bed(s);
+  // Reference: 300 uninterrupted serial steps (every rank runs it).
+  auto ref = continue_run(s, MPI_COMM_NULL, "", 300, "");
+  const Particles reference = ref->gather_all();
+
+  // Written on all ranks, restarted on one (rank 0 alone; the others wait).
+  continue_run(s, MPI_COMM_WORLD, "", 150, d + "/world.h5");
+  if (me == 0) {
+    auto one = continue_run(s, MPI_COMM_NULL, d + "/world.h5", 150, "");
+    EXPECT_EQ(one->particles().size(), reference.size());
+    EXPECT_LT(max_deviation(reference, one->particles()), 1e-9 * s.d_small);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+
+  // Written on one rank, restarted on all.
+  if (me == 0) continue_run(s, MPI_COMM_NULL, "", 150, d + "/one.h5");
+  MPI_Barrier(MPI_COMM_WORLD);
+  auto all = continue_run(s, MPI_COMM_WORLD, d + "/one.h5", 150, "");
+  const Particles gathered = all->gather_all();
+  EXPECT_EQ(gathered.size(), reference.size());
+  EXPECT_LT(max_deviation(reference, gathered), 1e-9 * s.d_small);
+
+  // Written on all, restarted on all: the same again.
+  auto again = continue_run(s, MPI_COMM_WORLD, d + "/world.h5", 150, "");
+  EXPECT_LT(max_deviation(reference, again->gather_all()), 1e-9 * s.d_small);
+}
+
+// A checkpoint's contact records survive a rank-count change: the springs after a restart on all
+// ranks equal those the serial run holds at the same step.
+TEST(ParallelIO, SpringsSurviveTheRestart) {
+  const Scene s = scene();
+  const std::string d = dir("springs");
+  bed(s);
+  if (rank_of(MPI_COMM_WORLD) == 0) continue_run(s, MPI_COMM_NULL, "", 100, d + "/one.h5");
+  MPI_Barrier(MPI_COMM_WORLD);
+  io::CheckpointData c = io::read_checkpoint(d + "/one.h5", MPI_COMM_WORLD);
+  Simulation par(s, std::move(c.particles), protocol(s), c.time, c.step, MPI_COMM_WORLD);
+  par.restore(c.history);
+  const io::CheckpointData whole = io::read_checkpoint(d + "/one.h5");
+  neighbor::ContactHistory mine;
+  par.neighbors().save_history(par.particles(), mine);
+  int found = 0, checked = 0;
+  for (const auto& r : mine.records()) {
+    const Vec3 ref = whole.history.lookup(r.lo, r.hi);
+    EXPECT_EQ(norm(ref - r.spring), 0.0) << r.lo << "-" << r.hi;
+    ++checked;
+  }
+  // Every record of the file is held by at least one rank.
+  for (const auto& r : whole.history.records())
+    if (norm(mine.lookup(r.lo, r.hi)) > 0) ++found;
+  int all_found = 0;
+  MPI_Allreduce(&found, &all_found, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_GE(all_found, static_cast<int>(whole.history.records().size()));
+  EXPECT_GT(checked, 0);
+}
+
+// A snapshot written collectively holds every particle once, sorted by id, with the positions
+// the ranks hold.
+TEST(ParallelIO, CollectiveSnapshotHasEveryParticleOnce) {
+  const Scene s = scene();
+  const std::string d = dir("snap");
+  auto sim = continue_run(s, MPI_COMM_WORLD, "", 20, "");
+  io::write_snapshot(d + "/snap.h5", *sim, s);
+  const Particles all = sim->gather_all();
+  io::H5File f(d + "/snap.h5", io::H5File::Mode::Read);
+  const auto id = f.read_int64("id");
+  const auto x = f.read_double("x");
+  ASSERT_EQ(id.size(), all.size());
+  for (std::size_t k = 0; k < id.size(); ++k) {
+    ASSERT_EQ(id[k], static_cast<std::int64_t>(k));
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(x[3 * k + c], all.x[k][c]);
+  }
+  EXPECT_EQ(f.attr_string("/", "tumble_version").empty(), false);
+}
