@@ -367,11 +367,24 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
     if (log) *log << "[run] drift grid (" << drift->samples() << " samples) in " << path << "\n";
   }
   res.series = std::move(series);
+  long long ghosts = 0;  // over all ranks (collective, before the rank-0-only log)
+  if (const parallel::Domain* dom = sim->domain()) {
+    long long mine = dom->ghosts();
+    MPI_Allreduce(&mine, &ghosts, 1, MPI_LONG_LONG, MPI_SUM, dom->comm());
+  }
   if (log)
     *log << "[run] done: " << res.steps << " steps in " << std::setprecision(4) << res.wall_seconds
          << " s (" << std::scientific << std::setprecision(3) << res.particle_steps_per_second
-         << std::defaultfloat << " particle-steps/s); results in " << res.results_file
-         << ", snapshots in " << scene.output_dir << "/snapshots.xdmf\n";
+         << std::defaultfloat << " particle-steps/s";
+  if (const parallel::Domain* dom = sim->domain(); dom && log)
+    *log << " on " << dom->size() << " ranks, imbalance " << std::fixed << std::setprecision(3)
+         << dom->imbalance() << ", " << ghosts << " ghosts, " << dom->bisections()
+         << " bisections, " << sim->rebuilds() << " rebuilds; rank 0 in halo refresh "
+         << dom->refresh_seconds() << " s, in migration + ghost exchange " << dom->rebuild_seconds()
+         << " s";
+  if (log)
+    *log << "); results in " << res.results_file << ", snapshots in " << scene.output_dir
+         << "/snapshots.xdmf\n";
   return res;
 }
 

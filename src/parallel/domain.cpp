@@ -71,6 +71,7 @@ void Domain::migrate(Particles& p) {
 }
 
 void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& records, double reach) {
+  const double t0 = MPI_Wtime();
   if (!have_tree_) {
     tree_ = RcbTree::build(comm_, root_, p.x, p.size());
     have_tree_ = true;
@@ -104,9 +105,11 @@ void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& record
                        static_cast<std::int64_t>(in[k + 1]),
                        {in[k + 2], in[k + 3], in[k + 4]},
                        {in[k + 5], in[k + 6], in[k + 7]}});
+  rebuild_seconds_ += MPI_Wtime() - t0;
 }
 
 void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach) {
+  const double t0 = MPI_Wtime();
   std::vector<std::vector<double>> out(size_);
   for (auto& s : send_) s.clear();
   std::vector<int> near;
@@ -125,11 +128,13 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach) {
   unpack_state(in.data(), in.size() / kStateDoubles, p);
   for (int r = 0; r < size_; ++r) recv_rows_[r] = from[r] / kStateDoubles;
   ghost_count_ = static_cast<std::int64_t>(p.size() - n_local);
+  rebuild_seconds_ += MPI_Wtime() - t0;
 }
 
 void Domain::refresh_ghosts(Particles& p, std::size_t n_local) {
   // Point to point with the neighbours only: what each sends and receives is fixed until the
   // next rebuild, and arrives in the same order as the ghosts were appended.
+  const double t0 = MPI_Wtime();
   std::size_t total_out = 0;
   for (const auto& s : send_) total_out += s.size();
   buf_out_.resize(total_out * kMotionDoubles);
@@ -163,6 +168,7 @@ void Domain::refresh_ghosts(Particles& p, std::size_t n_local) {
     p.v[g] = take(in);
     p.w[g] = take(in);
   }
+  refresh_seconds_ += MPI_Wtime() - t0;
 }
 
 namespace {

@@ -53,6 +53,10 @@ class Domain {
   double imbalance() const { return imbalance_; }
   std::int64_t bisections() const { return bisections_; }
   std::int64_t ghosts() const { return ghost_count_; }
+  // Wall seconds this rank spent in the halo: refreshing ghosts every step (including waiting for
+  // its neighbours), and in distribute() + exchange_ghosts() at rebuilds.
+  double refresh_seconds() const { return refresh_seconds_; }
+  double rebuild_seconds() const { return rebuild_seconds_; }
 
  private:
   void migrate(Particles& p);
@@ -66,6 +70,7 @@ class Domain {
   bool have_tree_ = false;
   double imbalance_ = 1;
   std::int64_t bisections_ = 0, ghost_count_ = 0;
+  double refresh_seconds_ = 0, rebuild_seconds_ = 0;
   // Ghost traffic: local indices sent to each rank; rows received from each rank.
   std::vector<std::vector<std::uint32_t>> send_;
   std::vector<int> recv_rows_;

@@ -32,12 +32,28 @@ RcbTree RcbTree::build(MPI_Comm comm, const Box& root, const std::vector<Vec3>& 
     const std::size_t m = split.size();
     std::vector<int> slot(t.nodes_.size(), -1);  // node -> position in `split`
     for (std::size_t s = 0; s < m; ++s) slot[split[s]] = static_cast<int>(s);
+    // Cut along the longest side of the node's particles (not of its box: a box that reaches
+    // into the empty upper half of the tumbler would be sliced into thin slabs along y, with a
+    // large surface and many ghosts). An empty node falls back to its box.
+    std::vector<double> ext(6 * m, -1e300);  // per node: {-min x, -min y, -min z, max x, ...}
+    for (std::size_t i = 0; i < count; ++i) {
+      const int sl = slot[node_of[i]];
+      if (sl < 0) continue;
+      for (int d = 0; d < 3; ++d) {
+        ext[6 * sl + d] = std::max(ext[6 * sl + d], -x[i][d]);
+        ext[6 * sl + 3 + d] = std::max(ext[6 * sl + 3 + d], x[i][d]);
+      }
+    }
+    MPI_Allreduce(MPI_IN_PLACE, ext.data(), static_cast<int>(6 * m), MPI_DOUBLE, MPI_MAX, comm);
     std::vector<int> dim(m);
     std::vector<double> a(m), b(m), cut(m);
     for (std::size_t s = 0; s < m; ++s) {
       const Box& bx = t.nodes_[split[s]].box;
-      const Vec3 ext = bx.hi - bx.lo;
-      dim[s] = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+      Vec3 e = bx.hi - bx.lo;
+      if (ext[6 * s + 3] > -1e300)
+        e = {ext[6 * s + 3] + ext[6 * s], ext[6 * s + 4] + ext[6 * s + 1],
+             ext[6 * s + 5] + ext[6 * s + 2]};
+      dim[s] = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
       a[s] = bx.lo[dim[s]];
       b[s] = bx.hi[dim[s]];
     }

@@ -2,9 +2,10 @@
 // Recursive coordinate bisection of a box over the ranks of a communicator, weighted by particle
 // count: a half-full tumbler is far from uniform, so equal boxes would leave ranks idle. Every
 // node splits its rank range [r0, r1) into halves n/2 and n - n/2 (any rank count works, 3 too)
-// along its longest side, at the coordinate that puts the same fraction of the node's particles
-// below the cut. Each cut is found by bisection on the coordinate with one Allreduce per trial for
-// a whole tree level at once, so building the tree costs ~60 log2(P) reductions whatever P is.
+// along the longest side of its particles' bounding box, at the coordinate that puts the same
+// fraction of the node's particles below the cut. Each cut is found by bisection on the coordinate
+// with one Allreduce per trial for a whole tree level at once, so building the tree costs ~60
+// log2(P) reductions whatever P is.
 #include <mpi.h>
 
 #include <cstdint>

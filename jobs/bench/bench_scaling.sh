@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# Strong scaling of one realization (issue 3): the same rotating bed on 1 rank and on NP ranks
+# (mpiexec, one core each), from one warmed-up checkpoint, alternated REPEATS times. Prints
+# particle-steps/s, parallel efficiency E = rate(NP) / (NP rate(1)), the load imbalance (max/mean
+# particles per rank), ghosts per rank and peak memory per rank.
+# usage: jobs/bench/bench_scaling.sh [SCENE=scenes/bst_paper.toml] [STEPS=2000] [REPEATS=3] [NP=2]
+# The settled bed is cached in beds/ (settled on NP ranks if missing); the warm-up rotates it for
+# WARMUP=2000 steps (flowing layer started) before the timed runs.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+SCENE=${1:-scenes/bst_paper.toml}
+STEPS=${2:-2000}
+REPEATS=${3:-3}
+NP=${4:-2}
+WARMUP=${WARMUP:-2000}
+BIN=${TUMBLE:-build/tumble}
+[ -x "$BIN" ] || { echo "no executable at $BIN (build first, or set TUMBLE)" >&2; exit 1; }
+command -v /usr/bin/time > /dev/null || { echo "needs GNU time (apt-get install time)" >&2; exit 1; }
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+MPI=(mpiexec --bind-to core -n "$NP")
+[ "$NP" -gt "$(nproc)" ] && MPI=(mpiexec --oversubscribe -n "$NP")
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/tumble_scaling.XXXXXX")
+trap 'rm -rf "$WORK"' EXIT
+name=$(basename "$SCENE" .toml)
+echo "# $(lscpu | awk -F: '/Model name/ {gsub(/^ +/, "", $2); print $2}'), $(nproc) cores;" \
+     "$(date -u +%Y-%m-%dT%H:%MZ); git $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
+echo "# $name: $STEPS timed steps per run after $WARMUP warm-up steps; $REPEATS runs per rank count"
+
+common=(--set fill.bed_cache=beds --set output.analysis_interval=0 --set output.progress_interval=1e6)
+# Warm-up on NP ranks (also settles and caches the bed if needed); its checkpoint starts every run.
+"${MPI[@]}" "$BIN" run "$SCENE" "${common[@]}" --set scene.output_dir="$WORK/warm" \
+  --max-steps "$WARMUP" > "$WORK/warm.log"
+
+rate() { sed -n 's/.*(\([0-9.e+]*\) particle-steps\/s.*/\1/p' "$1" | tail -1; }
+timed() {  # ranks, label
+  local n=$1 out="$WORK/run_$2"
+  local launch=()
+  [ "$n" -gt 1 ] && launch=("${MPI[@]}")
+  rm -rf "$out"
+  mkdir -p "$out"
+  # GNU time inside mpiexec: one peak-RSS line per rank.
+  "${launch[@]}" /usr/bin/time -f "rss_kb %M" -a -o "$WORK/rss_$2" "$BIN" run "$SCENE" "${common[@]}" \
+    --set scene.output_dir="$out" --set output.snapshot_interval=1e6 \
+    --restart "$WORK/warm/checkpoint.h5" --max-steps "$STEPS" > "$WORK/$2.log"
+}
+r1=() rn=()
+for ((k = 0; k < REPEATS; ++k)); do
+  timed 1 "1_$k"
+  r1+=("$(rate "$WORK/1_$k.log")")
+  timed "$NP" "n_$k"
+  rn+=("$(rate "$WORK/n_$k.log")")
+done
+median() { printf '%s\n' "$@" | sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
+m1=$(median "${r1[@]}")
+mn=$(median "${rn[@]}")
+last="$WORK/n_$((REPEATS - 1)).log"
+particles=$(sed -n 's/.*: \([0-9]*\) particles, dt.*/\1/p' "$WORK/warm.log" | tail -1)
+rss1=$(awk '{print $2}' "$WORK/rss_1_0" | sort -g | tail -1)
+rssn=$(awk '{print $2}' "$WORK/rss_n_0" | sort -g | tail -1)
+awk -v s="$name" -v np="$NP" -v m1="$m1" -v mn="$mn" -v r1="${r1[*]}" -v rn="${rn[*]}" \
+ -v imb="$(sed -n 's/.*imbalance \([0-9.]*\).*/\1/p' "$last" | tail -1)" \
+    -v gh="$(sed -n 's/.*, \([0-9]*\) ghosts.*/\1/p' "$last" | tail -1)" -v n="$particles" -v k1="$rss1" -v kn="$rssn" 'BEGIN {
+  printf "%s  particles=%d  1 rank: %.4g  %d ranks: %.4g particle-steps/s (medians; runs %s | %s)\n",
+         s, n, m1, np, mn, r1, rn
+  printf "%s  efficiency=%.1f%%  speedup=%.2f  imbalance=%s  ghosts(total)=%s (%.1f%% of particles)  peak_rss_mb 1 rank=%.1f, per rank at %d=%.1f\n",
+         s, 100 * mn / (np * m1), mn / m1, imb, gh, 100 * gh / n, k1 / 1024, np, kn / 1024
+}'
+echo "# last $NP-rank run: $(grep '\[run\] done' "$last" | sed 's/; results in.*//')"

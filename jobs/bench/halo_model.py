@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""Halo cost model of the domain-decomposed engine (issue 3; docs/performance.md).
+
+Per step, the slowest rank of P costs
+
+    T(P) = c_p * n(P) + c_g * G(P) + lat(P) + bytes(P) / B_net
+
+  n(P)   particles on the busiest rank (N/P times the measured imbalance)
+  G(P)   ghosts held by the busiest rank: counted here by laying N particles at the measured number
+         density into a half-full sphere, bisecting it as src/parallel/rcb.cpp does (longest side of
+         the particles' bounding box, count-weighted cut) and counting, for every domain, the particles of other domains
+         within one list cutoff of it
+  c_p    seconds per particle-step on one core (measured, 1-rank run)
+  c_g    seconds per ghost per step: the border pairs computed twice (Newton off), the refresh
+         packing/unpacking and the amortised rebuild exchange; calibrated from the 2-rank run:
+         c_g = (T_2 - c_p n(2) - lat(2)) / G(2)
+  lat(P) per-step latency: one message to each neighbour domain + one allreduce (the rebuild test)
+  bytes  72 bytes per ghost per step (x, v, w), over a network of B_net bytes/s
+
+Efficiency E(P) = c_p N / P / T(P). Run with the measured numbers (defaults: bst_paper, this
+machine, 2026-11-22) to reproduce the table in docs/performance.md.
+"""
+import argparse
+
+import numpy as np
+
+
+def rcb(points, ranks, lo, hi):
+    """Leaf boxes of the count-weighted bisection of `points` into `ranks` parts."""
+    if ranks == 1:
+        return [(lo.copy(), hi.copy(), len(points))]
+    d = int(np.argmax(points.max(axis=0) - points.min(axis=0))) if len(points) else int(np.argmax(hi - lo))
+    n_lo = ranks // 2
+    k = len(points) * n_lo // ranks
+    order = np.argpartition(points[:, d], k) if 0 < k < len(points) else np.arange(len(points))
+    below, above = points[order[:k]], points[order[k:]]
+    cut = 0.5 * (below[:, d].max() + above[:, d].min()) if len(below) and len(above) else lo[d]
+    hi_lo, lo_hi = hi.copy(), lo.copy()
+    hi_lo[d] = cut
+    lo_hi[d] = cut
+    return rcb(below, n_lo, lo, hi_lo) + rcb(above, ranks - n_lo, lo_hi, hi)
+
+
+def half_sphere(n_points, rng):
+    """Uniform points in the lower half ball of radius 1 (the bed of a half-full tumbler)."""
+    out = []
+    while sum(len(o) for o in out) < n_points:
+        p = rng.uniform(-1, 1, size=(2 * n_points, 3))
+        p = p[(np.einsum("ij,ij->i", p, p) < 1) & (p[:, 1] < 0)]
+        out.append(p)
+    return np.concatenate(out)[:n_points]
+
+
+def ghosts_per_domain(n_total, ranks, reach_d, sample, rng):
+    """Largest ghost count and the mean over domains, for n_total particles at one per d^3."""
+    radius_d = (3 * n_total / (2 * np.pi)) ** (1 / 3)  # half ball of n_total d^3
+    pts = half_sphere(sample, rng)
+    boxes = rcb(pts, ranks, np.array([-1.0, -1, -1]), np.array([1.0, 1, 1]))
+    h = reach_d / radius_d
+    scale = n_total / sample
+    counts = []
+    for lo, hi, _ in boxes:
+        inside_big = np.all((pts >= lo - h) & (pts <= hi + h), axis=1)
+        inside = np.all((pts >= lo) & (pts < hi), axis=1)
+        # Within the expanded box and not in the domain; corners of the shell are rounded in
+        # reality (distance to a box), so subtract the points beyond the reach at the corners.
+        cand = pts[inside_big & ~inside]
+        dx = np.maximum(np.maximum(lo - cand, 0), cand - hi)
+        counts.append(np.count_nonzero(np.einsum("ij,ij->i", dx, dx) <= h * h) * scale)
+    counts = np.array(counts)
+    return counts.max(), counts.mean(), radius_d
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--rate1", type=float, default=6.765e6, help="1-rank particle-steps/s")
+    ap.add_argument("--rate2", type=float, default=1.219e7, help="2-rank particle-steps/s")
+    ap.add_argument("--particles", type=float, default=89394, help="particles of the measured scene")
+    ap.add_argument("--ghosts2", type=float, default=7852, help="ghosts (both ranks) at 2 ranks")
+    ap.add_argument("--imbalance2", type=float, default=1.0, help="max/mean at 2 ranks")
+    ap.add_argument("--lat-local", type=float, default=2e-6, help="per-step latency at 2 ranks (s)")
+    ap.add_argument("--alpha", type=float, default=2e-6, help="network latency per message (s)")
+    ap.add_argument("--alpha-allreduce", type=float, default=3e-6,
+                    help="allreduce latency per tree level (s)")
+    ap.add_argument("--bandwidth", type=float, default=10e9, help="network bytes/s per rank")
+    ap.add_argument("--imbalance", type=float, default=1.05, help="max/mean assumed at P ranks")
+    ap.add_argument("--neighbours", type=float, default=26, help="messages per step at large P")
+    ap.add_argument("--reach", type=float, default=2.1, help="ghost reach in d_small (2 r_max + skin)")
+    ap.add_argument("--target", type=float, default=10e6, help="particles of the predicted tumbler")
+    ap.add_argument("--cg", type=float, default=0,
+                    help="cost per ghost-step in units of c_p (0: calibrate from the 2-rank run)")
+    ap.add_argument("--ranks", type=int, nargs="+", default=[2, 64, 1024])
+    ap.add_argument("--sample", type=int, default=400000, help="points sampled for ghost counts")
+    a = ap.parse_args()
+    rng = np.random.default_rng(1)
+
+    c_p = 1 / a.rate1
+    t2 = 2 / a.rate2 * a.particles / 2  # seconds per step at 2 ranks
+    n2 = a.particles / 2 * a.imbalance2
+    g2 = a.ghosts2 / 2
+    c_g = (t2 - c_p * n2 - a.lat_local) / g2
+    if a.cg > 0:
+        print(f"(calibrated c_g would be {c_g / c_p:.2f} c_p; using {a.cg} c_p)")
+        c_g = a.cg * c_p
+    gmax2, gmean2, _ = ghosts_per_domain(a.particles, 2, a.reach, a.sample, rng)
+    print(f"calibration (2 ranks, {a.particles:.0f} particles): T_2 = {t2 * 1e3:.3f} ms/step, "
+          f"c_p = {c_p * 1e9:.1f} ns, c_g = {c_g * 1e9:.1f} ns per ghost-step "
+          f"({c_g / c_p:.2f} c_p); ghosts per rank measured {g2:.0f}, model {gmean2:.0f}")
+    print(f"\n{a.target:.3g} particles (half-full sphere of radius "
+          f"{(3 * a.target / (2 * np.pi)) ** (1 / 3):.0f} d_small), reach {a.reach} d_small:")
+    print("| ranks | particles/rank | ghosts/rank (max) | ghosts/particle | compute ms | ghost ms | "
+          "latency ms | network ms | efficiency |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for p in a.ranks:
+        gmax, gmean, _ = ghosts_per_domain(a.target, p, a.reach, a.sample, rng)
+        n = a.target / p * a.imbalance
+        lat = min(a.neighbours, p - 1) * a.alpha + np.log2(p) * a.alpha_allreduce
+        net = 72 * gmax / a.bandwidth
+        t = c_p * n + c_g * gmax + lat + net
+        eff = c_p * a.target / p / t
+        print(f"| {p} | {a.target / p:.0f} | {gmax:.0f} | {gmax / (a.target / p):.2f} | "
+              f"{c_p * n * 1e3:.3f} | {c_g * gmax * 1e3:.3f} | {lat * 1e3:.3f} | {net * 1e3:.3f} | "
+              f"{100 * eff:.0f}% |")
+
+
+if __name__ == "__main__":
+    main()
