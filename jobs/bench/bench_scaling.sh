@@ -6,6 +6,8 @@
 # usage: jobs/bench/bench_scaling.sh [SCENE=scenes/bst_paper.toml] [STEPS=2000] [REPEATS=3] [NP=2]
 # The settled bed is cached in beds/ (settled on NP ranks if missing); the warm-up rotates it for
 # WARMUP=2000 steps (flowing layer started) before the timed runs.
+# Peer: with SCENE=jobs/bench/bst_R35_bench.toml (the shared reference bed) and LIGGGHTS installed,
+# LIGGGHTS runs the same bed on 1 and NP ranks in the same job (jobs/bench/liggghts/run.sh).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SCENE=${1:-scenes/bst_paper.toml}
@@ -66,3 +68,16 @@ awk -v s="$name" -v np="$NP" -v m1="$m1" -v mn="$mn" -v r1="${r1[*]}" -v rn="${r
          s, 100 * mn / (np * m1), mn / m1, imb, gh, 100 * gh / n, k1 / 1024, np, kn / 1024
 }'
 echo "# last $NP-rank run: $(grep '\[run\] done' "$last" | sed 's/; results in.*//')"
+
+if [ "$SCENE" = jobs/bench/bst_R35_bench.toml ]; then
+  if command -v liggghts > /dev/null; then
+    l1=$(LIGGGHTS_WARMUP=$WARMUP bash jobs/bench/liggghts/run.sh 1 "$STEPS" 2> /dev/null | tail -n 1)
+    ln=$(LIGGGHTS_WARMUP=$WARMUP bash jobs/bench/liggghts/run.sh "$NP" "$STEPS" 2> /dev/null | tail -n 1)
+    echo "$l1"
+    echo "$ln"
+    printf '%s\n%s\n' "$l1" "$ln" | awk -v np="$NP" '{for (i = 1; i <= NF; ++i) if ($i ~ /^psteps_per_s=/) r[NR] = substr($i, 14)}
+      END {if (r[1] && r[2]) printf "LIGGGHTS  efficiency=%.1f%%  speedup=%.2f (same bed, same machine, same job)\n", 100 * r[2] / (np * r[1]), r[2] / r[1]}'
+  else
+    echo "LIGGGHTS not installed: no peer run (apt-get install liggghts)"
+  fi
+fi

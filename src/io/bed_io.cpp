@@ -98,7 +98,10 @@ Particles read_bed(const std::string& path, const Scene& scene) {
         throw InputError("bed '" + path + "': cannot parse line '" + line + "'");
       const std::size_t i = p.size();
       p.resize(i + 1);
-      p.id[i] = id;
+      // Tumble's ids are 0..N-1 (snapshots are indexed by them); the file's own ids (LIGGGHTS
+      // counts from 1) are replaced by the line order.
+      (void)id;
+      p.id[i] = static_cast<std::int64_t>(i);
       p.species[i] = type == 2 ? 1 : 0;
       p.radius[i] = 0.5 * d;
       // The text beds have gravity along -z; Tumble's lab frame has gravity along -y.

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 #include "parallel/particle_pack.hpp"
 
@@ -201,6 +203,9 @@ Particles Domain::gather_all(const Particles& p, std::size_t n_local) const {
 Particles Domain::id_block(const Particles& p, std::size_t n_local, std::int64_t n_total) const {
   std::vector<std::vector<double>> out(size_);
   for (std::size_t i = 0; i < n_local; ++i) {
+    if (p.id[i] < 0 || p.id[i] >= n_total)
+      throw std::runtime_error("particle id " + std::to_string(p.id[i]) + " outside 0.." +
+                               std::to_string(n_total - 1) + ": ids must be 0..N-1");
     // Rank r holds ids [n r / P, n (r+1) / P): the first r with block_begin(r+1) > id.
     int r = static_cast<int>(p.id[i] * size_ / std::max<std::int64_t>(n_total, 1));
     while (r + 1 < size_ && block_begin(n_total, r + 1, size_) <= p.id[i]) ++r;
