@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/fill.hpp"
 #include "core/realization.hpp"
 #include "core/simulation.hpp"
 #include "io/checkpoint.hpp"
@@ -166,4 +167,38 @@ TEST(ParallelIO, CollectiveSnapshotHasEveryParticleOnce) {
     for (int c = 0; c < 3; ++c) ASSERT_EQ(x[3 * k + c], all.x[k][c]);
   }
   EXPECT_EQ(f.attr_string("/", "tumble_version").empty(), false);
+}
+
+// Ranks with nothing to write still take part: one particle on every rank of the world (all but
+// one rank own nothing). The checkpoint and the snapshot hold it once; a restart on the world
+// finds it again.
+TEST(ParallelIO, RanksWithoutParticlesTakePart) {
+  const Scene s = parse_scene("",
+                              {"gravity.g=0", "tumbler.radius=0.02", "protocol.mode=rest",
+                               "particles.fill_level=0.05", "contact.collision_time=1e-3"},
+                              "single");
+  const std::string d = dir("single");
+  Particles one;
+  one.resize(1);
+  one.x[0] = {0.001, -0.002, 0.003};
+  one.v[0] = {0.01, 0, 0};
+  one.id[0] = 0;
+  set_species_properties(s, one);
+  Simulation sim(s, share_of(one, MPI_COMM_WORLD), geometry::Protocol::at_rest(), 0, 0,
+                 MPI_COMM_WORLD);
+  sim.compute_forces();
+  for (int k = 0; k < 10; ++k) sim.step();
+  sim.request_rebuild();
+  sim.step();
+  io::write_checkpoint(d + "/ckpt.h5", sim, s, {}, 0);
+  io::write_snapshot(d + "/snap.h5", sim, s);
+  io::H5File f(d + "/snap.h5", io::H5File::Mode::Read);
+  ASSERT_EQ(f.read_int64("id").size(), 1u);
+  EXPECT_NEAR(f.read_double("x")[0], 0.001 + 11 * s.time_step() * 0.01, 1e-12);
+  io::CheckpointData c = io::read_checkpoint(d + "/ckpt.h5", MPI_COMM_WORLD);
+  Simulation again(s, std::move(c.particles), geometry::Protocol::at_rest(), c.time, c.step,
+                   MPI_COMM_WORLD);
+  again.restore(c.history);
+  EXPECT_EQ(again.global_count(), 1);
+  EXPECT_EQ(again.gather_all().x[0].x, sim.gather_all().x[0].x);
 }
