@@ -197,7 +197,7 @@ void parse_campaign_table(const Ctx& c, const toml::table& t, CampaignSpec& s,
                         "Sec. 4, the parallel issue); use 1 for now. The rank groups are already "
                         "formed with MPI_Comm_split, so larger groups drop in then");
     } else if (name == "tier") {
-      s.tier = text(c, key, node, {"standard"});
+      s.tier = text(c, key, node, {"standard", "reference", "fast", "preview"});
     } else if (name == "max_attempts") {
       s.max_attempts = static_cast<int>(integer(c, key, node, 1, 100));
     } else if (name == "retry_seed") {

@@ -175,6 +175,8 @@ Scene case_scene(const CampaignSpec& spec, const Case& c, const std::string& cas
                  const std::string& bed_cache, std::int64_t seed) {
   std::vector<std::string> o = spec.overrides;
   o.insert(o.end(), c.overrides.begin(), c.overrides.end());
+  // The tier derives its values from the template; the sweep's own keys still win.
+  if (spec.tier != "standard") o.push_back("fidelity.tier=" + spec.tier);
   o.push_back("scene.output_dir=" + case_dir);
   o.push_back("scene.name=" + spec.name + "_" + c.id);
   o.push_back("fill.seed=" + std::to_string(seed));

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/fidelity.hpp"
 #include "core/fill.hpp"
 #include "core/text_util.hpp"
 #include "core/vec3.hpp"
@@ -102,6 +103,7 @@ const std::map<std::string, std::string Scene::*>& text_members() {
       {"fill.bed_cache", &Scene::bed_cache},  {"protocol.mode", &Scene::mode},
       {"protocol.axis", &Scene::axis},        {"output.drift_grid", &Scene::drift_grid},
       {"tumbler.periodic", &Scene::periodic}, {"time.integrator", &Scene::integrator},
+      {"fidelity.tier", &Scene::tier},
   };
   return m;
 }
@@ -190,27 +192,8 @@ std::string range_text(const KeySpec& s) {
   return os.str();
 }
 
-}  // namespace
-
-Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& overrides,
-                  const std::string& origin) {
-  std::map<std::string, Value> values;
-  toml::table tbl;
-  try {
-    tbl = toml::parse(toml_text, origin);
-  } catch (const toml::parse_error& e) {
-    std::ostringstream os;
-    os << "scene error: " << origin << " is not valid TOML: " << e.description() << " (line "
-       << e.source().begin.line << ")";
-    throw InputError(os.str());
-  }
-  flatten(tbl, "", origin, values);
-  for (const auto& item : overrides) {
-    std::string key;
-    Value v = parse_override(item, key);
-    values[key] = v;
-  }
-
+// Checks every key and value (range, choices) and sets them on a default scene.
+Scene apply_values(const std::map<std::string, Value>& values) {
   Scene s;
   for (const auto& [key, v] : values) {
     const KeySpec* spec = find_spec(key);
@@ -239,6 +222,45 @@ Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& 
         s.*(real_members().at(key)) = v.num;
       }
     }
+  }
+  return s;
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& overrides,
+                  const std::string& origin) {
+  std::map<std::string, Value> values;
+  toml::table tbl;
+  try {
+    tbl = toml::parse(toml_text, origin);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream os;
+    os << "scene error: " << origin << " is not valid TOML: " << e.description() << " (line "
+       << e.source().begin.line << ")";
+    throw InputError(os.str());
+  }
+  flatten(tbl, "", origin, values);
+  std::map<std::string, Value> given;  // --set overrides: they win over a tier's values
+  for (const auto& item : overrides) {
+    std::string key;
+    Value v = parse_override(item, key);
+    values[key] = v;
+    given[key] = v;
+  }
+  // A fidelity tier rewrites keys of the scene as written (core/fidelity.hpp).
+  Scene s = apply_values(values);
+  if (s.tier != "standard") {
+    for (const auto& [key, text] : tier_values(s.tier, s)) {
+      if (given.count(key)) continue;
+      Value v;
+      v.origin = "fidelity.tier = " + s.tier;
+      v.text = text;
+      v.numeric = true;
+      v.num = std::strtod(text.c_str(), nullptr);
+      values[key] = v;
+    }
+    s = apply_values(values);
   }
   // Resolved scene for provenance: every key, defaults included.
   std::istringstream lines(scene_to_text(s));

@@ -58,6 +58,8 @@ struct Scene {
   std::string integrator = "velocity_verlet";  // velocity_verlet | leapfrog
   // [neighbor]
   double skin = 0.1;  // Verlet skin / d_small (fastest measured, docs/performance.md)
+  // [fidelity]
+  std::string tier = "standard";  // standard | reference | fast | preview (core/fidelity.hpp)
   // [parallel]
   double rebalance_threshold = 1.1;  // re-bisect when max/mean owned particles exceeds this
   // [output]

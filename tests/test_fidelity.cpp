@@ -1,0 +1,89 @@
+// Fidelity tiers (core/fidelity.hpp): each tier derives its values from the scene as written,
+// --set keys win over them, and a tier that does not apply is refused with the key named.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "core/fill.hpp"
+#include "core/scene.hpp"
+
+using namespace tumble;
+
+namespace {
+// bst_paper's values (R = 70 mm, 4/2 mm, t_c = 5e-4 s, 3 rpm, 20 iterations).
+const char* kPaper =
+    "[tumbler]\nradius = 0.07\n[particles]\nd_small = 0.002\nd_large = 0.004\n"
+    "[contact]\ncollision_time = 5e-4\n[protocol]\nmode = \"biaxial\"\nrpm = 3\niterations = 20\n";
+
+Scene tier(const std::string& t, std::vector<std::string> o = {}) {
+  o.push_back("fidelity.tier=" + t);
+  return parse_scene(kPaper, o, "paper");
+}
+}  // namespace
+
+TEST(Fidelity, StandardIsTheSceneAsWritten) {
+  const Scene a = parse_scene(kPaper, {}, "paper"), b = tier("standard");
+  EXPECT_EQ(scene_to_text(a), scene_to_text(b));
+}
+
+TEST(Fidelity, ReferenceIsStifferWithAFinerStep) {
+  const Scene s = tier("reference");
+  EXPECT_DOUBLE_EQ(s.collision_time, 2.5e-4);
+  EXPECT_DOUBLE_EQ(s.time_step(), 2.5e-6);  // t_c / 100
+  EXPECT_DOUBLE_EQ(s.d_large, 0.004);
+  EXPECT_DOUBLE_EQ(s.rpm, 3);
+  EXPECT_DOUBLE_EQ(s.iterations, 20);
+}
+
+TEST(Fidelity, FastAndPreviewCoarsenSpeedUpAndShorten) {
+  const Scene f = tier("fast"), p = tier("preview");
+  EXPECT_NEAR(f.radius / f.d_large, 8.75, 1e-9);
+  EXPECT_NEAR(p.radius / p.d_large, 5, 1e-9);
+  EXPECT_NEAR(f.d_large / f.d_small, 2, 1e-12);  // size ratio kept
+  EXPECT_NEAR(p.d_large / p.d_small, 2, 1e-12);
+  // Froude number omega^2 R / g raised to the tier's floor.
+  EXPECT_NEAR(f.omega() * f.omega() * f.radius / f.g, 3e-3, 1e-9);
+  EXPECT_NEAR(p.omega() * p.omega() * p.radius / p.g, 1e-2, 1e-9);
+  EXPECT_DOUBLE_EQ(f.collision_time, 1e-3);
+  EXPECT_DOUBLE_EQ(p.collision_time, 2e-3);
+  EXPECT_NEAR(f.time_step(), 1e-3 / 30, 1e-15);
+  EXPECT_NEAR(p.time_step(), 2e-3 / 20, 1e-15);
+  EXPECT_DOUBLE_EQ(f.iterations, 10);
+  EXPECT_DOUBLE_EQ(p.iterations, 3);
+  EXPECT_DOUBLE_EQ(f.skin, 0.2);
+  EXPECT_DOUBLE_EQ(p.skin, 0.3);
+  // Each tier is cheaper than the one above it (particles x steps).
+  auto cost = [](const Scene& s) {
+    return static_cast<double>(planned_particle_count(s)) * s.run_time() / s.time_step();
+  };
+  EXPECT_GT(cost(tier("reference")), cost(tier("standard")));
+  EXPECT_GT(cost(tier("standard")), cost(f));
+  EXPECT_GT(cost(f), cost(p));
+}
+
+TEST(Fidelity, SetKeysWinOverTheTier) {
+  const Scene s = tier("preview", {"protocol.iterations=7", "contact.collision_time=1e-3"});
+  EXPECT_DOUBLE_EQ(s.iterations, 7);
+  EXPECT_DOUBLE_EQ(s.collision_time, 1e-3);
+  EXPECT_NEAR(s.radius / s.d_large, 5, 1e-9);  // the rest of the tier still applies
+}
+
+TEST(Fidelity, TiersAreRefusedForCylindersAndUnknownNames) {
+  try {
+    parse_scene(
+        "[tumbler]\nshape = \"cylinder\"\nradius = 10\nlength = 40\n[contact]\nlaw = "
+        "\"rapaport2007\"\n[time]\ndt = 0.005\n",
+        {"fidelity.tier=fast"}, "cyl");
+    ADD_FAILURE() << "a cylinder with a tier was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("fidelity.tier"), std::string::npos) << e.what();
+  }
+  try {
+    tier("ultra");
+    ADD_FAILURE() << "an unknown tier was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("standard, reference, fast, preview"), std::string::npos)
+        << e.what();
+  }
+}
