@@ -87,3 +87,14 @@ TEST(Fidelity, TiersAreRefusedForCylindersAndUnknownNames) {
         << e.what();
   }
 }
+
+// The resolved text of a tiered scene reads back to the same values (checkpoints and provenance
+// re-parse it): the tier is recorded as applied, not applied twice.
+TEST(Fidelity, ResolvedTextReadsBackUnchanged) {
+  const Scene s = tier("reference");
+  EXPECT_EQ(s.tier_applied, "reference");
+  const Scene again = parse_scene(scene_to_text(s), {}, "resolved");
+  EXPECT_DOUBLE_EQ(again.collision_time, s.collision_time);
+  EXPECT_EQ(again.tier_applied, "reference");
+  EXPECT_EQ(scene_to_text(again), scene_to_text(s));
+}

@@ -103,7 +103,7 @@ const std::map<std::string, std::string Scene::*>& text_members() {
       {"fill.bed_cache", &Scene::bed_cache},  {"protocol.mode", &Scene::mode},
       {"protocol.axis", &Scene::axis},        {"output.drift_grid", &Scene::drift_grid},
       {"tumbler.periodic", &Scene::periodic}, {"time.integrator", &Scene::integrator},
-      {"fidelity.tier", &Scene::tier},
+      {"fidelity.tier", &Scene::tier},        {"fidelity.applied", &Scene::tier_applied},
   };
   return m;
 }
@@ -260,7 +260,9 @@ Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& 
       v.num = std::strtod(text.c_str(), nullptr);
       values[key] = v;
     }
+    const std::string applied = s.tier;
     s = apply_values(values);
+    s.tier_applied = applied;
   }
   // Resolved scene for provenance: every key, defaults included.
   std::istringstream lines(scene_to_text(s));
@@ -441,7 +443,9 @@ std::string scene_to_text(const Scene& s) {
   os.precision(17);
   for (const auto& spec : scene_schema()) {
     os << spec.key << " = ";
-    if (spec.type == KeySpec::Text)
+    if (spec.key == "fidelity.tier")  // already applied (fidelity.applied names it)
+      os << "\"standard\"";
+    else if (spec.type == KeySpec::Text)
       os << '"' << s.*(text_members().at(spec.key)) << '"';
     else if (spec.type == KeySpec::Integer)
       os << s.*(int_members().at(spec.key));

@@ -60,6 +60,10 @@ struct Scene {
   double skin = 0.1;  // Verlet skin / d_small (fastest measured, docs/performance.md)
   // [fidelity]
   std::string tier = "standard";  // standard | reference | fast | preview (core/fidelity.hpp)
+  // The tier whose values this scene already holds. The resolved text (provenance, checkpoints)
+  // records it here and writes fidelity.tier = "standard", so reading it back does not apply the
+  // tier twice.
+  std::string tier_applied = "standard";
   // [parallel]
   double rebalance_threshold = 1.1;  // re-bisect when max/mean owned particles exceeds this
   // [output]

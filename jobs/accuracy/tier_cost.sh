@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Cost of each fidelity tier (docs/accuracy.md): the scene at every tier, its particles, time step
+# and steps per protocol iteration, and the measured wall time per iteration on one core (STEPS
+# timed steps of the rotating bed, after WARMUP untimed ones, extrapolated to a whole iteration),
+# plus the continuum model's Poincaré section of the same protocol.
+# usage: jobs/accuracy/tier_cost.sh [SCENE=scenes/bst_paper.toml] [STEPS=1000]
+# The reference tier starts from the standard tier's settled bed (fill.bed_file): settling 89k
+# particles at t_c/100 costs hours, and the cost per step does not depend on which settled bed.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+SCENE=${1:-scenes/bst_paper.toml}
+STEPS=${2:-1000}
+WARMUP=${WARMUP:-500}
+BIN=${TUMBLE:-build/tumble}
+[ -x "$BIN" ] || { echo "no executable at $BIN (build first, or set TUMBLE)" >&2; exit 1; }
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/tumble_tiers.XXXXXX")
+trap 'rm -rf "$WORK"' EXIT
+pin=()
+command -v taskset > /dev/null && pin=(taskset -c 0)
+echo "# $(lscpu | awk -F: '/Model name/ {gsub(/^ +/, "", $2); print $2}'), $(nproc) cores;" \
+     "$(date -u +%Y-%m-%dT%H:%MZ); git $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
+echo "# $SCENE: $STEPS timed steps per tier after $WARMUP warm-up steps, one core (${pin[*]:-unpinned})"
+echo "| tier | particles | R/d_large | t_c (s) | δt (s) | skin (d_s) | rpm | Froude | iterations | steps/iteration | particle-steps/s | wall per iteration | wall for the tier's run |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+key() { sed -n "s/^$1 = //p" "$2" | head -1; }
+for tier in reference standard fast preview; do
+  extra=()
+  if [ "$tier" = reference ]; then  # the standard bed (see above)
+    "$BIN" run "$SCENE" --set fill.bed_cache=beds --max-steps 0 \
+      --set scene.output_dir="$WORK/bedprobe" > "$WORK/probe.log"
+    bed=$(sed -n 's/.*\(reusing settled bed\|saved settled bed to\) \(.*\)$/\2/p' "$WORK/probe.log" | tail -1)
+    extra=(--set fill.bed_file="$bed")
+  fi
+  common=("$SCENE" --set fidelity.tier=$tier --set fill.bed_cache=beds "${extra[@]}"
+          --set output.analysis_interval=0 --set output.snapshot_interval=1e6
+          --set output.checkpoint_interval=1e6 --set scene.output_dir="$WORK/$tier")
+  "$BIN" run "${common[@]}" --check > "$WORK/$tier.scene"
+  "${pin[@]}" "$BIN" run "${common[@]}" --max-steps "$WARMUP" > "$WORK/$tier.warm"
+  "${pin[@]}" "$BIN" run "${common[@]}" --resume --max-steps "$STEPS" > "$WORK/$tier.log"
+  rate=$(sed -n 's/.*(\([0-9.e+]*\) particle-steps\/s.*/\1/p' "$WORK/$tier.log" | tail -1)
+  n=$(sed -n 's/.*: \([0-9]*\) particles, dt.*/\1/p' "$WORK/$tier.log" | tail -1)
+  total=$(sed -n 's/.* dt = [0-9.e+-]* s, \([0-9]*\) steps.*/\1/p' "$WORK/$tier.log" | tail -1)
+  awk -v t=$tier -v n="$n" -v rate="$rate" -v total="$total" \
+      -v R="$(key tumbler.radius "$WORK/$tier.scene")" -v dl="$(key particles.d_large "$WORK/$tier.scene")" \
+      -v tc="$(key contact.collision_time "$WORK/$tier.scene")" -v fr="$(key time.dt_fraction "$WORK/$tier.scene")" \
+      -v skin="$(key neighbor.skin "$WORK/$tier.scene")" -v rpm="$(key protocol.rpm "$WORK/$tier.scene")" \
+      -v it="$(key protocol.iterations "$WORK/$tier.scene")" -v g="$(key gravity.g "$WORK/$tier.scene")" 'BEGIN {
+    w = 2 * 3.141592653589793 * rpm / 60; spi = total / it; wpi = spi * n / rate
+    printf "| %s | %d | %.3g | %.3g | %.3g | %.2g | %.3g | %.2g | %g | %.0f | %.3g | %.0f s = %.2f h | %.1f h |\n",
+           t, n, R / dl, tc, tc * fr, skin, rpm, w * w * R / g, it, spi, rate, wpi, wpi / 3600, wpi * it / 3600
+  }'
+done
+# The continuum model: its default Poincaré section (500 seeds, 1000 periods) of the same protocol.
+tz=$(key protocol.theta_z "$WORK/standard.scene")
+tx=$(key protocol.theta_x "$WORK/standard.scene")
+start=$(date +%s.%N)
+"$BIN" cm poincare --theta-z "$tz" --theta-x "$tx" --output "$WORK/cm.h5" > "$WORK/cm.log" 2>&1 || true
+end=$(date +%s.%N)
+awk -v a="$start" -v b="$end" -v tz="$tz" -v tx="$tx" 'BEGIN {
+  printf "| cm (continuum model) | - | - | - | - | - | - | - | - | - | - | Poincaré section (%s°, %s°): %.1f s | |\n", tz, tx, b - a }'
