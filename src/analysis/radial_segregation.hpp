@@ -19,6 +19,9 @@ SegregationSample radial_segregation(const Particles& p, double tumbler_radius, 
 
 struct Series {
   std::vector<double> time, iteration, shell_large_fraction, bed_large_fraction, kinetic_energy;
+  // Single-axis sphere scenes: dynamic repose angle (degrees) and surface speed (flow_profile.hpp),
+  // one per sample; empty otherwise.
+  std::vector<double> repose_angle, surface_speed;
   CylinderSeries cylinder;  // cylinder scenes: Rapaport's measures (sphere scenes: empty)
   void append(double t, double iter, const SegregationSample& s, double ke) {
     time.push_back(t);

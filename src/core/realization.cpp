@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "analysis/drift_measure.hpp"
+#include "analysis/flow_profile.hpp"
 #include "cm/drift_grid.hpp"
 #include "core/error.hpp"
 #include "core/fill.hpp"
@@ -16,8 +17,8 @@
 #include "core/text_util.hpp"
 #include "io/bed_io.hpp"
 #include "io/checkpoint.hpp"
-#include "io/cylinder_series_io.hpp"
 #include "io/hdf5_file.hpp"
+#include "io/series_io.hpp"
 #include "io/snapshot.hpp"
 
 namespace tumble {
@@ -257,6 +258,12 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
   frame.slice =
       scene.slice_width > 0 ? scene.slice_width : 2.5 * (scene.d_small - 0.5 * scene.size_spread);
   frame.b3 = std::pow(scene.d_large / scene.d_small, 3);
+  analysis::FlowFrame flow;
+  flow.axis =
+      scene.axis == "x" ? Vec3{1, 0, 0} : (scene.axis == "y" ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+  flow.radius = scene.radius;
+  flow.bin = 2 * scene.d_large;
+  flow.depth = scene.d_large;
   auto sample = [&]() {
     const double kinetic = sim->energy().kinetic;  // collective: before the gather, on all ranks
     const Particles& all = whole_bed();
@@ -267,6 +274,11 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
     }
     series.append(sim->time(), sim->protocol().iteration(sim->time()),
                   analysis::radial_segregation(all, scene.radius), kinetic);
+    if (scene.mode == "single_axis") {  // the flowing layer: repose angle and surface speed
+      const analysis::FlowProfile fp = analysis::flow_profile(all, all.size(), flow);
+      series.repose_angle.push_back(fp.repose_deg);
+      series.surface_speed.push_back(fp.surface_speed);
+    }
   };
   // The MCM's drift grid (output.drift_grid = on): large particles at the free surface of the
   // flowing layer, every 0.1 s of the "rotate" segments, as Yu 2022 App. A.
@@ -345,12 +357,7 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
   {
     io::AtomicH5Writer out(res.results_file, comm);  // rank 0's series (all ranks hold it)
     io::H5File& f = out.file();
-    f.write("series/time", series.time);
-    f.write("series/iteration", series.iteration);
-    f.write("series/shell_large_fraction", series.shell_large_fraction);
-    f.write("series/bed_large_fraction", series.bed_large_fraction);
-    f.write("series/kinetic_energy", series.kinetic_energy);
-    io::write_cylinder_series(f, series.cylinder);
+    io::write_series(f, series);
     f.set_attr("/", "steps", static_cast<std::int64_t>(sim->step_count()));
     f.set_attr("/", "time", sim->time());
     f.set_attr("/", "particles", res.particles);

@@ -1,8 +1,8 @@
 #include "io/checkpoint.hpp"
 
 #include "core/error.hpp"
-#include "io/cylinder_series_io.hpp"
 #include "io/hdf5_file.hpp"
+#include "io/series_io.hpp"
 #include "io/snapshot.hpp"
 
 namespace tumble::io {
@@ -57,12 +57,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   f.write_rows("contacts/pair_ids", pairs, 2);
   f.write_rows("contacts/spring", springs, 3);
   f.write_rows("contacts/anchor", anchors, 3);
-  f.write("series/time", series.time);
-  f.write("series/iteration", series.iteration);
-  f.write("series/shell_large_fraction", series.shell_large_fraction);
-  f.write("series/bed_large_fraction", series.bed_large_fraction);
-  f.write("series/kinetic_energy", series.kinetic_energy);
-  write_cylinder_series(f, series.cylinder);
+  write_series(f, series);
   f.set_attr("/", "time", sim.time());
   f.set_attr("/", "step", static_cast<std::int64_t>(sim.step_count()));
   f.set_attr("/", "snapshots_written", snapshots_written);
@@ -115,12 +110,7 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
                {springs[3 * k], springs[3 * k + 1], springs[3 * k + 2]},
                {anchors[3 * k], anchors[3 * k + 1], anchors[3 * k + 2]}};
   c.history.set_records(std::move(recs));
-  c.series.time = f.read_double("series/time");
-  c.series.iteration = f.read_double("series/iteration");
-  c.series.shell_large_fraction = f.read_double("series/shell_large_fraction");
-  c.series.bed_large_fraction = f.read_double("series/bed_large_fraction");
-  c.series.kinetic_energy = f.read_double("series/kinetic_energy");
-  read_cylinder_series(f, c.series.cylinder);
+  read_series(f, c.series);
   c.time = f.attr_double("/", "time");
   c.step = f.attr_int64("/", "step");
   c.snapshots_written = f.attr_int64("/", "snapshots_written");

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Error of each fidelity tier against the reference tier on the flowing-layer observables
+# (docs/accuracy.md): every tier of SCENE rotated about x from its settled bed (REPLICAS seeds
+# each, run JOBS at a time on one core each) through 80° of rotation at the tier's own speed;
+# repose angle, surface speed and the large-particle wall fraction averaged over 40°-80° (the
+# flow is established after ~35°); then jobs/accuracy/accuracy_table.py prints the table.
+# usage: jobs/accuracy/flow_accuracy.sh [SCENE=scenes/bst_tiny.toml] [REPLICAS=3] [JOBS=2]
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+SCENE=${1:-scenes/bst_tiny.toml}
+REPLICAS=${2:-3}
+JOBS=${3:-2}
+BIN=${TUMBLE:-build/tumble}
+[ -x "$BIN" ] || { echo "no executable at $BIN (build first, or set TUMBLE)" >&2; exit 1; }
+OUT=${ACCURACY_OUT:-results/accuracy/$(basename "$SCENE" .toml)}
+mkdir -p "$OUT"
+echo "# $(lscpu | awk -F: '/Model name/ {gsub(/^ +/, "", $2); print $2}'), $(nproc) cores;" \
+     "$(date -u +%Y-%m-%dT%H:%MZ); git $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
+echo "# $SCENE: tiers x $REPLICAS replicas, 80 degrees of rotation about x, $JOBS runs at a time"
+runs=()
+for tier in reference standard fast preview; do
+  rpm=$("$BIN" run "$SCENE" --set fidelity.tier=$tier --set protocol.mode=single_axis --check |
+        sed -n 's/^protocol.rpm = //p')
+  duration=$(awk -v r="$rpm" 'BEGIN {printf "%.6g", 80 / (6 * r)}')  # 80° at rpm * 6 °/s
+  interval=$(awk -v d="$duration" 'BEGIN {printf "%.6g", d / 80}')   # a sample per degree
+  for ((k = 1; k <= REPLICAS; ++k)); do
+    runs+=("$tier $k $duration $interval")
+  done
+done
+printf '%s\n' "${runs[@]}" | xargs -P "$JOBS" -L 1 bash -c '
+  tier=$0 seed=$1 duration=$2 interval=$3
+  dir='"$OUT"'/$tier/seed$seed
+  mkdir -p "$dir"
+  '"$BIN"' run '"$SCENE"' --set fidelity.tier=$tier --set fill.seed=$seed \
+    --set protocol.mode=single_axis --set protocol.axis=x --set protocol.duration=$duration \
+    --set output.analysis_interval=$interval --set output.snapshot_interval=1e6 \
+    --set output.checkpoint_interval=1e6 --set fill.bed_cache=beds \
+    --set scene.output_dir=$dir > $dir.log 2>&1 || echo "run $tier $seed failed: see $dir.log"
+  grep -h "\[run\] done" $dir.log | sed "s/^/$tier seed $seed: /;s/; results in.*//"'
+/usr/bin/python3 jobs/accuracy/accuracy_table.py "$OUT"

@@ -1,0 +1,33 @@
+#include "io/series_io.hpp"
+
+#include "io/cylinder_series_io.hpp"
+
+namespace tumble::io {
+
+void write_series(H5File& f, const analysis::Series& s) {
+  f.write("series/time", s.time);
+  f.write("series/iteration", s.iteration);
+  f.write("series/shell_large_fraction", s.shell_large_fraction);
+  f.write("series/bed_large_fraction", s.bed_large_fraction);
+  f.write("series/kinetic_energy", s.kinetic_energy);
+  if (!s.repose_angle.empty()) {  // single-axis sphere scenes only
+    f.write("series/repose_angle", s.repose_angle);
+    f.write("series/surface_speed", s.surface_speed);
+  }
+  write_cylinder_series(f, s.cylinder);
+}
+
+void read_series(const H5File& f, analysis::Series& s) {
+  s.time = f.read_double("series/time");
+  s.iteration = f.read_double("series/iteration");
+  s.shell_large_fraction = f.read_double("series/shell_large_fraction");
+  s.bed_large_fraction = f.read_double("series/bed_large_fraction");
+  s.kinetic_energy = f.read_double("series/kinetic_energy");
+  if (f.exists("series/repose_angle")) {
+    s.repose_angle = f.read_double("series/repose_angle");
+    s.surface_speed = f.read_double("series/surface_speed");
+  }
+  read_cylinder_series(f, s.cylinder);
+}
+
+}  // namespace tumble::io
