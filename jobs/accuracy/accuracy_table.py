@@ -5,7 +5,8 @@ Reads OUT/<tier>/seed<k>/results.h5 written by jobs/accuracy/flow_accuracy.sh. P
 of the repose angle, the surface speed (also divided by the tumbler's speed omega R) and the
 large-particle fraction of the wall shell over the samples at 40-80 degrees of rotation, and the
 wall time of the protocol phase. Per tier: mean and 95% CI over replicas (Student t); the error
-against the reference is the difference of means with its Welch 95% CI.
+against the reference (or, without reference runs, the standard tier) is the difference of means
+with its Welch 95% CI.
 """
 import glob
 import math
@@ -83,12 +84,13 @@ def main():
         runs = [run_means(p) for p in sorted(glob.glob(os.path.join(out, tier, "seed*", "results.h5")))]
         if runs:
             data[tier] = runs
-    if "reference" not in data:
-        sys.exit("no reference runs in " + out)
+    base = "reference" if "reference" in data else "standard"
+    if base not in data:
+        sys.exit("no reference (or standard) runs in " + out)
     obs = ["repose angle (deg)", "surface speed (m/s)", "surface speed / (omega R)",
            "wall large fraction"]
     print("| tier | N | particles | rpm | wall s per run (1 core) | " +
-          " | ".join(f"{o}: mean ± CI | error vs reference ± CI" for o in obs) + " |")
+          " | ".join(f"{o}: mean ± CI | error vs {base} ± CI" for o in obs) + " |")
     print("|---" * (5 + 2 * len(obs)) + "|")
     for tier in tiers:
         if tier not in data:
@@ -99,10 +101,10 @@ def main():
         for o in obs:
             m, h, _ = ci([r[o] for r in runs])
             cells.append(f"{m:.4g} ± {h:.2g}")
-            if tier == "reference":
+            if tier == base:
                 cells.append("—")
             else:
-                d, hd = welch([r[o] for r in data["reference"]], [r[o] for r in runs])
+                d, hd = welch([r[o] for r in data[base]], [r[o] for r in runs])
                 cells.append(f"{d:+.3g} ± {hd:.2g}")
         print("| " + " | ".join(cells) + " |")
 

@@ -5,6 +5,7 @@
 # repose angle, surface speed and the large-particle wall fraction averaged over 40°-80° (the
 # flow is established after ~35°); then jobs/accuracy/accuracy_table.py prints the table.
 # usage: jobs/accuracy/flow_accuracy.sh [SCENE=scenes/bst_tiny.toml] [REPLICAS=3] [JOBS=2]
+# TIERS="standard fast preview" leaves the reference out (the errors are then against standard).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SCENE=${1:-scenes/bst_tiny.toml}
@@ -18,7 +19,7 @@ echo "# $(lscpu | awk -F: '/Model name/ {gsub(/^ +/, "", $2); print $2}'), $(npr
      "$(date -u +%Y-%m-%dT%H:%MZ); git $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
 echo "# $SCENE: tiers x $REPLICAS replicas, 80 degrees of rotation about x, $JOBS runs at a time"
 runs=()
-for tier in reference standard fast preview; do
+for tier in ${TIERS:-reference standard fast preview}; do
   rpm=$("$BIN" run "$SCENE" --set fidelity.tier=$tier --set protocol.mode=single_axis --check |
         sed -n 's/^protocol.rpm = //p')
   duration=$(awk -v r="$rpm" 'BEGIN {printf "%.6g", 80 / (6 * r)}')  # 80° at rpm * 6 °/s

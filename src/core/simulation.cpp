@@ -122,11 +122,7 @@ Particles Simulation::gather_all() const {
 }
 
 void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
-  if (cylinder_.periodic) {  // owners are found from positions inside the period
-    const double L = 2 * cylinder_.half_length;
-    for (std::size_t i = 0; i < n_local_; ++i)
-      p_.x[i].z -= L * std::floor((p_.x[i].z + cylinder_.half_length) / L);
-  }
+  // (rebuild_lists has brought the centres back into the period: owners come from positions.)
   // The live springs leave with the pair's particles: saved by id with the position of the pair,
   // routed to every rank near that position, matched by id after the move.
   std::vector<neighbor::SavedSpring> records;
@@ -228,8 +224,12 @@ void Simulation::restore(const neighbor::ContactHistory& history) {
 
 void Simulation::maybe_rebuild(double max_displacement2) {
   const double half = 0.5 * list_.skin();
-  if (dom_)  // every rank rebuilds at the same step (migration is collective)
-    MPI_Allreduce(MPI_IN_PLACE, &max_displacement2, 1, MPI_DOUBLE, MPI_MAX, dom_->comm());
+  if (dom_) {  // every rank rebuilds at the same step (migration is collective)
+    double d2 = force_rebuild_ ? 1e300 : max_displacement2;
+    MPI_Allreduce(MPI_IN_PLACE, &d2, 1, MPI_DOUBLE, MPI_MAX, dom_->comm());
+    if (d2 == 1e300) force_rebuild_ = true;  // a rebuild requested on any rank
+    max_displacement2 = d2;
+  }
   if (force_rebuild_ || max_displacement2 > half * half) {
     if (!force_rebuild_ && step_ - last_build_step_ < 10) ++fast_rebuilds_;
     rebuild_lists(nullptr);
