@@ -193,9 +193,10 @@ void parse_campaign_table(const Ctx& c, const toml::table& t, CampaignSpec& s,
       s.ranks_per_case = static_cast<int>(integer(c, key, node, 1, 1e6));
       if (s.ranks_per_case > 1)
         c.fail(key, "= " + std::to_string(s.ranks_per_case) +
-                        ": a case runs on one rank until domain decomposition lands (design.md "
-                        "Sec. 4, the parallel issue); use 1 for now. The rank groups are already "
-                        "formed with MPI_Comm_split, so larger groups drop in then");
+                        ": campaign cases run on one rank each for now. The engine runs one "
+                        "realization on many ranks (domain decomposition: mpirun -n N tumble run, "
+                        "docs/parallel.md), but the campaign's in-situ collectors are serial; "
+                        "use 1");
     } else if (name == "tier") {
       s.tier = text(c, key, node, {"standard", "reference", "fast", "preview"});
     } else if (name == "max_attempts") {

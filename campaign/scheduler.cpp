@@ -379,8 +379,9 @@ ScheduleStats schedule(const CaseContext& ctx, MPI_Comm world, const ScheduleInp
   MPI_Comm_rank(world, &rank);
   MPI_Comm_size(world, &size);
   const int rpc = ctx.spec->ranks_per_case;
-  // Rank groups: consecutive ranks share a case. The group communicator is what the engine will
-  // take once it is domain-decomposed; today groups have one rank (validated in the spec).
+  // Rank groups: consecutive ranks share a case. The engine takes a group communicator
+  // (RunOptions::comm); groups still have one rank (validated in the spec) until the dispatcher
+  // hands a case to a whole group and the collectors sample the gathered bed (docs/parallel.md).
   MPI_Comm group;
   MPI_Comm_split(world, rank / rpc, rank, &group);
   CaseContext local = ctx;

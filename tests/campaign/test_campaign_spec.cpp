@@ -32,7 +32,7 @@ std::string error_of(const std::string& text) {
 TEST(CampaignSpec, RefusesMoreThanOneRankPerCaseNamingTheKey) {
   const std::string e = error_of(with_campaign("", "ranks_per_case = 2"));
   EXPECT_NE(e.find("key 'campaign.ranks_per_case' = 2"), std::string::npos) << e;
-  EXPECT_NE(e.find("domain decomposition"), std::string::npos) << e;
+  EXPECT_NE(e.find("collectors are serial"), std::string::npos) << e;
 }
 
 TEST(CampaignSpec, UnknownKeysGetASuggestion) {
@@ -45,9 +45,9 @@ TEST(CampaignSpec, UnknownKeysGetASuggestion) {
 }
 
 TEST(CampaignSpec, ValuesAreCheckedAgainstTheirRanges) {
-  EXPECT_NE(error_of(with_campaign("", "tier = \"fast\""))
-                .find("key 'campaign.tier' = 'fast' is "
-                      "not one of: standard"),
+  EXPECT_NE(error_of(with_campaign("", "tier = \"ultra\""))
+                .find("key 'campaign.tier' = 'ultra' is "
+                      "not one of: standard, reference, fast, preview"),
             std::string::npos);
   EXPECT_NE(error_of(with_campaign("", "replicas = 0"))
                 .find("key 'campaign.replicas' = 0 is out of "
@@ -191,6 +191,24 @@ theta_z = [30, 45, 57, 68, 90]
     if (n == 3) {
       EXPECT_LT(hi / lo, 1.25);  // the snake deal balances the work
     }
+  }
+}
+
+// A campaign's tier reaches every case's scene (derived from the template), the sweep's own keys
+// still win, and the tier is part of the case id.
+TEST(CampaignSpec, TierAppliesToEveryCase) {
+  const std::string body = "[[sweep]]\nf = [0.1, 0.2]\n";
+  const CampaignSpec fast = parse_campaign(with_campaign(body, "tier = \"fast\""), "t.toml", ".");
+  const CampaignSpec standard = parse_campaign(with_campaign(body), "t.toml", ".");
+  const Expansion ef = expand(fast), es = expand(standard);
+  ASSERT_EQ(ef.cases.size(), es.cases.size());
+  for (std::size_t k = 0; k < ef.cases.size(); ++k) {
+    const Scene a = case_scene(fast, ef.cases[k], "/tmp/x", "/tmp/beds", 1);
+    const Scene b = case_scene(standard, es.cases[k], "/tmp/x", "/tmp/beds", 1);
+    EXPECT_DOUBLE_EQ(a.collision_time, 2 * b.collision_time);
+    EXPECT_EQ(a.tier_applied, "fast");
+    EXPECT_DOUBLE_EQ(a.large_fraction, b.large_fraction);  // the sweep's value kept
+    EXPECT_NE(ef.cases[k].id, es.cases[k].id);
   }
 }
 
