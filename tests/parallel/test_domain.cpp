@@ -17,62 +17,12 @@
 #include "core/realization.hpp"
 #include "core/simulation.hpp"
 #include "parallel/domain.hpp"
+#include "parallel_helpers.hpp"
 
 using namespace tumble;
+using namespace tumble::testing;
 
 namespace {
-
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-int comm_size(MPI_Comm c) {
-  int n = 1;
-  MPI_Comm_size(c, &n);
-  return n;
-}
-
-std::string scratch(const std::string& name) {
-  const auto d = std::filesystem::path(TUMBLE_TEST_SCRATCH) / name;
-  std::filesystem::create_directories(d);
-  return d.string();
-}
-
-Scene tiny(std::vector<std::string> o = {}) {
-  std::vector<std::string> all = {"tumbler.radius=0.02", "contact.collision_time=1e-3",
-                                  "fill.bed_cache=" + scratch("beds"), "protocol.mode=biaxial",
-                                  "protocol.rpm=15"};
-  all.insert(all.end(), o.begin(), o.end());
-  return parse_scene("", all, "tiny");
-}
-
-// The settled tiny bed: settled once by world rank 0 (cached), then read by everyone.
-Particles tiny_bed(const Scene& s) {
-  if (world_rank() == 0) settled_bed(s, nullptr);
-  MPI_Barrier(MPI_COMM_WORLD);
-  return settled_bed(s, nullptr);
-}
-
-geometry::Protocol biaxial(const Scene& s) {
-  return geometry::Protocol::biaxial(deg2rad(s.theta_z), deg2rad(s.theta_x), deg2rad(s.repose),
-                                     s.omega());
-}
-
-// Largest distance, over all particles, between the serial run and the gathered parallel one.
-// (Nearest image along z when periodic with `period_z`.)
-double max_deviation(const Simulation& serial, const Particles& gathered, double period_z = 0) {
-  const Particles& p = serial.particles();
-  std::vector<Vec3> by_id(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) by_id[p.id[i]] = p.x[i];
-  double worst = 0;
-  for (std::size_t i = 0; i < gathered.size(); ++i) {
-    Vec3 d = gathered.x[i] - by_id[gathered.id[i]];
-    if (period_z > 0) d.z -= period_z * std::nearbyint(d.z / period_z);
-    worst = std::max(worst, norm(d));
-  }
-  return worst;
-}
 
 // Every id 0..n-1 exactly once over the ranks, owned particles only.
 void expect_ids_conserved(const Simulation& sim, std::int64_t n) {
@@ -106,7 +56,7 @@ TEST(Domain, MatchesSerialTrajectoryAndConservesIds) {
   ASSERT_NE(par.domain(), nullptr);
   EXPECT_GT(par.domain()->bisections(), 1);
   EXPECT_GT(par.domain()->ghosts(), 0);
-  EXPECT_LT(max_deviation(serial, par.gather_all()), 1e-9 * s.d_small);
+  EXPECT_LT(max_deviation(serial.particles(), par.gather_all()), 1e-9 * s.d_small);
   const EnergyBreakdown es = serial.energy(), ep = par.energy();
   EXPECT_NEAR(ep.kinetic, es.kinetic, 1e-9 * es.kinetic);
   EXPECT_NEAR(ep.elastic, es.elastic, 1e-6 * es.elastic);
@@ -115,7 +65,7 @@ TEST(Domain, MatchesSerialTrajectoryAndConservesIds) {
 // The same on a sub-communicator: the world's ranks split into groups, each group runs the scene
 // on its own (a campaign's rank groups). With 3 ranks: a 2-rank group and a 1-rank group.
 TEST(Domain, RunsOnASubCommunicator) {
-  const int world = comm_size(MPI_COMM_WORLD);
+  const int world = size_of(MPI_COMM_WORLD);
   MPI_Comm group;
   MPI_Comm_split(MPI_COMM_WORLD, world_rank() < 2 ? 0 : 1, world_rank(), &group);
   const Scene s = tiny({"neighbor.skin=0.05"});
@@ -129,8 +79,8 @@ TEST(Domain, RunsOnASubCommunicator) {
     par.step();
   }
   EXPECT_EQ(par.global_count(), static_cast<std::int64_t>(bed.size()));
-  EXPECT_LT(max_deviation(serial, par.gather_all()), 1e-9 * s.d_small);
-  EXPECT_EQ(par.domain() != nullptr, comm_size(group) > 1) << "world " << world;
+  EXPECT_LT(max_deviation(serial.particles(), par.gather_all()), 1e-9 * s.d_small);
+  EXPECT_EQ(par.domain() != nullptr, size_of(group) > 1) << "world " << world;
   MPI_Comm_free(&group);
 }
 
@@ -165,7 +115,7 @@ TEST(Domain, SlidingContactKeepsItsSpringAcrossTheBorder) {
       }
   // Extra particles on the right make the first cut's share (n/2 of n ranks) exactly the 23 on
   // the left: 2 extra for 2 ranks, 25 for 3.
-  const int n = comm_size(MPI_COMM_WORLD), lo = n / 2;
+  const int n = size_of(MPI_COMM_WORLD), lo = n / 2;
   const int extra = 23 * (n - lo) / lo - 21;
   ASSERT_LE(extra, 30) << "laid out for up to 3 ranks";
   for (int e = 0; e < extra; ++e) {
@@ -206,7 +156,7 @@ TEST(Domain, SlidingContactKeepsItsSpringAcrossTheBorder) {
   if (holds) {
     EXPECT_LT(norm(mine - ref), 1e-9 * norm(ref));
   }
-  EXPECT_LT(max_deviation(serial, after), 1e-9 * d);
+  EXPECT_LT(max_deviation(serial.particles(), after), 1e-9 * d);
 }
 
 // Every geometry and law: the periodic Rapaport cylinder (ghosts across the periodic ends) and
@@ -247,7 +197,7 @@ TEST(Domain, CylinderScenesMatchSerial) {
     EXPECT_GT(all_border, 10) << "periodic " << periodic;
     EXPECT_EQ(par.global_count(), static_cast<std::int64_t>(cb.particles.size()));
     const double period = s.periodic == "on" ? s.length : 0.0;
-    EXPECT_LT(max_deviation(serial, par.gather_all(), period), 1e-9 * s.d_small)
+    EXPECT_LT(max_deviation(serial.particles(), par.gather_all(), period), 1e-9 * s.d_small)
         << "periodic " << periodic;
   }
 }
@@ -332,9 +282,10 @@ TEST(Domain, LongRunObservablesAgreeStatistically) {
         << names[q] << ": " << m1 << " +- " << s1 << " vs " << m2 << " +- " << s2;
     if (world_rank() == 0)
       std::printf("[stats] %-15s 1 rank %.6g +- %.2g   %d ranks %.6g +- %.2g\n", names[q], m1, s1,
-                  comm_size(MPI_COMM_WORLD), m2, s2);
+                  size_of(MPI_COMM_WORLD), m2, s2);
   }
-  const double apart = max_deviation(serial, par.gather_all()) / s.d_small;  // collective
+  const double apart =
+      max_deviation(serial.particles(), par.gather_all()) / s.d_small;  // collective
   if (world_rank() == 0)
     std::printf("[stats] largest position difference after 1 s: %.3g d_small\n", apart);
 }

@@ -14,46 +14,22 @@
 #include "io/checkpoint.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/snapshot.hpp"
+#include "parallel_helpers.hpp"
 
 using namespace tumble;
+using namespace tumble::testing;
 
 namespace {
 
-int rank_of(MPI_Comm c) {
-  int r = 0;
-  MPI_Comm_rank(c, &r);
-  return r;
-}
+Scene scene() { return tiny({"neighbor.skin=0.05"}); }
 
-std::string dir(const std::string& name) {
-  const auto d = std::filesystem::path(TUMBLE_TEST_SCRATCH) / name;
-  if (rank_of(MPI_COMM_WORLD) == 0) std::filesystem::create_directories(d);
-  MPI_Barrier(MPI_COMM_WORLD);
-  return d.string();
-}
-
-Scene scene() {
-  return parse_scene(
-      "",
-      {"tumbler.radius=0.02", "contact.collision_time=1e-3", "fill.bed_cache=" + dir("beds"),
-       "protocol.mode=biaxial", "protocol.rpm=15", "neighbor.skin=0.05"},
-      "tiny");
-}
-
-geometry::Protocol protocol(const Scene& s) {
-  return geometry::Protocol::biaxial(deg2rad(s.theta_z), deg2rad(s.theta_x), deg2rad(s.repose),
-                                     s.omega());
-}
-
-// The settled bed, settled once by world rank 0 and read by all (collective over the world: call
-// it on every rank before any rank-0-only section).
+// The settled bed, read once per test binary (collective over the world: call it on every rank
+// before any rank-0-only section).
 const Particles& bed(const Scene& s) {
   static Particles b;
   static bool done = false;
   if (!done) {
-    if (rank_of(MPI_COMM_WORLD) == 0) settled_bed(s, nullptr);
-    MPI_Barrier(MPI_COMM_WORLD);
-    b = settled_bed(s, nullptr);
+    b = tiny_bed(s);
     done = true;
   }
   return b;
@@ -64,12 +40,11 @@ std::unique_ptr<Simulation> continue_run(const Scene& s, MPI_Comm comm, const st
                                          int steps, const std::string& to) {
   std::unique_ptr<Simulation> sim;
   if (from.empty()) {
-    sim = std::make_unique<Simulation>(s, share_of(bed(s), comm), protocol(s), 0, 0, comm);
+    sim = std::make_unique<Simulation>(s, share_of(bed(s), comm), biaxial(s), 0, 0, comm);
     sim->compute_forces();
   } else {
     io::CheckpointData c = io::read_checkpoint(from, comm);
-    sim =
-        std::make_unique<Simulation>(s, std::move(c.particles), protocol(s), c.time, c.step, comm);
+    sim = std::make_unique<Simulation>(s, std::move(c.particles), biaxial(s), c.time, c.step, comm);
     sim->restore(c.history);
   }
   for (int k = 0; k < steps; ++k) {
@@ -80,19 +55,11 @@ std::unique_ptr<Simulation> continue_run(const Scene& s, MPI_Comm comm, const st
   return sim;
 }
 
-double max_deviation(const Particles& a, const Particles& b) {
-  std::vector<Vec3> by_id(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) by_id[a.id[i]] = a.x[i];
-  double worst = 0;
-  for (std::size_t i = 0; i < b.size(); ++i) worst = std::max(worst, norm(b.x[i] - by_id[b.id[i]]));
-  return worst;
-}
-
 }  // namespace
 
 TEST(ParallelIO, CheckpointRestartsOnAnotherRankCount) {
   const Scene s = scene();
-  const std::string d = dir("restart");
+  const std::string d = scratch("restart");
   const int me = rank_of(MPI_COMM_WORLD);
   bed(s);
   // Reference: 300 uninterrupted serial steps (every rank runs it).
@@ -125,12 +92,12 @@ TEST(ParallelIO, CheckpointRestartsOnAnotherRankCount) {
 // ranks equal those the serial run holds at the same step.
 TEST(ParallelIO, SpringsSurviveTheRestart) {
   const Scene s = scene();
-  const std::string d = dir("springs");
+  const std::string d = scratch("springs");
   bed(s);
   if (rank_of(MPI_COMM_WORLD) == 0) continue_run(s, MPI_COMM_NULL, "", 100, d + "/one.h5");
   MPI_Barrier(MPI_COMM_WORLD);
   io::CheckpointData c = io::read_checkpoint(d + "/one.h5", MPI_COMM_WORLD);
-  Simulation par(s, std::move(c.particles), protocol(s), c.time, c.step, MPI_COMM_WORLD);
+  Simulation par(s, std::move(c.particles), biaxial(s), c.time, c.step, MPI_COMM_WORLD);
   par.restore(c.history);
   const io::CheckpointData whole = io::read_checkpoint(d + "/one.h5");
   neighbor::ContactHistory mine;
@@ -154,7 +121,7 @@ TEST(ParallelIO, SpringsSurviveTheRestart) {
 // the ranks hold.
 TEST(ParallelIO, CollectiveSnapshotHasEveryParticleOnce) {
   const Scene s = scene();
-  const std::string d = dir("snap");
+  const std::string d = scratch("snap");
   auto sim = continue_run(s, MPI_COMM_WORLD, "", 20, "");
   io::write_snapshot(d + "/snap.h5", *sim, s);
   const Particles all = sim->gather_all();
@@ -177,7 +144,7 @@ TEST(ParallelIO, RanksWithoutParticlesTakePart) {
                               {"gravity.g=0", "tumbler.radius=0.02", "protocol.mode=rest",
                                "particles.fill_level=0.05", "contact.collision_time=1e-3"},
                               "single");
-  const std::string d = dir("single");
+  const std::string d = scratch("single");
   Particles one;
   one.resize(1);
   one.x[0] = {0.001, -0.002, 0.003};
