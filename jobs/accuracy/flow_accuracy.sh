@@ -11,12 +11,10 @@ cd "$(dirname "$0")/../.."
 SCENE=${1:-scenes/bst_tiny.toml}
 REPLICAS=${2:-3}
 JOBS=${3:-2}
-BIN=${TUMBLE:-build/tumble}
-[ -x "$BIN" ] || { echo "no executable at $BIN (build first, or set TUMBLE)" >&2; exit 1; }
+source jobs/lib/bench_common.sh
 OUT=${ACCURACY_OUT:-results/accuracy/$(basename "$SCENE" .toml)}
 mkdir -p "$OUT"
-echo "# $(lscpu | awk -F: '/Model name/ {gsub(/^ +/, "", $2); print $2}'), $(nproc) cores;" \
-     "$(date -u +%Y-%m-%dT%H:%MZ); git $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
+bench_header
 echo "# $SCENE: tiers x $REPLICAS replicas, 80 degrees of rotation about x, $JOBS runs at a time"
 runs=()
 for tier in ${TIERS:-reference standard fast preview}; do

@@ -11,15 +11,11 @@ cd "$(dirname "$0")/../.."
 SCENE=${1:-scenes/bst_paper.toml}
 STEPS=${2:-1000}
 WARMUP=${WARMUP:-500}
-BIN=${TUMBLE:-build/tumble}
-[ -x "$BIN" ] || { echo "no executable at $BIN (build first, or set TUMBLE)" >&2; exit 1; }
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/tumble_tiers.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
+source jobs/lib/bench_common.sh
+make_work tiers
 pin=()
 command -v taskset > /dev/null && pin=(taskset -c 0)
-echo "# $(lscpu | awk -F: '/Model name/ {gsub(/^ +/, "", $2); print $2}'), $(nproc) cores;" \
-     "$(date -u +%Y-%m-%dT%H:%MZ); git $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
+bench_header
 echo "# $SCENE: $STEPS timed steps per tier after $WARMUP warm-up steps, one core (${pin[*]:-unpinned})"
 echo "| tier | particles | R/d_large | t_c (s) | δt (s) | skin (d_s) | rpm | Froude | iterations | steps/iteration | particle-steps/s | wall per iteration | wall for the tier's run |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"

@@ -15,17 +15,13 @@ STEPS=${2:-2000}
 REPEATS=${3:-3}
 NP=${4:-2}
 WARMUP=${WARMUP:-2000}
-BIN=${TUMBLE:-build/tumble}
-[ -x "$BIN" ] || { echo "no executable at $BIN (build first, or set TUMBLE)" >&2; exit 1; }
+source jobs/lib/bench_common.sh
 command -v /usr/bin/time > /dev/null || { echo "needs GNU time (apt-get install time)" >&2; exit 1; }
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 MPI=(mpiexec --bind-to core -n "$NP")
 [ "$NP" -gt "$(nproc)" ] && MPI=(mpiexec --oversubscribe -n "$NP")
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/tumble_scaling.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
+make_work scaling
 name=$(basename "$SCENE" .toml)
-echo "# $(lscpu | awk -F: '/Model name/ {gsub(/^ +/, "", $2); print $2}'), $(nproc) cores;" \
-     "$(date -u +%Y-%m-%dT%H:%MZ); git $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
+bench_header
 echo "# $name: $STEPS timed steps per run after $WARMUP warm-up steps; $REPEATS runs per rank count"
 
 common=(--set fill.bed_cache=beds --set output.analysis_interval=0 --set output.progress_interval=1e6)
@@ -33,7 +29,6 @@ common=(--set fill.bed_cache=beds --set output.analysis_interval=0 --set output.
 "${MPI[@]}" "$BIN" run "$SCENE" "${common[@]}" --set scene.output_dir="$WORK/warm" \
   --max-steps "$WARMUP" > "$WORK/warm.log"
 
-rate() { sed -n 's/.*(\([0-9.e+]*\) particle-steps\/s.*/\1/p' "$1" | tail -1; }
 timed() {  # ranks, label
   local n=$1 out="$WORK/run_$2"
   local launch=()

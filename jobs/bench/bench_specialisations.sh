@@ -10,18 +10,13 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 STEPS=${1:-5000}
 REPEATS=${2:-3}
-BIN=${TUMBLE:-build/tumble}
-[ -x "$BIN" ] || { echo "no executable at $BIN (build first, or set TUMBLE)" >&2; exit 1; }
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/tumble_spec.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
+source jobs/lib/bench_common.sh
+make_work spec
 pin=()
 command -v taskset > /dev/null && pin=(taskset -c 0)
-echo "# $(lscpu | awk -F: '/Model name/ {gsub(/^ +/, "", $2); print $2}'), $(nproc) cores;" \
-     "$(date -u +%Y-%m-%dT%H:%MZ); git $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
+bench_header
 echo "# $STEPS steps per timed run, $REPEATS runs per path, pinned: ${pin[*]:-no}"
 
-rate() { sed -n 's/.*(\([0-9.e+]*\) particle-steps\/s).*/\1/p' "$1" | tail -1; }
 
 bench() {  # label, scene, overrides...
   local label=$1 scene=$2
