@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/fill.hpp"
 #include "core/scene.hpp"
+#include "io/bed_io.hpp"
 
 using namespace tumble;
 
@@ -97,4 +98,24 @@ TEST(Fidelity, ResolvedTextReadsBackUnchanged) {
   EXPECT_DOUBLE_EQ(again.collision_time, s.collision_time);
   EXPECT_EQ(again.tier_applied, "reference");
   EXPECT_EQ(scene_to_text(again), scene_to_text(s));
+}
+
+// A bed settled with the soft contacts of a cheap tier presses further into the wall than a stiff
+// one; reading it back must accept what the scene's contacts allow (up to the validator's
+// kMaxWeightOverlap of d_small) and still refuse a bed that belongs to a smaller tumbler.
+TEST(Fidelity, SoftTierBedsReadBack) {
+  const Scene s = parse_scene(kPaper, {}, "paper");
+  const std::string dir = ::testing::TempDir();
+  auto bed_pressing_in = [&](double depth) {
+    Particles p;
+    p.resize(1);
+    p.radius[0] = 0.5 * s.d_small;
+    p.x[0] = {0, -(s.radius - p.radius[0] + depth), 0};
+    p.id[0] = 0;
+    io::write_bed(dir + "/bed.h5", p, s);
+  };
+  bed_pressing_in(0.2 * s.d_small);  // beyond 10% of a radius, within the allowed overlap
+  EXPECT_NO_THROW(io::read_bed(dir + "/bed.h5", s));
+  bed_pressing_in(0.3 * s.d_small);
+  EXPECT_THROW(io::read_bed(dir + "/bed.h5", s), InputError);
 }

@@ -408,7 +408,6 @@ void validate_scene(const Scene& s) {
     if (!s.rapaport()) os << " or time.dt_fraction <= " << down(bound / s.collision_time);
     fail(s.dt > 0 ? "time.dt" : "time.dt_fraction", os.str());
   }
-  constexpr double kMaxWeightOverlap = 0.25;
   if (const double ov = weight_overlap_fraction(s); ov > kMaxWeightOverlap) {
     std::ostringstream os;
     os.precision(3);

@@ -111,6 +111,9 @@ void validate_scene(const Scene& s);
 double time_step_bound(const Scene& s);
 // Estimated overlap of the bottom particles under the bed's weight, as a fraction of d_small.
 double weight_overlap_fraction(const Scene& s);
+// Scenes whose estimated weight overlap exceeds this fraction of d_small are refused; a settled
+// bed may press into the wall by as much (io/bed_io.cpp).
+inline constexpr double kMaxWeightOverlap = 0.25;
 // Rendering of the resolved scene as TOML-like text (provenance).
 std::string scene_to_text(const Scene& s);
 

@@ -1,5 +1,6 @@
 #include "io/bed_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -69,11 +70,14 @@ void check_bed(const Particles& p, const Scene& s, const std::string& path) {
       throw InputError("bed '" + path + "': particle " + std::to_string(p.id[i]) + " has radius " +
                        std::to_string(p.radius[i]) + " but the scene's particles.d_" +
                        (p.species[i] == 1 ? "large" : "small") + " gives " + std::to_string(want));
-    // Settled beds press slightly into the wall; 10% of a radius means a different tumbler. The
-    // soft particles of the Rapaport law (k_n = 1000) press in by up to half a radius at the
-    // bottom of a settled bed (measured: 0.52 r in run #E's), so there only the centre must be in.
+    // Settled beds press into the wall as far as the scene's contacts let the weight push them:
+    // up to the overlap the validator accepts (kMaxWeightOverlap d_small; soft fidelity tiers get
+    // there), and at least 10% of a radius. The soft particles of the Rapaport law (k_n = 1000)
+    // press in by up to half a radius (measured: 0.52 r in run #E's bed): only the centre must be
+    // in. More than that means a different tumbler.
     const double from_axis = s.cylinder() ? std::hypot(p.x[i].x, p.x[i].y) : norm(p.x[i]);
-    const double tolerance = (s.rapaport() ? 1.0 : 0.1) * p.radius[i];
+    const double tolerance =
+        s.rapaport() ? p.radius[i] : std::max(0.1 * p.radius[i], kMaxWeightOverlap * s.d_small);
     if (from_axis + p.radius[i] > s.radius + tolerance)
       throw InputError("bed '" + path + "': particle " + std::to_string(p.id[i]) +
                        " lies outside tumbler.radius = " + std::to_string(s.radius));
