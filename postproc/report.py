@@ -25,7 +25,8 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import report_data as rd  # noqa: E402
 import report_figs as rf  # noqa: E402
-from report_stats import fmt, mean_ci  # noqa: E402
+import report_islands as ri  # noqa: E402
+from report_stats import fmt, mean_ci, welch_half_width  # noqa: E402
 
 MAP_FIELDS = [  # (field, label, unit factor, colour map)
     ("concentration/c_L", "c_L (large-particle concentration)", 1.0, "viridis"),
@@ -224,6 +225,15 @@ def section_maps(R, pts, map_csv):
                     f"half-width (right) per parameter point.")
 
 
+def difference_half_width(qf, bf):
+    """95% half-width of mean(q) − mean(b) per cell: Welch from the variances and counts; a
+    file without variances (older ensemble.h5) falls back to the quadrature sum of the two
+    Student half-widths (wider than Welch's, so fewer cells pass)."""
+    if "variance" in qf and "variance" in bf:
+        return welch_half_width(qf["variance"], qf["count"], bf["variance"], bf["count"])
+    return np.sqrt(qf["ci95"] ** 2 + bf["ci95"] ** 2)
+
+
 def section_differences(R, pts, baseline, map_csv):
     R.h("<h2>4. Differences from the baseline point</h2>")
     if len(pts) < 2:
@@ -231,9 +241,11 @@ def section_differences(R, pts, baseline, map_csv):
         return
     base = pts[baseline]
     R.h(f"<p>Baseline: <b>{html.escape(base['label'])}</b>. Each map shows mean(point) − "
-        "mean(baseline); cells where |difference| ≤ the 95% half-width of the difference, "
-        "taken as sqrt(ci_point² + ci_baseline²), are masked grey (not significant at this "
-        "level; with one replica the half-width is undefined and every cell is masked).</p>")
+        "mean(baseline); cells where |difference| ≤ the 95% half-width of the difference are "
+        "masked grey (not significant at the 5% level). The half-width is Welch's: "
+        "t(0.975, ν) sqrt(s²_point/N_point + s²_baseline/N_baseline), ν by Welch–Satterthwaite, "
+        "per cell from the replicas that visited it (ensemble.h5 variance and count); with "
+        "fewer than 2 replicas on either side it is undefined and the cell is masked.</p>")
     for field, label, k, _ in MAP_FIELDS[:2]:
         if field not in base["p"]["fields"]:
             continue
@@ -241,12 +253,13 @@ def section_differences(R, pts, baseline, map_csv):
                   and q["p"]["grid_n"] == base["p"]["grid_n"]]
         if not others:
             continue
-        bm = base["p"]["fields"][field]["mean"] * k
-        bc = base["p"]["fields"][field]["ci95"] * k
+        bf = base["p"]["fields"][field]
+        bm = bf["mean"] * k
         diffs, masks = [], []
         for q in others:
-            d = q["p"]["fields"][field]["mean"] * k - bm
-            half = np.sqrt((q["p"]["fields"][field]["ci95"] * k) ** 2 + bc ** 2)
+            qf = q["p"]["fields"][field]
+            d = qf["mean"] * k - bm
+            half = difference_half_width(qf, bf) * k
             mask = ~(np.abs(d) > half)
             diffs.append(d)
             masks.append(mask)
@@ -517,8 +530,10 @@ def main():
     section_differences(R, pts, a.baseline, map_csv)
     section_series(R, pts)
     section_scalars(R, pts)
+    ri.section_cross_enrichment(R, pts)
     section_convergence(R, pts)
     section_fates(R, pts)
+    ri.section_cross_sections(R, pts)
     section_renders(R, pts)
     R.csv("maps.csv", ["point", "field", "stat", "cell", "i", "j", "value"], map_csv)
     elapsed = time.time() - started

@@ -2,7 +2,8 @@
 the standard library: the manifest (latest record per case), the campaign file, ensemble.h5 (per
 parameter point: mean / ci95 / count of every field), the per-case fields files (for the scalar
 metrics and the convergence with replicas) and, when `tumble analyze campaign` has run,
-analysis.h5 (CM islands, island enrichment, Fig. 8 counts, lighter-particle maps)."""
+analysis.h5 (CM islands, island enrichment, also against the other points' islands, Fig. 8
+counts, lighter-particle maps, Fig. 5 sections)."""
 import glob
 import json
 import os
@@ -69,7 +70,9 @@ def load_ensemble(path):
         root = {k: (text(v) if isinstance(v, (bytes, str)) else v) for k, v in e.attrs.items()}
         stats = {}
         for field in _fields(e):
-            stats[field] = {s: e[f"fields/{field}/{s}"][:] for s in ("mean", "ci95", "count")}
+            stats[field] = {s: e[f"fields/{field}/{s}"][:]
+                            for s in ("mean", "ci95", "count", "variance")
+                            if f"fields/{field}/{s}" in e}
         times = e["series/time"][:] if "series/time" in e else None
         iters = e["series/iteration"][:] if "series/iteration" in e else None
         for pid, g in e["points"].items():
@@ -137,6 +140,17 @@ def load_analysis(d):
                                          to=float(ex.attrs["to_iteration"]))
             if "light/mean" in g:
                 p["light_mean"], p["light_ci95"] = g["light/mean"][:], g["light/ci95"][:]
+            p["enrichment_vs"] = {q: dict(values=e["values"][:],
+                                          mean=float(e.attrs["enrichment_mean"]),
+                                          ci95=float(e.attrs["enrichment_ci95"]),
+                                          n=int(e.attrs["enrichment_n"]))
+                                  for q, e in g.get("enrichment_vs", {}).items()}
+            if "section/mean" in g:
+                s = g["section"]
+                p["section"] = dict(mean=s["mean"][:], ci95=s["ci95"][:],
+                                    tubes=s["tube_crossings"][:], snapshots=s["snapshots"][:],
+                                    plane_of=text(s.attrs["plane_of"]),
+                                    half_width=float(s.attrs["half_width_m"]))
             out[pid] = p
     return out
 

@@ -173,3 +173,32 @@ def fates_fig(panels, out):
     fig.tight_layout()
     fig.savefig(out, dpi=90)
     plt.close(fig)
+
+
+def section_grid(rows, out, rng_mean, rng_ci):
+    """rows: [(title, mean[n, n], ci[n, n], tubes[m, 3] = (r, s1, s2))]: Fig. 5 sections, bin
+    (i, j) = (s1, s2) in [-1, 1]², the tumbler's circle and the KAM-tube boundary points."""
+    fig, axes = plt.subplots(len(rows), 2, figsize=(7.4, 3.0 * len(rows) + 0.4), squeeze=False)
+    fig.subplots_adjust(wspace=0.55)
+    ims = [None, None]
+    for r, (title, mean, ci, tubes) in enumerate(rows):
+        for c, (v, rng, cmap) in enumerate(((mean, rng_mean, "viridis"), (ci, rng_ci, "YlOrBr"))):
+            ax = axes[r][c]
+            cmap_obj = plt.get_cmap(cmap).copy()
+            cmap_obj.set_bad((0.85, 0.85, 0.85, 1))
+            ims[c] = ax.imshow(np.ma.masked_invalid(np.asarray(v, float).T), origin="lower",
+                               extent=(-1, 1, -1, 1), vmin=rng[0], vmax=rng[1], cmap=cmap_obj)
+            ax.add_patch(plt.Circle((0, 0), 1, fill=False, color="0.3", lw=0.8))
+            if len(tubes):
+                ax.scatter(tubes[:, 1], tubes[:, 2], s=4, c="red", lw=0)
+            ax.set_xlim(-1.03, 1.03)
+            ax.set_ylim(-1.03, 1.03)
+            ax.set_aspect("equal")
+            ax.set_xlabel("s1 / R", fontsize=7)
+            ax.set_ylabel("s2 / R", fontsize=7)
+            ax.tick_params(labelsize=6)
+            ax.set_title(title + ("\nmean c_L" if c == 0 else "\n95% CI half-width"), fontsize=7)
+    for c, label in enumerate(("c_L", "± c_L")):
+        fig.colorbar(ims[c], ax=[axes[r][c] for r in range(len(rows))], shrink=0.8, label=label)
+    fig.savefig(out, dpi=90)
+    plt.close(fig)

@@ -44,7 +44,7 @@ def t_cdf(t, df):
 
 def t_quantile(p, df):
     lo, hi = -1e3, 1e3
-    for _ in range(200):
+    while hi - lo > 1e-13 * max(1.0, abs(lo)):
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if t_cdf(mid, df) < p else (lo, mid)
     return 0.5 * (lo + hi)
@@ -71,3 +71,31 @@ def fmt(m, ci, n=None, digits=3):
     if n is not None:
         s += f" (N = {n})"
     return s
+
+
+_TQ = {}
+
+
+def _t975(df):
+    key = float(df)  # Welch's degrees of freedom are real; cells with equal counts share them
+    if key not in _TQ:
+        _TQ[key] = t_quantile(0.975, key)
+    return _TQ[key]
+
+
+def welch_half_width(var_a, n_a, var_b, n_b):
+    """95% half-width of mean_a − mean_b by Welch's t (unequal variances), per element:
+    t(0.975, ν) sqrt(s_a²/n_a + s_b²/n_b), ν by Welch–Satterthwaite. NaN where either side has
+    fewer than 2 replicas. When both variances are 0 the half-width is 0: any difference
+    is then significant, as it is exactly reproducible."""
+    va, vb = np.asarray(var_a, float), np.asarray(var_b, float)
+    na, nb = np.asarray(n_a, float), np.asarray(n_b, float)
+    out = np.full(np.broadcast(va, vb, na, nb).shape, np.nan)
+    ok = (na >= 2) & (nb >= 2) & np.isfinite(va) & np.isfinite(vb)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sa, sb = va / na, vb / nb
+        se2 = sa + sb
+        nu = se2 ** 2 / (sa ** 2 / (na - 1) + sb ** 2 / (nb - 1))
+    for idx in zip(*np.nonzero(np.broadcast_to(ok, out.shape))):
+        out[idx] = 0.0 if se2[idx] == 0 else _t975(nu[idx]) * np.sqrt(se2[idx])
+    return out

@@ -70,9 +70,23 @@ std::size_t nearest(const std::vector<double>& iters, double want, bool last) {
   return best;
 }
 
+// The Fig. 5 section of one case: the snapshots of the last half of the run (stroboscopic
+// snapshots see the islands where the CM puts them; the first half is still mixing).
+void add_section(CaseAnalysis& ca, const std::vector<SnapshotData>& snaps,
+                 const std::vector<double>& iters, const PointAnalysis& p, int n) {
+  SectionMap map(n);
+  for (std::size_t k = 0; k < snaps.size(); ++k)
+    if (iters[k] >= 0.5 * iters.back()) {
+      map.add(snaps[k], p.section_plane, p.section_half_width);
+      ++ca.section_snapshots;
+    }
+  ca.section = map.c_large();
+}
+
 void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMask& mask,
-                       bool have_islands, int light, const LambertGrid& grid,
+                       bool have_islands, const PointAnalysis& p, const LambertGrid& grid,
                        const CampaignAnalysisOptions& opt) {
+  const int light = p.light_species;
   const auto files = list_snapshots(dir);
   if (files.size() < 2) return;
   std::vector<SnapshotData> snaps;
@@ -93,6 +107,31 @@ void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMas
   if (have_islands)
     ca.enrichment_snap = enrichment_from_particles(snaps.back(), mask, opt.enrichment_inner).value;
   if (light >= 0) ca.light = light_concentration(snaps, grid, opt.light_inner);
+  if (!p.section_plane_of.empty()) add_section(ca, snaps, iters, p, p.section_grid);
+}
+
+// Per-cell mean and CI of equally sized per-case maps (cases with another size left out).
+void fold_maps(const std::vector<const std::vector<double>*>& maps, std::size_t cells,
+               std::vector<double>& mean, std::vector<double>& ci95) {
+  mean.assign(cells, kNaN);
+  ci95.assign(cells, kNaN);
+  for (std::size_t k = 0; k < cells; ++k) {
+    std::vector<double> v;
+    for (const auto* m : maps)
+      if (m->size() == cells) v.push_back((*m)[k]);
+    const MeanCI s = mean_ci95(v);
+    mean[k] = s.mean;
+    ci95[k] = s.ci95;
+  }
+}
+
+// Largest particle radius of a case's first snapshot (0 without snapshots).
+double largest_radius(const std::string& dir) {
+  const auto files = list_snapshots(dir);
+  if (files.empty()) return 0;
+  double r = 0;
+  for (double x : read_snapshot(files.front()).radius) r = std::max(r, x);
+  return r;
 }
 
 std::vector<double> fate_column(const std::vector<CaseAnalysis>& cases,
@@ -108,31 +147,74 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
                                             const CampaignAnalysisOptions& opt) {
   const auto cases = read_cases(dir);
   std::map<std::string, PointAnalysis> points;
-  const std::string cache = (fs::path(dir) / "analysis").string();
+  const std::string cache =
+      opt.islands_cache.empty() ? (fs::path(dir) / "analysis").string() : opt.islands_cache;
+  double r_large = 0;    // the largest particle radius of the campaign's snapshots (Fig. 5 slab)
+  int auto_grid = 1000;  // Fig. 5 default: bins of about one large diameter (finest bed's)
+
+  // Pass 1: the parameter points, their islands and the masks' cell coverage.
   for (const auto& c : cases) {
     auto [it, fresh] = points.try_emplace(c.point_id);
+    if (!fresh) continue;
     PointAnalysis& p = it->second;
-    if (fresh) {
-      const Scene sc = parse_scene(c.scene_text);
-      p.point_id = c.point_id;
-      p.params = c.params;
-      p.theta_z = sc.theta_z;
-      p.theta_x = sc.theta_x;
-      p.density_ratio = sc.density_ratio;
-      p.size_ratio = sc.d_large / sc.d_small;
-      p.grid_n = c.grid_n;
-      p.islands = cm::islands_on_shell(protocol_islands(p.theta_z, p.theta_x, opt.islands, cache),
-                                       opt.islands.r);
-      p.light_species = lighter_species(p.density_ratio);
+    const Scene sc = parse_scene(c.scene_text);
+    p.point_id = c.point_id;
+    p.params = c.params;
+    p.theta_z = sc.theta_z;
+    p.theta_x = sc.theta_x;
+    p.density_ratio = sc.density_ratio;
+    p.size_ratio = sc.d_large / sc.d_small;
+    p.grid_n = c.grid_n;
+    auto_grid = std::min(auto_grid, static_cast<int>(std::lround(2 * sc.radius / sc.d_large)));
+    p.islands = cm::islands_on_shell(protocol_islands(p.theta_z, p.theta_x, opt.islands, cache),
+                                     opt.islands.r);
+    p.light_species = lighter_species(p.density_ratio);
+    std::vector<cm::Polygon> polys;
+    for (const auto& is : p.islands) polys.push_back(is.boundary);
+    const IslandMask mask(polys);
+    p.island_area_fraction = mask.area_fraction();
+    p.coverage = mask.cell_coverage(LambertGrid(p.grid_n));
+    r_large = std::max(r_large, largest_radius(c.dir));
+  }
+
+  // The Fig. 5 plane: a point's own two islands (different orbits farthest apart), else the
+  // plane of the first point that has two, so that points without islands are cut alike.
+  const PointAnalysis* plane_owner = nullptr;
+  for (auto& [id, p] : points) {
+    if (p.islands.size() < 2) continue;
+    auto pair = farthest_island_pair(p.islands);
+    if (pair.first < 0) pair = {0, 1};
+    p.section_pair = pair;
+    p.section_plane = upright(plane_through_islands(p.islands[pair.first], p.islands[pair.second]));
+    p.section_plane_of = id;
+    if (!plane_owner) plane_owner = &p;
+  }
+  for (auto& [id, p] : points) {
+    if (r_large <= 0 || !plane_owner) {
+      p.section_plane_of.clear();  // no snapshots, or no point with two islands: no section
+      continue;
     }
+    if (p.section_plane_of.empty()) {
+      p.section_plane_of = plane_owner->point_id;
+      p.section_pair = plane_owner->section_pair;
+      p.section_plane = plane_owner->section_plane;
+    }
+    p.section_half_width = opt.section_half_width * 2 * r_large;
+    p.section_grid = opt.section_grid > 0 ? opt.section_grid : std::clamp(auto_grid, 4, 200);
+    CmIslandOptions kam = opt.islands;
+    kam.kam = true;  // the tube boundaries cross the plane on the KAM shells 0.55 ... 0.95
+    const PointAnalysis& owner = points.at(p.section_plane_of);
+    p.section_tubes =
+        tube_crossings(protocol_islands(owner.theta_z, owner.theta_x, kam, cache), p.section_plane);
+  }
+
+  // Pass 2: every case.
+  for (const auto& c : cases) {
+    PointAnalysis& p = points.at(c.point_id);
     std::vector<cm::Polygon> polys;
     for (const auto& is : p.islands) polys.push_back(is.boundary);
     const IslandMask mask(polys);
     const LambertGrid grid(p.grid_n);
-    if (fresh) {
-      p.island_area_fraction = mask.area_fraction();
-      p.coverage = mask.cell_coverage(grid);
-    }
     CaseAnalysis ca;
     ca.case_id = c.case_id;
     ca.point_id = c.point_id;
@@ -143,7 +225,11 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
                             ? enrichment_from_map(c.volume_large, p.coverage).value
                             : kNaN;
     ca.enrichment_snap = kNaN;
-    analyze_snapshots(ca, c.dir, mask, have_islands, p.light_species, grid, opt);
+    if (!c.volume_large.empty())
+      for (const auto& [qid, q] : points)
+        if (!q.islands.empty() && q.coverage.size() == c.volume_large.size())
+          ca.enrichment_vs[qid] = enrichment_from_map(c.volume_large, q.coverage).value;
+    analyze_snapshots(ca, c.dir, mask, have_islands, p, grid, opt);
     if (p.light_species >= 0 && ca.light.empty() && !c.c_L.empty()) {
       ca.light = p.light_species == 1 ? c.c_L : c.c_S;
       p.light_source = "fields " + std::string(p.light_species == 1 ? "c_L" : "c_S") + ", r/R > " +
@@ -157,29 +243,28 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
   std::vector<PointAnalysis> out;
   for (auto& [id, p] : points) {
     std::vector<double> em, es;
+    std::map<std::string, std::vector<double>> vs;
+    std::vector<const std::vector<double>*> light, section;
     for (const auto& c : p.cases) {
       em.push_back(c.enrichment_map);
       es.push_back(c.enrichment_snap);
+      for (const auto& [qid, v] : c.enrichment_vs) vs[qid].push_back(v);
+      light.push_back(&c.light);
+      if (!c.section.empty()) section.push_back(&c.section);
     }
     p.enrichment_map = mean_ci95(em);
     p.enrichment_snap = mean_ci95(es);
+    for (const auto& [qid, v] : vs) p.enrichment_vs[qid] = mean_ci95(v);
     p.persistent = mean_ci95(fate_column(p.cases, &FateCounts::persistent));
     p.captured = mean_ci95(fate_column(p.cases, &FateCounts::captured));
     p.dispersed = mean_ci95(fate_column(p.cases, &FateCounts::dispersed));
     p.other = mean_ci95(fate_column(p.cases, &FateCounts::other));
     p.same_island = mean_ci95(fate_column(p.cases, &FateCounts::same_island));
-    if (p.light_species >= 0) {
-      const std::size_t cells = static_cast<std::size_t>(p.grid_n) * p.grid_n;
-      p.light_mean.assign(cells, kNaN);
-      p.light_ci95.assign(cells, kNaN);
-      for (std::size_t k = 0; k < cells; ++k) {
-        std::vector<double> v;
-        for (const auto& c : p.cases)
-          if (c.light.size() == cells) v.push_back(c.light[k]);
-        const MeanCI m = mean_ci95(v);
-        p.light_mean[k] = m.mean;
-        p.light_ci95[k] = m.ci95;
-      }
+    if (p.light_species >= 0)
+      fold_maps(light, static_cast<std::size_t>(p.grid_n) * p.grid_n, p.light_mean, p.light_ci95);
+    if (!section.empty()) {
+      const auto cells = static_cast<std::size_t>(p.section_grid) * p.section_grid;
+      fold_maps(section, cells, p.section_mean, p.section_ci95);
     }
     out.push_back(std::move(p));
   }
@@ -191,6 +276,27 @@ void write_stat(io::H5File& f, const std::string& obj, const std::string& name, 
   f.set_attr(obj, name + "_mean", m.mean);
   f.set_attr(obj, name + "_ci95", m.ci95);
   f.set_attr(obj, name + "_n", static_cast<std::int64_t>(m.n));
+}
+// Fig. 5 of one point: per-bin mean and CI over its cases, the plane and the tube boundaries.
+void write_section_stats(io::H5File& f, const std::string& g, const PointAnalysis& p) {
+  const auto n = static_cast<hsize_t>(std::lround(std::sqrt(p.section_mean.size())));
+  f.create_group(g);
+  f.write(g + "/mean", p.section_mean, {n, n});
+  f.write(g + "/ci95", p.section_ci95, {n, n});
+  const Vec3& a = p.section_plane.e1;
+  const Vec3& b = p.section_plane.e2;
+  f.write(g + "/e1", std::vector<double>{a.x, a.y, a.z});
+  f.write(g + "/e2", std::vector<double>{b.x, b.y, b.z});
+  std::vector<double> tubes;
+  for (const auto& t : p.section_tubes) tubes.insert(tubes.end(), {t.r, t.s1, t.s2});
+  f.write(g + "/tube_crossings", tubes, {tubes.size() / 3, 3});
+  std::vector<std::int64_t> snaps;
+  for (const auto& c : p.cases) snaps.push_back(c.section_snapshots);
+  f.write(g + "/snapshots", snaps);
+  f.set_attr(g, "plane_of", p.section_plane_of);
+  f.set_attr(g, "island_a", static_cast<std::int64_t>(p.section_pair.first));
+  f.set_attr(g, "island_b", static_cast<std::int64_t>(p.section_pair.second));
+  f.set_attr(g, "half_width_m", p.section_half_width);
 }
 }  // namespace
 
@@ -287,6 +393,19 @@ void write_campaign_analysis(const std::string& path, const std::string& dir,
       f.write(g + "/light/mean", p.light_mean, {n, n});
       f.write(g + "/light/ci95", p.light_ci95, {n, n});
     }
+    if (!p.enrichment_vs.empty()) f.create_group(g + "/enrichment_vs");
+    for (const auto& [qid, stat] : p.enrichment_vs) {
+      const std::string e = g + "/enrichment_vs/" + qid;
+      std::vector<double> v;
+      for (const auto& c : p.cases) {
+        const auto it = c.enrichment_vs.find(qid);
+        v.push_back(it == c.enrichment_vs.end() ? kNaN : it->second);
+      }
+      f.create_group(e);
+      f.write(e + "/values", v);
+      write_stat(f, e, "enrichment", stat);
+    }
+    if (!p.section_mean.empty()) write_section_stats(f, g + "/section", p);
   }
   out.commit();
 }

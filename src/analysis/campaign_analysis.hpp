@@ -9,11 +9,20 @@
 //     iterations asked for), when it kept snapshots;
 //   * for density-bidisperse points, the lighter species' concentration map (Fig. 13): from
 //     snapshots on 0.97 < r/R < 1 when there are any, else the fields' c_S / c_L on the
-//     campaign's shell (its shell_inner is recorded).
+//     campaign's shell (its shell_inner is recorded);
+//   * cross-enrichment: each case's map against the islands of every point of the campaign that
+//     has islands. A point without islands, e.g. (68°, 68°), is measured against the islands of
+//     (57°, 57°): 1 within its CI is the absence of that pattern, on the same scale on which
+//     (57°, 57°) shows it;
+//   * Fig. 5: c_L in the plane through the tumbler centre and two islands, from the snapshots
+//     of the last half of each case (a point without islands uses the plane of the first point
+//     that has them, so the sections compare side by side), with the KAM-tube boundaries.
+#include <map>
 #include <string>
 #include <vector>
 
 #include "analysis/cm_islands.hpp"
+#include "analysis/cross_section.hpp"
 #include "analysis/fates.hpp"
 #include "analysis/replica_stats.hpp"
 
@@ -24,6 +33,9 @@ struct CampaignAnalysisOptions {
   double fates_from = -1, fates_to = -1;  // iterations; < 0: first / last snapshot
   double light_inner = 0.97;
   double enrichment_inner = 0.9;  // shell of the snapshot-based enrichment
+  int section_grid = 0;           // Fig. 5: bins per in-plane axis (0: one per large diameter)
+  double section_half_width = 1;  // Fig. 5: slab half-width, in large diameters
+  std::string islands_cache;      // where computed islands are cached ("": DIR/analysis)
 };
 
 struct CaseAnalysis {
@@ -34,8 +46,11 @@ struct CaseAnalysis {
   bool has_fates = false;
   FateCounts fates;
   FateResult fate_detail;  // per particle (the file keeps it for the point's first case)
-  double fates_from = 0, fates_to = 0;  // iterations actually compared
-  std::vector<double> light;            // lighter-species map (density-bidisperse points)
+  double fates_from = 0, fates_to = 0;          // iterations actually compared
+  std::vector<double> light;                    // lighter-species map (density-bidisperse points)
+  std::map<std::string, double> enrichment_vs;  // map enrichment against each island point's
+  std::vector<double> section;                  // Fig. 5 c_L per bin (NaN: nothing binned)
+  int section_snapshots = 0;                    // configurations averaged into it
 };
 
 struct PointAnalysis {
@@ -51,6 +66,15 @@ struct PointAnalysis {
   int light_species = -1;    // -1: not density-bidisperse
   std::string light_source;  // "snapshots r/R > 0.97" or "fields c_S, r/R > 0.9", ...
   std::vector<double> light_mean, light_ci95;
+  std::map<std::string, MeanCI> enrichment_vs;  // by the id of the point whose islands are used
+  // Fig. 5 (empty when no point of the campaign has two islands).
+  std::string section_plane_of;  // the point whose islands define the plane
+  int section_grid = 0;          // bins per in-plane axis
+  std::pair<int, int> section_pair{-1, -1};
+  SectionPlane section_plane;
+  double section_half_width = 0;  // [m]
+  std::vector<double> section_mean, section_ci95;
+  std::vector<TubeCrossing> section_tubes;
 };
 
 // Reads every DIR/cases/*/fields.h5 (the finished cases), groups them by parameter point.

@@ -17,6 +17,39 @@ SectionPlane plane_through(const Vec3& a, const Vec3& b) {
   return p;
 }
 
+std::pair<int, int> farthest_island_pair(const std::vector<cm::Island>& shell) {
+  std::pair<int, int> best{-1, -1};
+  double dmax = -1;
+  for (std::size_t i = 0; i < shell.size(); ++i)
+    for (std::size_t j = i + 1; j < shell.size(); ++j) {
+      const double d = (shell[i].center - shell[j].center).norm();
+      if (shell[i].orbit != shell[j].orbit && d > dmax) {
+        dmax = d;
+        best = {static_cast<int>(i), static_cast<int>(j)};
+      }
+    }
+  return best;
+}
+
+SectionPlane plane_through_islands(const cm::Island& a, const cm::Island& b) {
+  auto dir = [](const cm::Island& is) {
+    const auto u = lambert_inverse({is.center.x(), is.center.y()});
+    return Vec3{u[0], u[1], u[2]};
+  };
+  return plane_through(dir(a), dir(b));
+}
+
+SectionPlane upright(const SectionPlane& p) {
+  const Vec3 up{0, 1, 0};
+  const Vec3 w = up - dot(up, p.normal) * p.normal;  // +y projected on the plane
+  if (norm(w) < 1e-9) return p;
+  SectionPlane q;
+  q.e2 = w * (1.0 / norm(w));
+  q.e1 = cross(q.e2, p.normal);  // (e1, e2, normal) right-handed, as before
+  q.normal = p.normal;
+  return q;
+}
+
 void SectionMap::add(const SnapshotData& s, const SectionPlane& plane, double half_width) {
   for (std::size_t i = 0; i < s.size(); ++i) {
     if (std::abs(dot(s.x[i], plane.normal)) > half_width) continue;

@@ -6,6 +6,7 @@
 // (s1, s2) in [-1, 1]^2 (units of R); c_L of a bin is the large share of the binned solid volume.
 // The tube boundaries are where the circles r = const of the plane enter or leave the islands of
 // the CM's KAM shells.
+#include <utility>
 #include <vector>
 
 #include "analysis/snapshot_data.hpp"
@@ -21,6 +22,17 @@ struct SectionPlane {
 
 // The plane through the origin and directions a and b (not parallel).
 SectionPlane plane_through(const Vec3& a, const Vec3& b);
+
+// Fig. 5's default pair among the islands of one shell: the two of different orbits whose
+// centres lie farthest apart on the Lambert disc; {-1, -1} when no two orbits are present.
+std::pair<int, int> farthest_island_pair(const std::vector<cm::Island>& shell);
+
+// The plane through the tumbler centre and the centres of two islands (Lambert disc points).
+SectionPlane plane_through_islands(const cm::Island& a, const cm::Island& b);
+
+// The same plane with its in-plane axes turned so that e2 points up (+y projected on the plane)
+// and the bed lies at the bottom of a picture; unchanged if the plane is horizontal.
+SectionPlane upright(const SectionPlane& p);
 
 class SectionMap {
  public:

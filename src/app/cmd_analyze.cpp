@@ -121,30 +121,18 @@ void register_section(CLI::App& an) {
     const auto all = a->islands.all(snaps.front(), true);
     const auto shell = cm::islands_on_shell(all, a->islands.r);
     require(shell.size() >= 2, "--islands", "a protocol with at least two islands", shell.size());
-    int ia = 0, ib = 1;
+    auto [ia, ib] = farthest_island_pair(shell);
     if (a->pair.size() == 2) {
       ia = a->pair[0];
       ib = a->pair[1];
       const int n = static_cast<int>(shell.size());
       require(ia >= 0 && ia < n && ib >= 0 && ib < n && ia != ib, "--pair",
               "two different island indices below " + std::to_string(n), ia);
-    } else {
-      double best = -1;
-      for (std::size_t i = 0; i < shell.size(); ++i)
-        for (std::size_t j = i + 1; j < shell.size(); ++j) {
-          const double d = (shell[i].center - shell[j].center).norm();
-          if (shell[i].orbit != shell[j].orbit && d > best) {
-            best = d;
-            ia = static_cast<int>(i);
-            ib = static_cast<int>(j);
-          }
-        }
+    } else if (ia < 0) {
+      ia = 0;  // one orbit only: its first two islands
+      ib = 1;
     }
-    auto dir = [&](int k) {
-      const auto u = lambert_inverse({shell[k].center.x(), shell[k].center.y()});
-      return Vec3{u[0], u[1], u[2]};
-    };
-    const SectionPlane plane = plane_through(dir(ia), dir(ib));
+    const SectionPlane plane = plane_through_islands(shell[ia], shell[ib]);
     // The slab is measured in large diameters: twice the largest radius in the snapshot.
     double rmax = 0;
     for (double r : snaps.front().radius) rmax = std::max(rmax, r);
@@ -247,9 +235,20 @@ void register_campaign_analysis(CLI::App& an) {
   cmd->add_option("--to", a->opt.fates_to, "Fig. 8 end iteration (default: last snapshot)");
   cmd->add_option("--r", a->opt.islands.r, "CM shell of the islands");
   cmd->add_option("--light-inner", a->opt.light_inner, "Fig. 13 shell r/R (snapshots)");
+  cmd->add_option("--islands-cache", a->opt.islands_cache,
+                  "where computed islands are cached (default DIR/analysis)");
+  cmd->add_option("--section-grid", a->opt.section_grid,
+                  "Fig. 5 bins per in-plane axis (default 0: one per large diameter)");
+  cmd->add_option("--section-half-width", a->opt.section_half_width,
+                  "Fig. 5 slab half-width, in large diameters");
   cmd->callback([a] {
     require(a->opt.islands.r > 0.15 && a->opt.islands.r < 1, "--r", "in (0.15, 1)",
             a->opt.islands.r);
+    require(a->opt.section_grid == 0 || (a->opt.section_grid >= 4 && a->opt.section_grid <= 1000),
+            "--section-grid", "0 (one bin per large diameter) or in [4, 1000]",
+            a->opt.section_grid);
+    require(a->opt.section_half_width > 0, "--section-half-width", "> 0",
+            a->opt.section_half_width);
     const std::string out = a->out.empty() ? a->dir + "/analysis.h5" : a->out;
     const auto points = analyze_campaign(a->dir, a->opt);
     require(!points.empty(), "DIR", "a campaign directory with finished cases (cases/*/fields.h5)",
@@ -260,6 +259,11 @@ void register_campaign_analysis(CLI::App& an) {
           "%.3f (N = %d)\n",
           p.point_id.c_str(), p.params.c_str(), p.cases.size(), p.islands.size(),
           p.island_area_fraction, p.enrichment_map.mean, p.enrichment_map.ci95, p.enrichment_map.n);
+    for (const auto& p : points)
+      for (const auto& [qid, m] : p.enrichment_vs)
+        if (qid != p.point_id)
+          std::printf("point %s against the islands of %s: enrichment %.3f +- %.3f (N = %d)\n",
+                      p.point_id.c_str(), qid.c_str(), m.mean, m.ci95, m.n);
     prepare_output(out);
     write_campaign_analysis(out, a->dir, points);
     std::printf("wrote %s\n", out.c_str());

@@ -3,6 +3,7 @@
   report_pipeline.py --tumble BIN --mpiexec MPIEXEC --np-flag=-n --campaign FILE --out DIR
                      --report-dir OUT [--expect-failed N]
   report_pipeline.py --tumble BIN --existing DIR --out COPY --report-dir OUT --expect-failed N
+  (both: [--islands-cache DIR] to share the computed CM islands with other tests)
 
 Runs the campaign (2 ranks) unless --existing names a finished one, then `tumble analyze
 campaign` and postproc/report.py, and asserts, with h5py/numpy only:
@@ -11,6 +12,9 @@ campaign` and postproc/report.py, and asserts, with h5py/numpy only:
     file records; a (68°,68°) point with no islands and NaN enrichment;
   * Fig. 8 counts (when snapshots were kept): the four classes sum to the large particles of
     the snapshots;
+  * every point's enrichment against the (57°,57°) islands equal to a recomputation from each
+    case's map; the Fig. 5 section of every point (cut by the (57°,57°) plane) equal to a numpy
+    binning of the snapshots of each case's last half;
   * the report: report.html, every figure it names present as a PNG, every <img> a data URI,
     every CSV named; failed cases joined to their parameters in failed_cases.csv.
 """
@@ -50,6 +54,76 @@ def text(a):
     return a.decode() if isinstance(a, bytes) else str(a)
 
 
+def check_cross_enrichment(d, pts, ref):
+    """Every point's maps against the (57, 57) islands: a recomputation from each case's volume
+    map and the reference point's coverage; the reference against itself is its own enrichment."""
+    ref_id = ref.name.split("/")[-1]
+    cover = ref["coverage"][:].ravel()
+    for pid, g in pts.items():
+        if f"enrichment_vs/{ref_id}" not in g:
+            fail(f"point {pid}: no enrichment against the islands of {ref_id}")
+        vals = g[f"enrichment_vs/{ref_id}/values"][:]
+        for cid, e in zip(text(g.attrs["cases"]).split("\n"), vals):
+            with h5py.File(os.path.join(d, "cases", cid, "fields.h5"), "r") as cf:
+                vl = cf["concentration/volume_large"][:].ravel()
+            ok = np.isfinite(vl)
+            mine = (np.sum(cover[ok] * vl[ok]) / np.sum(vl[ok])) / (cover[ok].sum() / len(vl))
+            if not abs(mine - e) <= 1e-12 * abs(mine):
+                fail(f"case {cid}: enrichment against {ref_id} {e} vs recomputed {mine}")
+        if pid == ref_id and not np.array_equal(vals, g["enrichment_map"][:]):
+            fail("the (57, 57) point against its own islands differs from its enrichment")
+        print(f"point {pid} against the islands of {ref_id}: {np.round(vals, 4)}")
+
+
+def check_sections(d, pts, ref):
+    """Fig. 5: every point cut by the (57, 57) plane; its mean c_L per bin equals the mean over
+    its cases of a numpy binning of the snapshots of each case's last half."""
+    import tomllib
+    ref_id = ref.name.split("/")[-1]
+    for pid, g in pts.items():
+        if "section/mean" not in g:
+            fail(f"point {pid}: no Fig. 5 section")
+        sg = g["section"]
+        if text(sg.attrs["plane_of"]) != ref_id:
+            fail(f"point {pid}: section plane of {text(sg.attrs['plane_of'])}, not {ref_id}")
+        e1, e2 = sg["e1"][:], sg["e2"][:]
+        if abs(e1 @ e2) > 1e-12 or abs(e1 @ e1 - 1) > 1e-12 or abs(e2 @ e2 - 1) > 1e-12:
+            fail(f"point {pid}: section axes not orthonormal")
+        if len(sg["tube_crossings"][:]) == 0:
+            fail(f"point {pid}: no KAM-tube boundaries on the plane")
+        nrm, hw, mean = np.cross(e1, e2), sg.attrs["half_width_m"], sg["mean"][:]
+        n = mean.shape[0]
+        per_case = []
+        for cid in text(g.attrs["cases"]).split("\n"):
+            snaps = sorted(glob.glob(os.path.join(d, "cases", cid, "snap_*.h5")))
+            files = [h5py.File(p, "r") for p in snaps]
+            last = max(f.attrs["iteration"] for f in files)
+            vol = np.zeros((2, n * n))
+            for f in files:
+                if f.attrs["iteration"] < 0.5 * last:
+                    continue
+                R = tomllib.loads(text(f.attrs["scene"]))["tumbler"]["radius"]
+                x, r, sp = f["x"][:], f["radius"][:], f["species"][:]
+                a = np.floor((x @ e1 / R + 1) * 0.5 * n).astype(int)
+                b = np.floor((x @ e2 / R + 1) * 0.5 * n).astype(int)
+                keep = (np.abs(x @ nrm) <= hw) & (a >= 0) & (a < n) & (b >= 0) & (b < n)
+                np.add.at(vol, ((sp[keep] == 1).astype(int), a[keep] * n + b[keep]),
+                          4 / 3 * np.pi * r[keep] ** 3)
+            for f in files:
+                f.close()
+            tot = vol.sum(axis=0)
+            per_case.append(np.where(tot > 0, vol[1] / np.where(tot > 0, tot, 1), np.nan))
+        per_case = np.array(per_case)
+        cnt = np.sum(np.isfinite(per_case), axis=0)
+        mine = np.where(cnt > 0, np.nansum(per_case, axis=0) / np.maximum(cnt, 1), np.nan)
+        both = np.isfinite(mine) & np.isfinite(mean.ravel())
+        if not np.array_equal(np.isfinite(mine), np.isfinite(mean.ravel())) or \
+                np.max(np.abs(mine[both] - mean.ravel()[both])) > 1e-12:
+            fail(f"point {pid}: section mean differs from the numpy binning")
+        print(f"point {pid}: Fig. 5 section, {both.sum()} bins filled, mean c_L "
+              f"{np.nanmean(mine):.3f}")
+
+
 ap = argparse.ArgumentParser()
 ap.add_argument("--tumble", required=True)
 ap.add_argument("--mpiexec")
@@ -59,6 +133,7 @@ ap.add_argument("--out")
 ap.add_argument("--existing")
 ap.add_argument("--report-dir", required=True)
 ap.add_argument("--expect-failed", type=int, default=0)
+ap.add_argument("--islands-cache", help="shared cache of computed CM islands")
 a = ap.parse_args()
 
 if a.existing:
@@ -75,7 +150,8 @@ else:
         cmd.append("--oversubscribe")
     run(cmd + [a.tumble, "campaign", a.campaign, "--output", d, "--quiet"])
 
-t_an = run([a.tumble, "analyze", "campaign", d])
+t_an = run([a.tumble, "analyze", "campaign", d]
+           + (["--islands-cache", a.islands_cache] if a.islands_cache else []))
 with h5py.File(os.path.join(d, "analysis.h5"), "r") as f:
     pts = {pid: g for pid, g in f["points"].items()}
     with_islands = [g for g in pts.values() if g.attrs["theta_z"] == 57 and g.attrs["theta_x"] == 57]
@@ -112,6 +188,11 @@ with h5py.File(os.path.join(d, "analysis.h5"), "r") as f:
         if g.attrs["theta_z"] == 68 and g.attrs["theta_x"] == 68:
             if g.attrs["n_islands"] != 0 or np.isfinite(g["enrichment_map"][:]).any():
                 fail("(68, 68) should have no islands and undefined enrichment")
+    check_cross_enrichment(d, pts, with_islands[0])
+    if glob.glob(os.path.join(d, "cases", "*", "snap_*.h5")):
+        check_sections(d, pts, with_islands[0])
+    elif any("section" in g for g in pts.values()):
+        fail("a Fig. 5 section without snapshots")
 
 rep = a.report_dir
 shutil.rmtree(rep, ignore_errors=True)

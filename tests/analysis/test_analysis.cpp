@@ -218,6 +218,36 @@ TEST(CrossSection, PlaneThroughTwoDirectionsBinsTheSlab) {
   EXPECT_TRUE(std::isnan(c[0]));
 }
 
+TEST(CrossSection, UprightPlaneKeepsThePlaneAndPointsE2Up) {
+  const ta::SectionPlane pl = ta::plane_through({0.3, -0.9, 0.1}, {-0.5, -0.6, 0.4});
+  const ta::SectionPlane up = ta::upright(pl);
+  EXPECT_NEAR(tumble::norm(up.normal - pl.normal), 0.0, 1e-15);  // the same plane
+  EXPECT_NEAR(tumble::dot(up.e1, up.e2), 0.0, 1e-15);
+  EXPECT_NEAR(tumble::norm(up.e1), 1.0, 1e-15);
+  EXPECT_NEAR(tumble::norm(up.e2), 1.0, 1e-15);
+  EXPECT_NEAR(tumble::norm(tumble::cross(up.e1, up.e2) - up.normal), 0.0, 1e-15);
+  EXPECT_NEAR(up.e1.y, 0.0, 1e-15);  // horizontal: "up" is all in e2
+  EXPECT_GT(up.e2.y, 0.9);           // the plane is steep: e2 nearly +y
+  // Both island directions point down into the bed: negative s2.
+  EXPECT_LT(tumble::dot(Vec3{0.3, -0.9, 0.1}, up.e2), 0.0);
+  // A horizontal plane has no up: unchanged.
+  const ta::SectionPlane flat = ta::plane_through({1, 0, 0}, {0, 0, 1});
+  EXPECT_EQ(ta::upright(flat).e1.x, flat.e1.x);
+}
+
+TEST(CrossSection, FarthestPairOfDifferentOrbits) {
+  std::vector<tumble::cm::Island> is(4);
+  const double c[4][2] = {{-0.8, 0}, {0.8, 0}, {0.7, 0.1}, {-0.1, 0.5}};
+  const int orbit[4] = {0, 0, 1, 1};  // 0-1 farthest, but one orbit: 0-2 is the pair
+  for (int k = 0; k < 4; ++k) {
+    is[k].center = tumble::cm::Vec2(c[k][0], c[k][1]);
+    is[k].orbit = orbit[k];
+  }
+  EXPECT_EQ(ta::farthest_island_pair(is), std::make_pair(0, 2));
+  is[2].orbit = is[3].orbit = 0;
+  EXPECT_EQ(ta::farthest_island_pair(is), std::make_pair(-1, -1));
+}
+
 TEST(CrossSection, TubeCrossingsOfAnIslandAroundThePole) {
   // A square island of half-width h around the pole of the disc on two shells: the plane
   // through the pole (x = 0) meets its boundary where the direction's Lambert image leaves it.
