@@ -54,6 +54,10 @@ TEST(Fidelity, FastAndPreviewCoarsenSpeedUpAndShorten) {
   EXPECT_DOUBLE_EQ(p.iterations, 3);
   EXPECT_DOUBLE_EQ(f.skin, 0.2);
   EXPECT_DOUBLE_EQ(p.skin, 0.3);
+  // Settling allowed as many collision times as the scene allows.
+  EXPECT_DOUBLE_EQ(f.settle_max_time, 2 * tier("standard").settle_max_time);
+  EXPECT_DOUBLE_EQ(p.settle_max_time, 4 * tier("standard").settle_max_time);
+  EXPECT_DOUBLE_EQ(tier("reference").settle_max_time, tier("standard").settle_max_time);
   // Each tier is cheaper than the one above it (particles x steps).
   auto cost = [](const Scene& s) {
     return static_cast<double>(planned_particle_count(s)) * s.run_time() / s.time_step();

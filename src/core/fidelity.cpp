@@ -48,6 +48,10 @@ std::map<std::string, std::string> tier_values(const std::string& tier, const Sc
   v["time.dt_fraction"] = num(p.dt_fraction);
   v["time.dt"] = "0";  // δt from the fraction
   v["neighbor.skin"] = num(p.skin);
+  // Softer contacts ring and creep for longer: a bed settles in about the same number of
+  // collision times, so the settling allowance grows with t_c (a preview bed of bst_tiny
+  // needed 2.2 s against the scene's 2 s).
+  if (p.tc_factor > 1) v["fill.settle_max_time"] = num(p.tc_factor * s.settle_max_time);
   if (p.max_r_over_dl > 0 && s.radius / s.d_large > p.max_r_over_dl) {
     const double grow = s.radius / s.d_large / p.max_r_over_dl;
     v["particles.d_large"] = num(s.d_large * grow);

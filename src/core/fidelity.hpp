@@ -12,7 +12,8 @@
 //   preview    scene × 4    1/20     0.3         ≤ 5           ≥ 1e-2           ≤ 3
 //
 // (Particles grow, size ratio kept, where R/d_large is capped; the rotation speeds up where the
-// Froude number is floored: the rolling regime holds to Fr ~ 1e-2.) The continuum model
+// Froude number is floored: the rolling regime holds to Fr ~ 1e-2; fill.settle_max_time grows with
+// t_c in the softer tiers.) The continuum model
 // (`tumble cm`) is the cheapest tier of all: it locates the islands but predicts no concentration.
 // Keys given with --set (a campaign's sweep parameters) win over the tier's values.
 #include <map>
