@@ -1,0 +1,99 @@
+#!/usr/bin/python3
+"""Pattern observables per fidelity tier (jobs/accuracy/pattern_accuracy.sh writes the input):
+wall time per iteration, radial segregation at the end of every iteration, island enrichment,
+and the correlation of each replica's c_L map with the reference tier's mean map; mean ± 95% CI
+over replicas (Student t) and each tier's difference from the reference with Welch's 95% interval.
+The first tier present in the order reference, standard, fast, preview is the reference.
+
+usage: jobs/accuracy/pattern_table.py OUT ITERATIONS"""
+import glob
+import os
+import re
+import sys
+
+import h5py
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "postproc"))
+from report_stats import fmt, mean_ci, welch_half_width  # noqa: E402
+
+TIERS = ["reference", "standard", "fast", "preview"]
+
+
+def text(a):
+    return a.decode() if isinstance(a, bytes) else str(a)
+
+
+def load_tier(d, iterations):
+    """Per finished case: c_L map, radial segregation at iterations 1..N, wall per iteration,
+    island enrichment (analysis.h5)."""
+    enrich = {}
+    an = os.path.join(d, "analysis.h5")
+    if os.path.exists(an):
+        with h5py.File(an, "r") as f:
+            for g in f["points"].values():
+                for cid, e in zip(text(g.attrs["cases"]).split("\n"), g["enrichment_map"][:]):
+                    enrich[cid] = float(e)
+    cases = []
+    for path in sorted(glob.glob(os.path.join(d, "cases", "*", "fields.h5"))):
+        with h5py.File(path, "r") as f:
+            cid = text(f.attrs["case_id"])
+            it, rs = f["series/iteration"][:], f["series/radial_segregation"][:]
+            c = dict(id=cid, c_L=f["concentration/c_L"][:].ravel(),
+                     radial=[float(rs[np.argmin(np.abs(it - k))]) for k in range(1, iterations + 1)],
+                     enrichment=enrich.get(cid, np.nan), wall=np.nan)
+        log = os.path.join(os.path.dirname(path), "log.txt")
+        if os.path.exists(log):
+            m = re.findall(r"\[run\] done: \d+ steps in ([0-9.e+]+) s", open(log).read())
+            if m:
+                c["wall"] = float(m[-1]) / iterations
+        cases.append(c)
+    return cases
+
+
+def corr(a, b):
+    ok = np.isfinite(a) & np.isfinite(b)
+    if ok.sum() < 3:
+        return np.nan
+    return float(np.corrcoef(a[ok], b[ok])[0, 1])
+
+
+def main():
+    out, iterations = sys.argv[1], int(sys.argv[2])
+    data = {t: load_tier(os.path.join(out, t), iterations) for t in TIERS
+            if glob.glob(os.path.join(out, t, "cases", "*", "fields.h5"))}
+    if not data:
+        raise SystemExit(f"{out}: no finished case of any tier")
+    ref = next(t for t in TIERS if t in data)
+    ref_maps = np.array([c["c_L"] for c in data[ref]])
+    for t, cases in data.items():
+        for k, c in enumerate(cases):
+            # The reference tier's own replicas against the mean of the *other* replicas
+            # (leave-one-out): a replica correlates with itself otherwise.
+            others = np.delete(ref_maps, k, axis=0) if t == ref else ref_maps
+            c["corr"] = corr(c["c_L"], np.nanmean(others, axis=0)) if len(others) else np.nan
+    metrics = [("wall per iteration [s]", lambda c: c["wall"]),
+               ("island enrichment", lambda c: c["enrichment"]),
+               ("c_L pattern correlation with " + ref, lambda c: c["corr"])]
+    metrics += [(f"radial segregation, N = {k + 1}", lambda c, k=k: c["radial"][k])
+                for k in range(iterations)]
+    print(f"# reference tier: {ref}; mean ± 95% CI (N replicas); Δ = tier − {ref} ± Welch 95%")
+    print("| observable | " + " | ".join(data) + " |")
+    print("|---|" + "---|" * len(data))
+    for name, get in metrics:
+        rv = np.array([get(c) for c in data[ref]], float)
+        cells = []
+        for t, cases in data.items():
+            v = np.array([get(c) for c in cases], float)
+            s = fmt(*mean_ci(v))
+            if t != ref and np.isfinite(v).sum() and "wall" not in name:
+                va, vb = v[np.isfinite(v)], rv[np.isfinite(rv)]
+                if len(va) >= 2 and len(vb) >= 2:
+                    h = welch_half_width(va.var(ddof=1), len(va), vb.var(ddof=1), len(vb))
+                    s += f"; Δ {va.mean() - vb.mean():+.3g} ± {float(h):.2g}"
+            cells.append(s)
+        print(f"| {name} | " + " | ".join(cells) + " |")
+
+
+if __name__ == "__main__":
+    main()
