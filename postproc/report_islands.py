@@ -7,7 +7,7 @@ import os
 import numpy as np
 
 import report_figs as rf
-from report_stats import fmt
+from report_stats import fmt, welch_half_width
 
 
 def section_cross_enrichment(R, pts):
@@ -23,24 +23,49 @@ def section_cross_enrichment(R, pts):
     R.h("<p>Each row: the point's time-averaged large-particle maps, each column: the islands of "
         "a point of the same campaign (its label). Same definition as the enrichment above "
         "(1 = no preference for the islands). The diagonal is each point's own enrichment; a "
-        "protocol without islands, e.g. (68°,68°), has no diagonal entry, and the absence of "
-        "the other protocol's pattern reads as 1 within the CI in that protocol's column. "
-        "Mean ± 95% CI (N replicas).</p>")
+        "protocol without islands, e.g. (68°,68°), has no diagonal entry. 1 is not the null: "
+        "large particles gather at the wall unevenly under any protocol (radial segregation, "
+        "the free surface), so a mask can collect more than its share without a pattern. The "
+        "test of a pattern is the difference from the islands' own point on the same mask, "
+        "Δ ± Welch's 95% half-width: a protocol without that pattern has Δ &lt; 0 beyond its "
+        "CI. Mean ± 95% CI (N replicas).</p>")
+    own = {pid: (q["an"] or {}).get("enrichment_vs", {}).get(pid) for q in pts
+           for _, pid, _ in cols if q["pid"] == pid}
     rows, csv_rows = [], []
     for q in pts:
         vs = (q["an"] or {}).get("enrichment_vs", {})
         row = [q["label"]]
         for camp, pid, label in cols:
             e = vs.get(pid) if camp == id(q["camp"]) else None
-            row.append(fmt(e["mean"], e["ci95"], e["n"]) if e else "–")
+            cell, delta, half = "–", np.nan, np.nan
             if e:
-                csv_rows.append([q["label"], label, e["mean"], e["ci95"], e["n"]]
+                cell = fmt(e["mean"], e["ci95"], e["n"])
+                if q["pid"] != pid and own.get(pid):
+                    delta, half = difference(e["values"], own[pid]["values"])
+                    if np.isfinite(delta):
+                        cell += f"; Δ vs {label} {delta:+.3g} ± {half:.2g}"
+                csv_rows.append([q["label"], label, e["mean"], e["ci95"], e["n"], delta, half]
                                 + [float(v) for v in e["values"]])
+            row.append(cell)
         rows.append(row)
     R.table(["point"] + [f"against the islands of {c[2]}" for c in cols], rows)
-    width = max((len(r) for r in csv_rows), default=5) - 5
-    R.csv("cross_enrichment.csv", ["point", "islands_of", "mean", "ci95", "n"]
+    width = max((len(r) for r in csv_rows), default=7) - 7
+    R.csv("cross_enrichment.csv", ["point", "islands_of", "mean", "ci95", "n",
+                                   "diff_vs_islands_point", "diff_welch_ci95"]
           + [f"replica_{k}" for k in range(width)], csv_rows)
+
+
+def difference(a, b):
+    """mean(a) − mean(b) of the finite values and Welch's 95% half-width (NaN below 2 each)."""
+    a = np.asarray(a, float)
+    b = np.asarray(b, float)
+    a, b = a[np.isfinite(a)], b[np.isfinite(b)]
+    if len(a) == 0 or len(b) == 0:
+        return np.nan, np.nan
+    h = np.nan
+    if len(a) >= 2 and len(b) >= 2:
+        h = float(welch_half_width([a.var(ddof=1)], [len(a)], [b.var(ddof=1)], [len(b)])[0])
+    return float(a.mean() - b.mean()), h
 
 
 def section_cross_sections(R, pts):

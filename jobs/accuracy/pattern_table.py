@@ -89,8 +89,8 @@ def main():
             if t != ref and np.isfinite(v).sum() and "wall" not in name:
                 va, vb = v[np.isfinite(v)], rv[np.isfinite(rv)]
                 if len(va) >= 2 and len(vb) >= 2:
-                    h = welch_half_width(va.var(ddof=1), len(va), vb.var(ddof=1), len(vb))
-                    s += f"; Δ {va.mean() - vb.mean():+.3g} ± {float(h):.2g}"
+                    h = welch_half_width([va.var(ddof=1)], [len(va)], [vb.var(ddof=1)], [len(vb)])[0]
+                    s += f"; Δ {va.mean() - vb.mean():+.3g} ± {h:.2g}"
             cells.append(s)
         print(f"| {name} | " + " | ".join(cells) + " |")
 
