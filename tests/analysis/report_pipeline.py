@@ -54,6 +54,18 @@ def text(a):
     return a.decode() if isinstance(a, bytes) else str(a)
 
 
+def check_map_enrichment(d, ids, values, cover, what):
+    """Each case's value = (share of its large volume on the mask) / (the mask's share), from
+    its fields.h5 volume map and the coverage per cell (1e-12 relative)."""
+    for cid, e in zip(ids, values):
+        with h5py.File(os.path.join(d, "cases", cid, "fields.h5"), "r") as cf:
+            vl = cf["concentration/volume_large"][:].ravel()
+        ok = np.isfinite(vl)
+        mine = (np.sum(cover[ok] * vl[ok]) / np.sum(vl[ok])) / (cover[ok].sum() / len(vl))
+        if not abs(mine - e) <= 1e-12 * abs(mine):
+            fail(f"case {cid}: {what} {e} vs recomputed {mine}")
+
+
 def check_cross_enrichment(d, pts, ref):
     """Every point's maps against the (57, 57) islands: a recomputation from each case's volume
     map and the reference point's coverage; the reference against itself is its own enrichment."""
@@ -63,13 +75,8 @@ def check_cross_enrichment(d, pts, ref):
         if f"enrichment_vs/{ref_id}" not in g:
             fail(f"point {pid}: no enrichment against the islands of {ref_id}")
         vals = g[f"enrichment_vs/{ref_id}/values"][:]
-        for cid, e in zip(text(g.attrs["cases"]).split("\n"), vals):
-            with h5py.File(os.path.join(d, "cases", cid, "fields.h5"), "r") as cf:
-                vl = cf["concentration/volume_large"][:].ravel()
-            ok = np.isfinite(vl)
-            mine = (np.sum(cover[ok] * vl[ok]) / np.sum(vl[ok])) / (cover[ok].sum() / len(vl))
-            if not abs(mine - e) <= 1e-12 * abs(mine):
-                fail(f"case {cid}: enrichment against {ref_id} {e} vs recomputed {mine}")
+        check_map_enrichment(d, text(g.attrs["cases"]).split("\n"), vals, cover,
+                             f"enrichment against {ref_id}")
         if pid == ref_id and not np.array_equal(vals, g["enrichment_map"][:]):
             fail("the (57, 57) point against its own islands differs from its enrichment")
         print(f"point {pid} against the islands of {ref_id}: {np.round(vals, 4)}")
@@ -165,13 +172,7 @@ with h5py.File(os.path.join(d, "analysis.h5"), "r") as f:
         if not 0.05 < share < 0.3 or abs(share - g.attrs["island_area_fraction"]) > 0.02:
             fail(f"coverage mean {share} vs island_area_fraction {g.attrs['island_area_fraction']}")
         ids = text(g.attrs["cases"]).split("\n")
-        for cid, e in zip(ids, g["enrichment_map"][:]):
-            with h5py.File(os.path.join(d, "cases", cid, "fields.h5"), "r") as cf:
-                vl = cf["concentration/volume_large"][:].ravel()
-            ok = np.isfinite(vl)
-            mine = (np.sum(cover[ok] * vl[ok]) / np.sum(vl[ok])) / (cover[ok].sum() / len(vl))
-            if not abs(mine - e) <= 1e-12 * abs(mine):
-                fail(f"case {cid}: enrichment {e} vs recomputed {mine}")
+        check_map_enrichment(d, ids, g["enrichment_map"][:], cover, "enrichment")
         fates = {k: g["fates/" + k][:] for k in ("persistent", "captured", "dispersed", "other")}
         for j, cid in enumerate(ids):
             if fates["persistent"][j] < 0:
