@@ -5,7 +5,9 @@ and the correlation of each replica's c_L map with the reference tier's mean map
 over replicas (Student t) and each tier's difference from the reference with Welch's 95% interval.
 The first tier present in the order reference, standard, fast, preview is the reference.
 
-usage: jobs/accuracy/pattern_table.py OUT ITERATIONS"""
+usage: jobs/accuracy/pattern_table.py OUT ITERATIONS
+(radial segregation reported at iterations 1..ITERATIONS; each tier's wall per iteration from its
+own runs' length, so tiers run for different numbers of iterations can share one table)"""
 import glob
 import os
 import re
@@ -44,9 +46,11 @@ def load_tier(d, iterations):
                      enrichment=enrich.get(cid, np.nan), wall=np.nan)
         log = os.path.join(os.path.dirname(path), "log.txt")
         if os.path.exists(log):
-            m = re.findall(r"\[run\] done: \d+ steps in ([0-9.e+]+) s", open(log).read())
-            if m:
-                c["wall"] = float(m[-1]) / iterations
+            txt = open(log).read()
+            m = re.findall(r"\[run\] done: \d+ steps in ([0-9.e+]+) s", txt)
+            n = re.findall(r"s simulated, ([0-9.]+) iterations\)", txt)  # the run's own length
+            if m and n:
+                c["wall"] = float(m[-1]) / float(n[-1])
         cases.append(c)
     return cases
 
