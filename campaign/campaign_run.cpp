@@ -18,7 +18,7 @@
 #include "campaign/manifest.hpp"
 #include "campaign/scheduler.hpp"
 #include "core/error.hpp"
-#include "tumble/version.hpp"
+#include "core/version.hpp"
 
 namespace tumble::campaign {
 namespace fs = std::filesystem;

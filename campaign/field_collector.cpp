@@ -6,8 +6,8 @@
 #include "analysis/radial_segregation.hpp"
 #include "core/error.hpp"
 #include "core/simulation.hpp"
+#include "core/version.hpp"
 #include "io/hdf5_file.hpp"
-#include "tumble/version.hpp"
 
 namespace tumble::campaign {
 namespace fs = std::filesystem;

@@ -9,8 +9,8 @@
 #include "campaign/ensemble.hpp"
 #include "campaign/manifest.hpp"
 #include "core/error.hpp"
+#include "core/version.hpp"
 #include "io/hdf5_file.hpp"
-#include "tumble/version.hpp"
 
 namespace tumble::campaign {
 namespace fs = std::filesystem;

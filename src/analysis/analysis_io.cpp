@@ -1,7 +1,7 @@
 #include "analysis/analysis_io.hpp"
 
+#include "core/version.hpp"
 #include "io/hdf5_file.hpp"
-#include "tumble/version.hpp"
 
 namespace tumble::analysis {
 

@@ -11,8 +11,8 @@
 #include "analysis/snapshot_data.hpp"
 #include "cm/cm_io.hpp"
 #include "core/scene.hpp"
+#include "core/version.hpp"
 #include "io/hdf5_file.hpp"
-#include "tumble/version.hpp"
 
 namespace tumble::analysis {
 

@@ -3,8 +3,8 @@
 #include <Eigen/LU>
 #include <cmath>
 
+#include "core/version.hpp"
 #include "io/hdf5_file.hpp"
-#include "tumble/version.hpp"
 
 namespace tumble::cm {
 namespace {

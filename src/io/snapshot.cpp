@@ -6,8 +6,8 @@
 #include <fstream>
 #include <numeric>
 
+#include "core/version.hpp"
 #include "io/hdf5_file.hpp"
-#include "tumble/version.hpp"
 
 namespace tumble::io {
 
