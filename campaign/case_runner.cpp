@@ -13,6 +13,7 @@
 #include "core/error.hpp"
 #include "core/realization.hpp"
 #include "core/simulation.hpp"
+#include "io/bed_io.hpp"
 #include "io/hdf5_file.hpp"
 
 namespace tumble::campaign {
@@ -40,6 +41,14 @@ long long checkpoint_step(const std::string& path) {
   io::H5File f(path, io::H5File::Mode::Read);
   return static_cast<long long>(f.attr_int64("/", "step"));
 }
+
+// Settle the case's bed into the shared cache when it is not there yet, so that every attempt of
+// every case, fresh or repeated, starts from the same bytes on disk (the run then reads it back).
+// A bed already cached, or a bed file, is left for the run to read once.
+void ensure_bed_on_disk(const Scene& scene, std::ostream& log) {
+  if (scene.bed_file.empty() && !fs::exists(io::bed_cache_path(scene)))
+    (void)settled_bed(scene, &log);
+}
 }  // namespace
 
 std::string case_output(const std::string& id) { return "cases/" + id; }
@@ -61,7 +70,7 @@ void run_cylinder_case(const CaseContext& ctx, const CaseTask& task, const Case&
     out.resumed_from_step = checkpoint_step(ckpt);
     log << "[case] resuming from " << ckpt << " at step " << out.resumed_from_step << std::endl;
   } else {
-    (void)settled_bed(scene, &log);
+    ensure_bed_on_disk(scene, log);
   }
   RunOptions ro;
   ro.resume = true;
@@ -118,9 +127,7 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
       }
       if (out.resumed_from_step == 0) {
         fs::remove(dir + "/state.h5");
-        // Settle (or find) the bed in the shared cache first, so that every attempt of every
-        // case, fresh or repeated, starts from the same bytes on disk.
-        (void)settled_bed(scene, &log);
+        ensure_bed_on_disk(scene, log);
       }
 
       RunOptions ro;

@@ -1,5 +1,6 @@
 #include "campaign/scheduler.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -12,6 +13,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "campaign/eta.hpp"
 #include "campaign/expand.hpp"
 #include "core/text_util.hpp"
 
@@ -122,6 +124,7 @@ class Dispatcher {
 
   void started(const CaseTask& t, int group, int rank) {
     running_[t.case_index] = {group, rank};
+    started_[t.case_index] = Clock::now();
     CaseRecord r = record(t, group, rank);
     r.status = "running";
     r.start = utc_now();
@@ -134,6 +137,7 @@ class Dispatcher {
   void finished(const CaseTask& t, const CaseOutcome& o) {
     const auto [group, rank] = running_.at(t.case_index);
     running_.erase(t.case_index);
+    started_.erase(t.case_index);
     CaseRecord r = record(t, group, rank);
     r.start = o.start;
     r.end = o.end;
@@ -148,6 +152,7 @@ class Dispatcher {
       r.checksum = o.checksum;
       done_ += 1;
       done_cost_ += cost(t);
+      done_wall_ += o.wall;
       what = "done";
     } else {
       r.status = "failed";
@@ -223,10 +228,18 @@ class Dispatcher {
       return;
     }
     const double el = since(t0_);
-    // ETA from cost (particles x steps) done so far in this invocation; running cases count half.
-    double remaining = left_cost_;
-    for (const auto& [idx, gr] : running_) remaining -= 0.5 * cost(CaseTask{idx, 1, 0, false});
-    const double eta = done_cost_ > 0 ? el * remaining / done_cost_ : NAN;
+    // ETA from the cost (particles x steps) and wall time of the cases done in this invocation.
+    EtaInput eta_in;
+    eta_in.done_cost = done_cost_;
+    eta_in.done_wall = done_wall_;
+    eta_in.queued_cost = left_cost_;
+    for (const auto& [idx, since_start] : started_) {
+      const double c = cost(CaseTask{idx, 1, 0, false});
+      eta_in.running.push_back({c, since(since_start)});
+      eta_in.queued_cost -= c;
+    }
+    eta_in.workers = std::max(1, stats_.workers);
+    const double eta = estimate_eta(eta_in);
     const int left = in_.total - done_ - failed_ - static_cast<int>(running_.size());
     std::ostringstream os;
     os << "[campaign] ";
@@ -243,8 +256,9 @@ class Dispatcher {
   std::vector<std::string> hosts_;
   std::deque<CaseTask> queue_;
   std::map<std::size_t, std::pair<int, int>> running_;  // case index -> (group, world rank)
+  std::map<std::size_t, Clock::time_point> started_;    // case index -> when it was handed out
   int done_ = 0, failed_ = 0;
-  double left_cost_ = 0, done_cost_ = 0;
+  double left_cost_ = 0, done_cost_ = 0, done_wall_ = 0;
   ScheduleStats stats_;
   Clock::time_point t0_ = Clock::now(), last_tick_ = Clock::now(), last_line_ = Clock::now();
 };
