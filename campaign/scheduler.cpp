@@ -138,6 +138,7 @@ class Dispatcher {
     const auto [group, rank] = running_.at(t.case_index);
     running_.erase(t.case_index);
     started_.erase(t.case_index);
+    freed_[rank] = Clock::now();
     CaseRecord r = record(t, group, rank);
     r.start = o.start;
     r.end = o.end;
@@ -229,23 +230,35 @@ class Dispatcher {
     }
     const double el = since(t0_);
     // ETA from the cost (particles x steps) and wall time of the cases done in this invocation.
+    // A remote leader holds up to two cases: the one handed out first runs, since it was handed
+    // out or since the leader's previous case ended, whichever is later; the other waits.
     EtaInput eta_in;
     eta_in.done_cost = done_cost_;
     eta_in.done_wall = done_wall_;
     eta_in.queued_cost = left_cost_;
-    for (const auto& [idx, since_start] : started_) {
-      const double c = cost(CaseTask{idx, 1, 0, false});
-      eta_in.running.push_back({c, since(since_start)});
+    eta_in.workers = std::max(1, stats_.workers);
+    std::map<int, std::pair<Clock::time_point, std::size_t>> first;  // rank -> oldest hand-out
+    for (const auto& [idx, handed] : started_) {
+      const int rank = running_.at(idx).second;
+      auto it = first.find(rank);
+      if (it == first.end() || handed < it->second.first) first[rank] = {handed, idx};
+    }
+    for (const auto& [rank, oldest] : first) {
+      const auto freed = freed_.find(rank);
+      const Clock::time_point start =
+          freed == freed_.end() ? oldest.first : std::max(oldest.first, freed->second);
+      const double c = cost(CaseTask{oldest.second, 1, 0, false});
+      eta_in.running.push_back({c, since(start)});
       eta_in.queued_cost -= c;
     }
-    eta_in.workers = std::max(1, stats_.workers);
     const double eta = estimate_eta(eta_in);
-    const int left = in_.total - done_ - failed_ - static_cast<int>(running_.size());
+    const int running = static_cast<int>(first.size());  // held but waiting counts as left
+    const int left = in_.total - done_ - failed_ - running;
     std::ostringstream os;
     os << "[campaign] ";
     if (!event.empty()) os << event << "\n[campaign] ";
-    os << "done " << done_ << " | running " << running_.size() << " | failed " << failed_
-       << " | left " << left << " of " << in_.total << " | elapsed " << format_hms(el) << " | ETA "
+    os << "done " << done_ << " | running " << running << " | failed " << failed_ << " | left "
+       << left << " of " << in_.total << " | elapsed " << format_hms(el) << " | ETA "
        << format_hms(eta);
     *in_.out << os.str() << std::endl;
     last_line_ = Clock::now();
@@ -257,6 +270,7 @@ class Dispatcher {
   std::deque<CaseTask> queue_;
   std::map<std::size_t, std::pair<int, int>> running_;  // case index -> (group, world rank)
   std::map<std::size_t, Clock::time_point> started_;    // case index -> when it was handed out
+  std::map<int, Clock::time_point> freed_;              // world rank -> when its last case ended
   int done_ = 0, failed_ = 0;
   double left_cost_ = 0, done_cost_ = 0, done_wall_ = 0;
   ScheduleStats stats_;
