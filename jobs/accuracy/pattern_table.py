@@ -5,8 +5,10 @@ and the correlation of each replica's c_L map with the reference tier's mean map
 over replicas (Student t) and each tier's difference from the reference with Welch's 95% interval.
 The first tier present in the order reference, standard, fast, preview is the reference.
 
-usage: jobs/accuracy/pattern_table.py OUT ITERATIONS
-(radial segregation reported at iterations 1..ITERATIONS; each tier's wall per iteration from its
+usage: jobs/accuracy/pattern_table.py OUT ITERATIONS [--point "theta_z=57;theta_x=57"]
+(--point: only the cases whose params hold every given name=value, for campaigns of several
+points, jobs/accuracy/campaign_tiers.sh;
+radial segregation reported at iterations 1..ITERATIONS; each tier's wall per iteration from its
 own runs' length, so tiers run for different numbers of iterations can share one table)"""
 import glob
 import os
@@ -26,9 +28,26 @@ def text(a):
     return a.decode() if isinstance(a, bytes) else str(a)
 
 
-def load_tier(d, iterations):
-    """Per finished case: c_L map, radial segregation at iterations 1..N, wall per iteration,
-    island enrichment (analysis.h5)."""
+def at_point(params, point):
+    """Whether a case's params text ("theta_z=57;theta_x=57;f=0.15;...") holds every name=value of
+    point (numbers compared as numbers)."""
+    have = dict(kv.split("=", 1) for kv in params.split(";") if "=" in kv)
+    for kv in filter(None, point.split(";")):
+        k, v = kv.split("=", 1)
+        if k not in have:
+            return False
+        try:
+            if float(have[k]) != float(v):
+                return False
+        except ValueError:
+            if have[k] != v:
+                return False
+    return True
+
+
+def load_tier(d, iterations, point=""):
+    """Per finished case at the point: c_L map, radial segregation at iterations 1..N, wall per
+    iteration, island enrichment (analysis.h5)."""
     enrich = {}
     an = os.path.join(d, "analysis.h5")
     if os.path.exists(an):
@@ -39,6 +58,8 @@ def load_tier(d, iterations):
     cases = []
     for path in sorted(glob.glob(os.path.join(d, "cases", "*", "fields.h5"))):
         with h5py.File(path, "r") as f:
+            if not at_point(text(f.attrs["params"]), point):
+                continue
             cid = text(f.attrs["case_id"])
             it, rs = f["series/iteration"][:], f["series/radial_segregation"][:]
             c = dict(id=cid, c_L=f["concentration/c_L"][:].ravel(),
@@ -63,9 +84,16 @@ def corr(a, b):
 
 
 def main():
-    out, iterations = sys.argv[1], int(sys.argv[2])
-    data = {t: load_tier(os.path.join(out, t), iterations) for t in TIERS
+    args = sys.argv[1:]
+    point = ""
+    if "--point" in args:
+        k = args.index("--point")
+        point = args[k + 1]
+        del args[k:k + 2]
+    out, iterations = args[0], int(args[1])
+    data = {t: load_tier(os.path.join(out, t), iterations, point) for t in TIERS
             if glob.glob(os.path.join(out, t, "cases", "*", "fields.h5"))}
+    data = {t: cases for t, cases in data.items() if cases}
     if not data:
         raise SystemExit(f"{out}: no finished case of any tier")
     ref = next(t for t in TIERS if t in data)
@@ -81,6 +109,8 @@ def main():
                ("c_L pattern correlation with " + ref, lambda c: c["corr"])]
     metrics += [(f"radial segregation, N = {k + 1}", lambda c, k=k: c["radial"][k])
                 for k in range(iterations)]
+    if point:
+        print(f"# point: {point}")
     print(f"# reference tier: {ref}; mean ± 95% CI (N replicas); Δ = tier − {ref} ± Welch 95%")
     print("| observable | " + " | ".join(data) + " |")
     print("|---|" + "---|" * len(data))
