@@ -349,8 +349,10 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
   res.particle_steps_per_second =
       res.wall_seconds > 0 ? res.steps * static_cast<double>(res.particles) / res.wall_seconds : 0;
   if (sim->fast_rebuilds() > 0 && log)
-    *log << "[run] warning: " << sim->fast_rebuilds()
-         << " neighbour rebuilds came < 10 steps apart: raise neighbor.skin\n";
+    *log << "[run] warning: " << sim->fast_rebuilds() << " of " << sim->rebuilds()
+         << " neighbour rebuilds came < 10 steps apart (one every " << std::setprecision(3)
+         << static_cast<double>(res.steps) / std::max<std::uint64_t>(1, sim->rebuilds())
+         << " steps on average): raise neighbor.skin (now " << scene.skin << " d_small)\n";
 
   // Results: the time series and a summary, written atomically.
   res.results_file = scene.output_dir + "/results.h5";
