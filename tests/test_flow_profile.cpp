@@ -4,9 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "analysis/flow_profile.hpp"
+#include "analysis/radial_segregation.hpp"
 #include "core/vec3.hpp"
+#include "io/hdf5_file.hpp"
+#include "io/series_io.hpp"
 
 using namespace tumble;
 
@@ -73,4 +77,45 @@ TEST(FlowProfile, NoSurfaceNoAngle) {
   const analysis::FlowProfile f = analysis::flow_profile(empty, 0, fr);
   EXPECT_TRUE(std::isnan(f.repose_deg));
   EXPECT_TRUE(std::isnan(f.surface_speed));
+}
+
+// The profile is kept per sample in results and checkpoints (series/surface_profile, samples x
+// bins) and read back as written, NaN bins included; a profile that does not have a row per sample
+// (a run resumed from a checkpoint written before profiles were kept) is not written at all.
+TEST(FlowProfile, SeriesKeepsTheProfilePerSample) {
+  const std::string dir = std::string(TUMBLE_TEST_SCRATCH) + "/flow_profile";
+  std::filesystem::create_directories(dir);
+  analysis::Series s;
+  for (int k = 0; k < 2; ++k) {
+    s.append(0.1 * k, 0, {}, 0);
+    s.repose_angle.push_back(25 + k);
+    s.surface_speed.push_back(0.01 * k);
+  }
+  s.profile_h = {-0.5, 0, 0.5};
+  s.surface_profile = {0.1, 0.2, std::nan(""), 0.3, 0.4, 0.5};
+  {
+    io::H5File f(dir + "/series.h5", io::H5File::Mode::Truncate);
+    io::write_series(f, s);
+  }
+  analysis::Series back;
+  {
+    io::H5File f(dir + "/series.h5", io::H5File::Mode::Read);
+    io::read_series(f, back);
+  }
+  EXPECT_EQ(back.profile_h, s.profile_h);
+  ASSERT_EQ(back.surface_profile.size(), 6u);
+  for (std::size_t i = 0; i < 6; ++i) {
+    if (std::isnan(s.surface_profile[i]))
+      EXPECT_TRUE(std::isnan(back.surface_profile[i]));
+    else
+      EXPECT_EQ(back.surface_profile[i], s.surface_profile[i]) << i;
+  }
+  s.surface_profile.resize(3);  // one row for two samples
+  {
+    io::H5File f(dir + "/short.h5", io::H5File::Mode::Truncate);
+    io::write_series(f, s);
+  }
+  io::H5File f(dir + "/short.h5", io::H5File::Mode::Read);
+  EXPECT_FALSE(f.exists("series/surface_profile"));
+  EXPECT_TRUE(f.exists("series/surface_speed"));
 }

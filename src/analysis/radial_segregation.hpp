@@ -22,6 +22,9 @@ struct Series {
   // Single-axis sphere scenes: dynamic repose angle (degrees) and surface speed (flow_profile.hpp),
   // one per sample; empty otherwise.
   std::vector<double> repose_angle, surface_speed;
+  // ... and the surface velocity profile: the bin centres h (same for every sample) and, per
+  // sample, the downhill speed per bin (samples x bins, row-major; NaN where no surface particle).
+  std::vector<double> profile_h, surface_profile;
   CylinderSeries cylinder;  // cylinder scenes: Rapaport's measures (sphere scenes: empty)
   void append(double t, double iter, const SegregationSample& s, double ke) {
     time.push_back(t);

@@ -278,6 +278,8 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
       const analysis::FlowProfile fp = analysis::flow_profile(all, all.size(), flow);
       series.repose_angle.push_back(fp.repose_deg);
       series.surface_speed.push_back(fp.surface_speed);
+      series.profile_h = fp.h;
+      series.surface_profile.insert(series.surface_profile.end(), fp.speed.begin(), fp.speed.end());
     }
   };
   // The MCM's drift grid (output.drift_grid = on): large particles at the free surface of the

@@ -13,6 +13,12 @@ void write_series(H5File& f, const analysis::Series& s) {
   if (!s.repose_angle.empty()) {  // single-axis sphere scenes only
     f.write("series/repose_angle", s.repose_angle);
     f.write("series/surface_speed", s.surface_speed);
+    // The profile per sample (docs/accuracy.md: the surface velocity profile per tier).
+    const hsize_t bins = s.profile_h.size();
+    if (bins > 0 && s.surface_profile.size() == bins * s.surface_speed.size()) {
+      f.write("series/surface_profile_h", s.profile_h);
+      f.write("series/surface_profile", s.surface_profile, {s.surface_speed.size(), bins});
+    }
   }
   write_cylinder_series(f, s.cylinder);
 }
@@ -26,6 +32,10 @@ void read_series(const H5File& f, analysis::Series& s) {
   if (f.exists("series/repose_angle")) {
     s.repose_angle = f.read_double("series/repose_angle");
     s.surface_speed = f.read_double("series/surface_speed");
+  }
+  if (f.exists("series/surface_profile")) {  // absent in files written before it was added
+    s.profile_h = f.read_double("series/surface_profile_h");
+    s.surface_profile = f.read_double("series/surface_profile");
   }
   read_cylinder_series(f, s.cylinder);
 }
