@@ -7,6 +7,13 @@ large-particle fraction of the wall shell over the samples at 40-80 degrees of r
 wall time of the protocol phase. Per tier: mean and 95% CI over replicas (Student t); the error
 against the reference (or, without reference runs, the standard tier) is the difference of means
 with its Welch 95% CI.
+
+Then the surface velocity profile (runs that kept series/surface_profile): per run the mean over
+the same window of the downhill speed per bin, divided by omega R, against h/R; per tier the mean
+± CI per bin on the reference's bins (other grids interpolated linearly: preview coarsens the
+bed), and the profile error of each run, the RMS over bins of its difference from the reference
+tier's mean profile (the reference's own runs against the mean of the others: the replica
+ceiling), mean ± CI, with the Welch difference from the reference's.
 """
 import glob
 import math
@@ -44,6 +51,11 @@ def run_means(path):
         rep = f["series/repose_angle"][:][win]
         spd = f["series/surface_speed"][:][win]
         wall = f["series/shell_large_fraction"][:][win]
+        profile = None
+        if "series/surface_profile" in f:
+            prof = f["series/surface_profile"][:][win] / (omega * radius)
+            with np.errstate(all="ignore"):
+                profile = (f["series/surface_profile_h"][:] / radius, np.nanmean(prof, axis=0))
         wall_s = float(f.attrs["particles"]) * float(f.attrs["steps"]) / float(
             f.attrs["particle_steps_per_second"])
         return {
@@ -54,6 +66,7 @@ def run_means(path):
             "wall s": wall_s,
             "particles": int(f.attrs["particles"]),
             "rpm": rpm,
+            "profile": profile,
         }
 
 
@@ -107,6 +120,52 @@ def main():
                 d, hd = welch([r[o] for r in data[base]], [r[o] for r in runs])
                 cells.append(f"{d:+.3g} ± {hd:.2g}")
         print("| " + " | ".join(cells) + " |")
+    profile_table(data, base)
+
+
+def on_grid(run, h):
+    """A run's scaled profile interpolated to the bin centres h/R (NaN outside its own bins)."""
+    rh, rv = run["profile"]
+    ok = np.isfinite(rv)
+    if ok.sum() < 2:
+        return np.full(len(h), np.nan)
+    return np.interp(h, rh[ok], rv[ok], left=np.nan, right=np.nan)
+
+
+def profile_table(data, base):
+    data = {t: [r for r in runs if r["profile"] is not None] for t, runs in data.items()}
+    data = {t: runs for t, runs in data.items() if runs}
+    if base not in data:
+        return
+    h = data[base][0]["profile"][0]
+    ref = np.array([on_grid(r, h) for r in data[base]])
+    rms = {}
+    for t, runs in data.items():
+        vals = []
+        for k, r in enumerate(runs):
+            mean = np.nanmean(np.delete(ref, k, axis=0), axis=0) if t == base else np.nanmean(ref, axis=0)
+            d = on_grid(r, h) - mean
+            vals.append(float(np.sqrt(np.nanmean(d * d))) if np.isfinite(d).any() else np.nan)
+        rms[t] = [v for v in vals if np.isfinite(v)]
+    print()
+    print(f"Surface velocity profile, downhill speed / (omega R), 40-80 degrees; bins of {base}")
+    print("| h / R | " + " | ".join(f"{t} (N = {len(r)})" for t, r in data.items()) + " |")
+    print("|---" * (1 + len(data)) + "|")
+    for b, hb in enumerate(h):
+        cells = []
+        for t, runs in data.items():
+            v = [x for x in (on_grid(r, h)[b] for r in runs) if np.isfinite(x)]
+            cells.append(f"{ci(v)[0]:.3g} ± {ci(v)[1]:.2g}" if v else "—")
+        print(f"| {hb:+.2f} | " + " | ".join(cells) + " |")
+    cells = []
+    for t in data:
+        m, hw, _ = ci(rms[t]) if rms[t] else (np.nan, np.nan, 0)
+        c = f"{m:.3g} ± {hw:.2g}"
+        if t != base and len(rms[t]) >= 2 and len(rms[base]) >= 2:
+            d, hd = welch(rms[base], rms[t])
+            c += f"; Δ {d:+.3g} ± {hd:.2g}"
+        cells.append(c)
+    print(f"| RMS from {base}'s mean profile | " + " | ".join(cells) + " |")
 
 
 if __name__ == "__main__":

@@ -42,11 +42,6 @@ body = f'\nscene = "{scene}"\noutput_dir = "{out}"\ntier = "{tier}"' + body
 print(f"# Written by jobs/accuracy/campaign_tiers.sh: {src} with tier = \"{tier}\" (the comments below\n"
       "# are the original's).\n" + head + sep + body + tail, end="")
 PY
-  start=$(date +%s)
-  ${MPIRUN:-mpirun} -n "$NP" --oversubscribe "$BIN" campaign "$dir/campaign.toml" --quiet \
-    > "$dir/campaign.log" 2>&1 || echo "# $tier: campaign exited non-zero, see $dir/campaign.log"
-  "$BIN" analyze campaign "$dir" > "$dir/analyze.log" 2>&1 ||
-    echo "# $tier: analyze failed, see $dir/analyze.log"
-  echo "# $tier: $(( $(date +%s) - start )) s wall"
+  run_tier_campaign "$dir" "$tier" "$NP"
 done
 /usr/bin/python3 jobs/accuracy/pattern_table.py "$OUT" "$ITERATIONS" --point "$POINT"

@@ -48,11 +48,6 @@ samples_per_iteration = 1
 grid = 12
 frame = "lab"
 EOF
-  start=$(date +%s)
-  ${MPIRUN:-mpirun} -n "$NP" --oversubscribe "$BIN" campaign "$dir/campaign.toml" --quiet \
-    > "$dir/campaign.log" 2>&1 || echo "# $tier: campaign exited non-zero, see $dir/campaign.log"
-  "$BIN" analyze campaign "$dir" > "$dir/analyze.log" 2>&1 ||
-    echo "# $tier: analyze failed, see $dir/analyze.log"
-  echo "# $tier: $(( $(date +%s) - start )) s wall"
+  run_tier_campaign "$dir" "$tier" "$NP"
 done
 /usr/bin/python3 jobs/accuracy/pattern_table.py "$OUT" "$ITERATIONS"

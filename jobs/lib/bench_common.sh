@@ -3,13 +3,16 @@
 #   bench_header   prints the machine, date and commit line every recorded result starts with
 #   make_work N    a scratch directory removed on exit, in $WORK
 #   rate LOG       the particle-steps/s of a run's final "[run] done" line
+#   run_tier_campaign DIR TIER NP   DIR/campaign.toml on NP ranks ($MPIRUN, default mpirun), then
+#                  `tumble analyze campaign DIR`; logs in DIR, a line with the wall time
 BIN=${TUMBLE:-build/tumble}
 [ -x "$BIN" ] || { echo "no executable at $BIN (build first, or set TUMBLE)" >&2; exit 1; }
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
 bench_header() {
   echo "# $(lscpu | awk -F: '/Model name/ {gsub(/^ +/, "", $2); print $2}'), $(nproc) cores;" \
-       "$(date -u +%Y-%m-%dT%H:%MZ); git $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
+       "$(date -u +%Y-%m-%dT%H:%MZ); git $(git rev-parse --short HEAD 2>/dev/null || echo unknown);" \
+       "tumble $("$BIN" --version)"
 }
 
 make_work() {
@@ -18,3 +21,13 @@ make_work() {
 }
 
 rate() { sed -n 's/.*(\([0-9.e+]*\) particle-steps\/s.*/\1/p' "$1" | tail -1; }
+
+run_tier_campaign() {
+  local dir=$1 tier=$2 np=$3 start
+  start=$(date +%s)
+  ${MPIRUN:-mpirun} -n "$np" --oversubscribe "$BIN" campaign "$dir/campaign.toml" --quiet \
+    > "$dir/campaign.log" 2>&1 || echo "# $tier: campaign exited non-zero, see $dir/campaign.log"
+  "$BIN" analyze campaign "$dir" > "$dir/analyze.log" 2>&1 ||
+    echo "# $tier: analyze failed, see $dir/analyze.log"
+  echo "# $tier: $(( $(date +%s) - start )) s wall"
+}
