@@ -153,9 +153,14 @@ def profile_table(data, base):
     print("|---" * (1 + len(data)) + "|")
     for b, hb in enumerate(h):
         cells = []
+        vb = [x for x in ref[:, b] if np.isfinite(x)]
         for t, runs in data.items():
             v = [x for x in (on_grid(r, h)[b] for r in runs) if np.isfinite(x)]
-            cells.append(f"{ci(v)[0]:.3g} ± {ci(v)[1]:.2g}" if v else "—")
+            c = f"{ci(v)[0]:.3g} ± {ci(v)[1]:.2g}" if v else "—"
+            if t != base and len(v) >= 2 and len(vb) >= 2:
+                d, hd = welch(vb, v)
+                c += f"; Δ {d:+.2g} ± {hd:.2g}"
+            cells.append(c)
         print(f"| {hb:+.2f} | " + " | ".join(cells) + " |")
     cells = []
     for t in data:
