@@ -135,8 +135,10 @@ def on_grid(run, h):
 def profile_table(data, base):
     data = {t: [r for r in runs if r["profile"] is not None] for t, runs in data.items()}
     data = {t: runs for t, runs in data.items() if runs}
-    if base not in data:
-        return
+    if base not in data or len(data[base]) < 2:  # e.g. runs from before profiles were kept
+        base = next((t for t, runs in data.items() if len(runs) >= 2), None)
+        if base is None:
+            return
     h = data[base][0]["profile"][0]
     ref = np.array([on_grid(r, h) for r in data[base]])
     rms = {}
