@@ -6,6 +6,7 @@
 #include "core/error.hpp"
 #include "core/fill.hpp"
 #include "core/scene.hpp"
+#include "io/bed_io.hpp"
 
 using namespace tumble;
 
@@ -78,4 +79,16 @@ TEST(Fill, DensityBidisperseAndSizeRatioFour) {
   const Particles r4 =
       make_bed(parse_scene("", {"tumbler.radius=0.04", "particles.d_large=0.008"}, "test"));
   EXPECT_GT(r4.size(), 1000u);
+}
+
+// The bed cache key: the settle-relevant keys change it, output keys do not, and a new version of
+// the fill/settle code names another file (version 1 keeps the names of existing caches).
+TEST(Fill, BedCacheKeyNamesWhatDeterminesTheBed) {
+  const Scene s = tiny({"fill.seed=7"});
+  EXPECT_EQ(io::bed_key(s), io::bed_key(s, 1));
+  EXPECT_EQ(io::bed_key(s).find(";code="), std::string::npos);
+  EXPECT_NE(io::bed_key(s, 2), io::bed_key(s, 1));
+  EXPECT_NE(io::bed_key(s), io::bed_key(tiny({"fill.seed=8"})));
+  EXPECT_NE(io::bed_key(s), io::bed_key(tiny({"fill.seed=7", "contact.collision_time=0.001"})));
+  EXPECT_EQ(io::bed_key(s), io::bed_key(tiny({"fill.seed=7", "output.snapshot_interval=0.5"})));
 }

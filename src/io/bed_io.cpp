@@ -13,7 +13,7 @@
 
 namespace tumble::io {
 
-std::string bed_key(const Scene& s) {
+std::string bed_key(const Scene& s, int code_version) {
   std::ostringstream os;
   os.precision(17);
   os << "R=" << s.radius << ";ds=" << s.d_small << ";dl=" << s.d_large << ";rho=" << s.density
@@ -30,6 +30,7 @@ std::string bed_key(const Scene& s) {
     os << ";rap=" << s.kn << "," << s.gamma_n << "," << s.gamma_s_ss << "," << s.gamma_s_sl << ","
        << s.gamma_s_ll << "," << s.mu_max << "," << s.kg << "," << s.ratchet << "," << s.size_spread
        << "," << s.integrator;
+  if (code_version > 1) os << ";code=" << code_version;
   return os.str();
 }
 
