@@ -123,8 +123,7 @@ class Dispatcher {
   std::size_t queued() const { return queue_.size(); }
 
   void started(const CaseTask& t, int group, int rank) {
-    running_[t.case_index] = {group, rank};
-    started_[t.case_index] = Clock::now();
+    running_[t.case_index] = {group, rank, Clock::now()};
     CaseRecord r = record(t, group, rank);
     r.status = "running";
     r.start = utc_now();
@@ -135,9 +134,8 @@ class Dispatcher {
   }
 
   void finished(const CaseTask& t, const CaseOutcome& o) {
-    const auto [group, rank] = running_.at(t.case_index);
+    const auto [group, rank, handed] = running_.at(t.case_index);
     running_.erase(t.case_index);
-    started_.erase(t.case_index);
     freed_[rank] = Clock::now();
     CaseRecord r = record(t, group, rank);
     r.start = o.start;
@@ -238,10 +236,10 @@ class Dispatcher {
     eta_in.queued_cost = left_cost_;
     eta_in.workers = std::max(1, stats_.workers);
     std::map<int, std::pair<Clock::time_point, std::size_t>> first;  // rank -> oldest hand-out
-    for (const auto& [idx, handed] : started_) {
-      const int rank = running_.at(idx).second;
-      auto it = first.find(rank);
-      if (it == first.end() || handed < it->second.first) first[rank] = {handed, idx};
+    for (const auto& [idx, held] : running_) {
+      auto it = first.find(held.rank);
+      if (it == first.end() || held.handed < it->second.first)
+        first[held.rank] = {held.handed, idx};
     }
     for (const auto& [rank, oldest] : first) {
       const auto freed = freed_.find(rank);
@@ -268,9 +266,12 @@ class Dispatcher {
   const ScheduleInput& in_;
   std::vector<std::string> hosts_;
   std::deque<CaseTask> queue_;
-  std::map<std::size_t, std::pair<int, int>> running_;  // case index -> (group, world rank)
-  std::map<std::size_t, Clock::time_point> started_;    // case index -> when it was handed out
-  std::map<int, Clock::time_point> freed_;              // world rank -> when its last case ended
+  struct Held {
+    int group, rank;           // rank group, world rank of its leader
+    Clock::time_point handed;  // when the case was handed out
+  };
+  std::map<std::size_t, Held> running_;     // case index -> who holds it
+  std::map<int, Clock::time_point> freed_;  // world rank -> when its last case ended
   int done_ = 0, failed_ = 0;
   double left_cost_ = 0, done_cost_ = 0, done_wall_ = 0;
   ScheduleStats stats_;
