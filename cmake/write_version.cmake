@@ -17,7 +17,7 @@ else()
   endif()
 endif()
 set(text "// Generated at build time by cmake/write_version.cmake: provenance for every HDF5 file.
-#include \"core/version.hpp\"
+#include \"base/version.hpp\"
 namespace tumble {
 const char* const kVersion = \"${VERSION}\";
 const char* const kGitHash = \"${hash}\";

@@ -8,7 +8,7 @@ usage: postproc/render_bottom.py SNAP.h5 [SNAP.h5 ...] [-o out.png | --frames DI
 
 A small native rasteriser (matplotlib, no POV-Ray): an orthographic view along +y, X to the
 right and Z up, which is the unmirrored picture from below that the Lambert maps use
-(src/analysis/lambert.hpp). Spheres are drawn as shaded discs, farthest first (painter's
+(src/projection/lambert.hpp). Spheres are drawn as shaded discs, farthest first (painter's
 algorithm), so the particles at the wall hide those behind them as in a photograph. `--view
 lambert` instead places particles of the shell 0.9 < r/R < 1 at the Lambert image of their
 direction (Fig. 10(b)). Snapshot layout: src/io/snapshot.cpp.

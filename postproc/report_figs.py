@@ -15,7 +15,7 @@ FATE_COLOURS = ["#f39c12", "#2e6fd8", "#1e8449", "#222222"]  # Fig. 8: orange, b
 
 
 def square_to_disc(a, b):
-    """Shirley-Chiu concentric map, as src/analysis/lambert.cpp."""
+    """Shirley-Chiu concentric map, as src/projection/lambert.cpp."""
     a, b = np.asarray(a, float), np.asarray(b, float)
     q = math.pi / 4
     with np.errstate(divide="ignore", invalid="ignore"):

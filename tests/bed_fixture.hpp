@@ -3,8 +3,8 @@
 // cached in a temporary directory.
 #include <filesystem>
 
-#include "core/realization.hpp"
-#include "core/scene.hpp"
+#include "run/realization.hpp"
+#include "scene/scene.hpp"
 
 namespace tumble::testing {
 

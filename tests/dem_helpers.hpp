@@ -3,9 +3,9 @@
 #include <string>
 #include <vector>
 
-#include "core/fill.hpp"
-#include "core/scene.hpp"
-#include "core/simulation.hpp"
+#include "scene/fill.hpp"
+#include "scene/scene.hpp"
+#include "engine/simulation.hpp"
 
 namespace tumble::testing {
 

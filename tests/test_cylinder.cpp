@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "core/error.hpp"
-#include "core/fill_cylinder.hpp"
+#include "base/error.hpp"
+#include "scene/fill_cylinder.hpp"
 #include "dem_helpers.hpp"
 
 namespace tumble {

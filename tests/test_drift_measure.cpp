@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "analysis/drift_measure.hpp"
-#include "core/fill.hpp"
+#include "run/drift_measure.hpp"
+#include "scene/fill.hpp"
 
 using namespace tumble;
 

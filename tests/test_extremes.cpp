@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "core/error.hpp"
-#include "core/fill.hpp"
+#include "base/error.hpp"
+#include "scene/fill.hpp"
 #include "dem_helpers.hpp"
 
 using namespace tumble;

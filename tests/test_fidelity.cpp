@@ -1,12 +1,12 @@
-// Fidelity tiers (core/fidelity.hpp): each tier derives its values from the scene as written,
+// Fidelity tiers (scene/fidelity.hpp): each tier derives its values from the scene as written,
 // --set keys win over them, and a tier that does not apply is refused with the key named.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/error.hpp"
-#include "core/fill.hpp"
-#include "core/scene.hpp"
+#include "base/error.hpp"
+#include "scene/fill.hpp"
+#include "scene/scene.hpp"
 #include "io/bed_io.hpp"
 
 using namespace tumble;

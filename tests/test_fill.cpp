@@ -3,9 +3,9 @@
 
 #include <cmath>
 
-#include "core/error.hpp"
-#include "core/fill.hpp"
-#include "core/scene.hpp"
+#include "base/error.hpp"
+#include "scene/fill.hpp"
+#include "scene/scene.hpp"
 #include "io/bed_io.hpp"
 
 using namespace tumble;

@@ -8,8 +8,8 @@
 
 #include "analysis/flow_profile.hpp"
 #include "analysis/radial_segregation.hpp"
-#include "core/vec3.hpp"
-#include "io/hdf5_file.hpp"
+#include "base/vec3.hpp"
+#include "h5/hdf5_file.hpp"
 #include "io/series_io.hpp"
 
 using namespace tumble;

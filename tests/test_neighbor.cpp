@@ -6,7 +6,7 @@
 #include <set>
 
 #include "bed_fixture.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 using namespace tumble;
 using namespace tumble::testing;

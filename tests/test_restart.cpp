@@ -4,8 +4,8 @@
 #include <filesystem>
 
 #include "bed_fixture.hpp"
-#include "core/error.hpp"
-#include "core/realization.hpp"
+#include "base/error.hpp"
+#include "run/realization.hpp"
 #include "io/checkpoint.hpp"
 
 using namespace tumble;

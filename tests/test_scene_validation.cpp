@@ -5,9 +5,9 @@
 #include <cmath>
 #include <filesystem>
 
-#include "core/error.hpp"
-#include "core/scene.hpp"
-#include "core/vec3.hpp"
+#include "base/error.hpp"
+#include "scene/scene.hpp"
+#include "base/vec3.hpp"
 
 using namespace tumble;
 

@@ -5,7 +5,7 @@
 
 #include <cstdlib>
 
-#include "core/fill.hpp"
+#include "scene/fill.hpp"
 #include "dem_helpers.hpp"
 
 using namespace tumble;

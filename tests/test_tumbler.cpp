@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "bed_fixture.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 #include "dem_helpers.hpp"
 
 using namespace tumble;

@@ -5,7 +5,7 @@
 // The cylinder's axis is z (from -L/2 to L/2), gravity -y; the cross-section is the (x, y) plane.
 #include <vector>
 
-#include "core/particles.hpp"
+#include "base/particles.hpp"
 
 namespace tumble::analysis {
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/vec3.hpp"
+#include "base/vec3.hpp"
 
 namespace tumble::analysis {
 

@@ -10,7 +10,7 @@
 // is the surface velocity profile, and its mean over |h| < 0.3 R the surface speed.
 #include <vector>
 
-#include "core/particles.hpp"
+#include "base/particles.hpp"
 
 namespace tumble::analysis {
 

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "analysis/cylinder_segregation.hpp"
-#include "core/particles.hpp"
+#include "base/particles.hpp"
 
 namespace tumble::analysis {
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "core/scene.hpp"
-#include "io/hdf5_file.hpp"
+#include "scene/scene.hpp"
+#include "h5/hdf5_file.hpp"
 
 namespace tumble::analysis {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "core/particles.hpp"
-#include "core/vec3.hpp"
+#include "base/particles.hpp"
+#include "base/vec3.hpp"
 
 namespace tumble::analysis {
 

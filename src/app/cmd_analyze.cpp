@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "analysis/analysis_io.hpp"
-#include "analysis/campaign_analysis.hpp"
-#include "analysis/cm_islands.hpp"
+#include "islands/analysis_io.hpp"
+#include "islands/campaign_analysis.hpp"
+#include "islands/cm_islands.hpp"
 #include "analysis/light_concentration.hpp"
 #include "app/commands.hpp"
 #include "cm/cm_io.hpp"

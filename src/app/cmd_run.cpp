@@ -5,9 +5,9 @@
 #include <iostream>
 
 #include "app/commands.hpp"
-#include "core/fill.hpp"
-#include "core/realization.hpp"
-#include "core/scene.hpp"
+#include "scene/fill.hpp"
+#include "run/realization.hpp"
+#include "scene/scene.hpp"
 
 namespace tumble::app {
 

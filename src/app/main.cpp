@@ -5,8 +5,8 @@
 
 #include "app/campaign_commands.hpp"
 #include "app/commands.hpp"
-#include "core/error.hpp"
-#include "core/version.hpp"
+#include "base/error.hpp"
+#include "base/version.hpp"
 
 int main(int argc, char** argv) {
   // FUNNELED: `tumble campaign` runs rank 0's own cases in a thread that makes no MPI calls.

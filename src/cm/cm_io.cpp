@@ -3,8 +3,8 @@
 #include <Eigen/LU>
 #include <cmath>
 
-#include "core/version.hpp"
-#include "io/hdf5_file.hpp"
+#include "base/version.hpp"
+#include "h5/hdf5_file.hpp"
 
 namespace tumble::cm {
 namespace {

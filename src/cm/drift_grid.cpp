@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "cm/flow_field.hpp"
-#include "io/hdf5_file.hpp"
+#include "h5/hdf5_file.hpp"
 
 namespace tumble::cm {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "analysis/lambert.hpp"
+#include "projection/lambert.hpp"
 
 namespace tumble::cm {
 

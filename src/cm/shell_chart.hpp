@@ -7,7 +7,7 @@
 // The chart covers both parts and is equal-area for the map's invariant measure, so every
 // section map has Jacobian determinant 1 in it:
 //   * bulk part -> the disc |v| < rim(): the Lambert projection viewed from below of the
-//     direction p/|p| (analysis/lambert.hpp), i.e. exactly the picture of Yu 2022 Fig. 1(a);
+//     direction p/|p| (projection/lambert.hpp), i.e. exactly the picture of Yu 2022 Fig. 1(a);
 //   * layer cap -> the ring rim() <= |v| <= outer(): same azimuth atan2(z, x); with
 //     u = eta/eps = sqrt(q^2 - x^2 - z^2) in [0, q], |v|^2 = rim^2 + (eps/r) u, so the chart
 //     is continuous and keeps its orientation across the interface circle (u = 0).

@@ -17,7 +17,7 @@
 // Walls use the same terms (the curved wall, "rough"); smooth end caps use f_v + f_d only.
 #include <cmath>
 
-#include "core/vec3.hpp"
+#include "base/vec3.hpp"
 
 namespace tumble::contact {
 

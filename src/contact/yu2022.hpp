@@ -13,7 +13,7 @@
 // grazing incidence).
 #include <cmath>
 
-#include "core/vec3.hpp"
+#include "base/vec3.hpp"
 
 namespace tumble::contact {
 

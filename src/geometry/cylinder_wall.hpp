@@ -5,7 +5,7 @@
 // case there are no caps. The surface moves with Ω × r; the cylinder never moves in space.
 #include <cmath>
 
-#include "core/vec3.hpp"
+#include "base/vec3.hpp"
 
 namespace tumble::geometry {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/vec3.hpp"
+#include "base/vec3.hpp"
 
 namespace tumble::geometry {
 

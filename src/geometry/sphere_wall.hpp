@@ -1,7 +1,7 @@
 #pragma once
 // The spherical tumbler: an analytic shell of radius R centred at the origin, particles inside.
 // Its surface moves with Ω × r (the shell itself never moves in space).
-#include "core/vec3.hpp"
+#include "base/vec3.hpp"
 
 namespace tumble::geometry {
 

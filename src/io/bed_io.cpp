@@ -6,9 +6,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/error.hpp"
-#include "core/fill.hpp"
-#include "io/hdf5_file.hpp"
+#include "base/error.hpp"
+#include "base/hash.hpp"
+#include "scene/fill.hpp"
+#include "h5/hdf5_file.hpp"
 #include "io/snapshot.hpp"
 
 namespace tumble::io {
@@ -35,11 +36,7 @@ std::string bed_key(const Scene& s, int code_version) {
 }
 
 std::string bed_cache_path(const Scene& s) {
-  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
-  for (unsigned char c : bed_key(s)) h = (h ^ c) * 1099511628211ull;
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
-  return s.bed_cache + "/bed_" + buf + ".h5";
+  return s.bed_cache + "/bed_" + hex16(fnv1a64(bed_key(s))) + ".h5";
 }
 
 void write_bed(const std::string& path, const Particles& p, const Scene& scene) {

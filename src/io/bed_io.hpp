@@ -4,8 +4,8 @@
 // z, gravity along -z, which is rotated to Tumble's y-up lab frame).
 #include <string>
 
-#include "core/particles.hpp"
-#include "core/scene.hpp"
+#include "base/particles.hpp"
+#include "scene/scene.hpp"
 
 namespace tumble::io {
 
@@ -13,8 +13,8 @@ void write_bed(const std::string& path, const Particles& p, const Scene& scene);
 // Reads a bed and checks it against the scene (diameters, tumbler radius); sets masses from the
 // scene.
 Particles read_bed(const std::string& path, const Scene& scene);
-// Version of the code that fills and settles a bed (core/fill*.cpp, the settling loop in
-// core/realization.cpp): bump it when a change there changes the bed a scene settles to, so that
+// Version of the code that fills and settles a bed (scene/fill*.cpp, the settling loop in
+// run/realization.cpp): bump it when a change there changes the bed a scene settles to, so that
 // cached beds of the old code are not reused silently. Version 1 adds nothing to the key (the
 // caches written before the version existed keep their names).
 inline constexpr int kBedCodeVersion = 1;

@@ -1,7 +1,7 @@
 #include "io/checkpoint.hpp"
 
-#include "core/error.hpp"
-#include "io/hdf5_file.hpp"
+#include "base/error.hpp"
+#include "h5/hdf5_file.hpp"
 #include "io/series_io.hpp"
 #include "io/snapshot.hpp"
 

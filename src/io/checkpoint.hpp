@@ -15,8 +15,8 @@
 #include <string>
 
 #include "analysis/radial_segregation.hpp"
-#include "core/scene.hpp"
-#include "core/simulation.hpp"
+#include "scene/scene.hpp"
+#include "engine/simulation.hpp"
 
 namespace tumble::io {
 

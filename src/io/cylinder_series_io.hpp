@@ -3,7 +3,7 @@
 #include <string>
 
 #include "analysis/cylinder_segregation.hpp"
-#include "io/hdf5_file.hpp"
+#include "h5/hdf5_file.hpp"
 
 namespace tumble::io {
 

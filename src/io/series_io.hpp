@@ -2,7 +2,7 @@
 // HDF5 form of a realization's time series (group `series/` of results.h5 and of checkpoints,
 // plus the cylinder group): one writer and one reader for both files.
 #include "analysis/radial_segregation.hpp"
-#include "io/hdf5_file.hpp"
+#include "h5/hdf5_file.hpp"
 
 namespace tumble::io {
 

@@ -6,8 +6,8 @@
 #include <fstream>
 #include <numeric>
 
-#include "core/version.hpp"
-#include "io/hdf5_file.hpp"
+#include "base/version.hpp"
+#include "h5/hdf5_file.hpp"
 
 namespace tumble::io {
 

@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "core/scene.hpp"
-#include "core/simulation.hpp"
+#include "scene/scene.hpp"
+#include "engine/simulation.hpp"
 
 namespace tumble::io {
 

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/particles.hpp"
+#include "base/particles.hpp"
 #include "neighbor/cell_grid.hpp"
 #include "neighbor/contact_history.hpp"
 

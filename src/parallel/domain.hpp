@@ -13,7 +13,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/particles.hpp"
+#include "base/particles.hpp"
 #include "neighbor/contact_history.hpp"
 #include "parallel/rcb.hpp"
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/particles.hpp"
+#include "base/particles.hpp"
 
 namespace tumble::parallel {
 

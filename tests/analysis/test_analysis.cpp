@@ -6,13 +6,13 @@
 #include <cmath>
 #include <limits>
 
-#include "analysis/cross_section.hpp"
+#include "islands/cross_section.hpp"
 #include "analysis/displacement.hpp"
-#include "analysis/enrichment.hpp"
-#include "analysis/fates.hpp"
-#include "analysis/island_mask.hpp"
+#include "islands/enrichment.hpp"
+#include "islands/fates.hpp"
+#include "islands/island_mask.hpp"
 #include "analysis/light_concentration.hpp"
-#include "analysis/replica_stats.hpp"
+#include "islands/replica_stats.hpp"
 
 namespace ta = tumble::analysis;
 using tumble::Vec3;

@@ -8,7 +8,7 @@
 
 #include "campaign/campaign_spec.hpp"
 #include "campaign/expand.hpp"
-#include "core/error.hpp"
+#include "base/error.hpp"
 
 namespace tumble::campaign {
 namespace {

@@ -12,7 +12,7 @@
 #include "analysis/concentration.hpp"
 #include "analysis/displacement.hpp"
 #include "campaign/field_collector.hpp"
-#include "io/hdf5_file.hpp"
+#include "h5/hdf5_file.hpp"
 
 namespace tumble::campaign {
 namespace {

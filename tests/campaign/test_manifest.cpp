@@ -7,7 +7,7 @@
 
 #include "campaign/json_line.hpp"
 #include "campaign/manifest.hpp"
-#include "core/error.hpp"
+#include "base/error.hpp"
 
 namespace tumble::campaign {
 namespace {

@@ -8,9 +8,9 @@
 #include <random>
 
 #include "campaign/ensemble.hpp"
-#include "campaign/student_t.hpp"
-#include "core/error.hpp"
-#include "io/hdf5_file.hpp"
+#include "base/student_t.hpp"
+#include "base/error.hpp"
+#include "h5/hdf5_file.hpp"
 
 namespace tumble::campaign {
 namespace {

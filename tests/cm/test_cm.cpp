@@ -4,7 +4,7 @@
 #include <filesystem>
 
 #include "cm/cm_io.hpp"
-#include "io/hdf5_file.hpp"
+#include "h5/hdf5_file.hpp"
 
 namespace {
 using namespace tumble::cm;

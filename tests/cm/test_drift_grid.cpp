@@ -6,7 +6,7 @@
 
 #include "cm/drift_grid.hpp"
 #include "cm/flow_field.hpp"
-#include "io/hdf5_file.hpp"
+#include "h5/hdf5_file.hpp"
 
 namespace {
 using namespace tumble::cm;

@@ -1,10 +1,10 @@
-// The shared Lambert projection and equal-area grid (analysis/lambert.hpp).
+// The shared Lambert projection and equal-area grid (projection/lambert.hpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "analysis/lambert.hpp"
+#include "projection/lambert.hpp"
 
 namespace {
 using namespace tumble::analysis;

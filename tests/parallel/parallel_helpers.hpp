@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/realization.hpp"
-#include "core/scene.hpp"
+#include "run/realization.hpp"
+#include "scene/scene.hpp"
 #include "geometry/protocol.hpp"
 
 namespace tumble::testing {

@@ -12,10 +12,10 @@
 #include <set>
 
 #include "analysis/radial_segregation.hpp"
-#include "core/fill.hpp"
-#include "core/fill_cylinder.hpp"
-#include "core/realization.hpp"
-#include "core/simulation.hpp"
+#include "scene/fill.hpp"
+#include "scene/fill_cylinder.hpp"
+#include "run/realization.hpp"
+#include "engine/simulation.hpp"
 #include "parallel/domain.hpp"
 #include "parallel_helpers.hpp"
 

@@ -8,11 +8,11 @@
 #include <cmath>
 #include <filesystem>
 
-#include "core/fill.hpp"
-#include "core/realization.hpp"
-#include "core/simulation.hpp"
+#include "scene/fill.hpp"
+#include "run/realization.hpp"
+#include "engine/simulation.hpp"
 #include "io/checkpoint.hpp"
-#include "io/hdf5_file.hpp"
+#include "h5/hdf5_file.hpp"
 #include "io/snapshot.hpp"
 #include "parallel_helpers.hpp"
 

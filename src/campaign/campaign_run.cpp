@@ -1,0 +1,306 @@
+#include "campaign/campaign_run.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "campaign/campaign_spec.hpp"
+#include "campaign/case_runner.hpp"
+#include "campaign/ensemble.hpp"
+#include "campaign/expand.hpp"
+#include "campaign/field_collector.hpp"
+#include "base/hash.hpp"
+#include "campaign/manifest.hpp"
+#include "campaign/scheduler.hpp"
+#include "base/error.hpp"
+#include "base/version.hpp"
+
+namespace tumble::campaign {
+namespace fs = std::filesystem;
+
+void parse_slice(const std::string& text, int& i, int& n) {
+  const auto slash = text.find('/');
+  try {
+    if (slash == std::string::npos) throw std::invalid_argument("no /");
+    std::size_t a = 0, b = 0;
+    i = std::stoi(text.substr(0, slash), &a);
+    n = std::stoi(text.substr(slash + 1), &b);
+    if (a != slash || b != text.size() - slash - 1) throw std::invalid_argument("junk");
+  } catch (const std::exception&) {
+    throw InputError("campaign error: --slice '" + text + "' must be i/n, e.g. 3/16");
+  }
+  if (n < 1 || i < 1 || i > n)
+    throw InputError("campaign error: --slice " + text + ": need 1 <= i <= n");
+}
+
+std::string partial_path(const std::string& dir, int i, int n) {
+  return dir + "/partials/slice_" + std::to_string(i) + "_of_" + std::to_string(n) + ".h5";
+}
+
+namespace {
+
+enum class State { Done, Failed, Pending };
+
+struct CaseState {
+  State state = State::Pending;
+  CaseRecord last;  // latest manifest line (if any)
+  bool has_record = false;
+  CaseTask next;     // Pending: what to run
+  std::string note;  // why it is pending again
+};
+
+// Where each case of the slice stands, from the manifests and the files they point to. A case is
+// done only if its fields file still has the checksum the manifest recorded.
+std::vector<CaseState> classify(const CampaignSpec& spec, const Expansion& e,
+                                const std::string& dir, const std::vector<std::size_t>& slice,
+                                bool retry_failed, int* torn) {
+  const ManifestState ms = read_manifests(dir);
+  if (torn) *torn = ms.torn_lines;
+  std::vector<CaseState> out;
+  for (std::size_t idx : slice) {
+    const Case& c = e.cases[idx];
+    CaseState s;
+    int attempt = 1;
+    bool resume_same_attempt = false;
+    if (auto it = ms.latest.find(c.id); it != ms.latest.end()) {
+      s.last = it->second;
+      s.has_record = true;
+      const int attempts = ms.attempts.at(c.id);
+      if (s.last.status == "done") {
+        const std::string f = fields_path(dir, c.id);
+        std::string sum;
+        try {
+          if (fs::exists(f)) sum = file_checksum(f);
+        } catch (const std::exception&) {
+        }
+        if (!sum.empty() && sum == s.last.checksum) {
+          s.state = State::Done;
+          out.push_back(s);
+          continue;
+        }
+        s.note = sum.empty() ? "its fields file is missing" : "its fields file changed";
+        attempt = attempts + 1;
+      } else if (s.last.status == "failed") {
+        if ((s.last.final_failure || attempts >= spec.max_attempts) && !retry_failed) {
+          s.state = State::Failed;
+          out.push_back(s);
+          continue;
+        }
+        attempt = attempts + 1;
+      } else {  // running when its invocation died: continue the same attempt
+        attempt = std::max(1, s.last.attempt);
+        resume_same_attempt = true;
+        s.note = "interrupted";
+      }
+    }
+    s.next.case_index = idx;
+    s.next.attempt = attempt;
+    s.next.seed = case_seed(spec, c, attempt);
+    s.next.fresh = spec.retry_seed == "new" && attempt > 1 && !resume_same_attempt;
+    out.push_back(s);
+  }
+  return out;
+}
+
+void write_text_atomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream o(tmp);
+    o << text;
+  }
+  fs::rename(tmp, path);
+}
+
+std::string cases_table(const Expansion& e) {
+  std::ostringstream os;
+  os << "# index\tcase\tpoint\treplica\tcost\tparams\tscene_error\n";
+  for (const auto& c : e.cases)
+    os << c.index << "\t" << c.id << "\t" << c.point_id << "\t" << c.replica << "\t" << c.cost
+       << "\t" << c.params_text << "\t" << c.scene_error << "\n";
+  return os.str();
+}
+
+Ensemble build_ensemble(const CampaignSpec& spec, const Expansion& e, const std::string& dir,
+                        const std::vector<std::size_t>& slice, const std::vector<CaseState>& states,
+                        const std::string& slice_text) {
+  Ensemble ens;
+  ens.notes["campaign"] = spec.name;
+  ens.notes["campaign_file"] = spec.file;
+  ens.notes["slice"] = slice_text;
+  ens.notes["written_utc"] = utc_now();
+  ens.notes["tumble_version"] = kVersion;
+  ens.notes["git_hash"] = kGitHash;
+  const auto names = field_names(spec.collect);
+  // Members are folded in case-id order, so that a result never depends on which rank group
+  // finished first: a killed and resumed campaign gives the same bits as an uninterrupted one.
+  std::vector<std::size_t> order(slice.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return e.cases[slice[a]].id < e.cases[slice[b]].id;
+  });
+  std::map<std::string, const Point*> points;
+  for (const auto& p : e.points) points[p.id] = &p;
+  for (std::size_t k : order) {
+    const Case& c = e.cases[slice[k]];
+    PointStats& ps = ens.point(*points.at(c.point_id), spec);
+    const CaseState& s = states[k];
+    if (s.state == State::Done)
+      ens.add_case(c.point_id, c.id, fields_path(dir, c.id), names);
+    else if (s.state == State::Failed)
+      ps.failed.push_back(c.id + ": [" + s.last.failure + ", attempt " +
+                          std::to_string(s.last.attempt) + "] " + s.last.diagnostic);
+    else
+      ps.missing.push_back(c.id);
+  }
+  return ens;
+}
+
+// This slice's statistics from the manifests and fields files (not from memory: the result is
+// the same whoever ran which case, and however often the campaign was interrupted).
+void fold_statistics(const CampaignSpec& spec, const Expansion& e, const std::string& dir,
+                     const std::vector<std::size_t>& slice, const CampaignOptions& opt,
+                     const ScheduleStats& stats, std::ostream& out) {
+  const std::string slice_text = std::to_string(opt.slice_i) + "/" + std::to_string(opt.slice_n);
+  const auto final_states = classify(spec, e, dir, slice, false, nullptr);
+  PetscScope petsc;
+  const Ensemble ens = build_ensemble(spec, e, dir, slice, final_states, slice_text);
+  const std::string partial = partial_path(dir, opt.slice_i, opt.slice_n);
+  const std::string where = opt.slice_n == 1 ? dir + "/ensemble.h5" : partial;
+  ens.write(where);
+  if (opt.slice_n == 1)  // the whole campaign is its own single partial (for `tumble merge`)
+    fs::copy_file(where, partial, fs::copy_options::overwrite_existing);
+  out << "[campaign] finished slice " << slice_text << ": " << ens.member_count() << " done, "
+      << ens.failed_count() << " failed (excluded from the ensemble), " << ens.missing_count()
+      << " without result; " << stats.cases_run << " attempts run on " << stats.workers << " worker"
+      << (stats.workers == 1 ? "" : "s") << " in " << std::setprecision(4) << stats.loop_wall
+      << " s; workers idle " << std::setprecision(3) << 100 * stats.overhead()
+      << "% of the time (scheduling, and the tail once fewer cases than workers are left)"
+      << std::endl;
+  for (const auto& [id, p] : ens.points)
+    for (const auto& f : p.failed) out << "[campaign]   excluded " << f << "\n";
+  out << "[campaign] statistics: " << where
+      << (opt.slice_n > 1 ? " (fold all slices with: tumble merge " + dir + ")" : "") << std::endl;
+}
+
+}  // namespace
+
+int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(world, &rank);
+  MPI_Comm_size(world, &size);
+  CampaignSpec spec = load_campaign(opt.file);
+  if (!opt.output.empty()) spec.output_dir = opt.output;
+  const std::string dir = spec.output_dir;
+  const std::string bed_cache = spec.bed_cache.empty() ? dir + "/beds" : spec.bed_cache;
+  const Expansion e = expand(spec);
+  const std::vector<std::size_t> slice = slice_cases(e, opt.slice_i, opt.slice_n);
+  const std::string slice_text = std::to_string(opt.slice_i) + "/" + std::to_string(opt.slice_n);
+
+  if (opt.list) {
+    if (rank == 0) {
+      out << "# campaign " << spec.name << ": " << e.cases.size() << " cases in " << e.points.size()
+          << " points; slice " << slice_text << " holds " << slice.size() << "\n";
+      out << "# case\tpoint\treplica\tseed\tcost(particle-steps)\tparams\n";
+      for (std::size_t idx : slice) {
+        const Case& c = e.cases[idx];
+        out << c.id << "\t" << c.point_id << "\t" << c.replica << "\t" << case_seed(spec, c, 1)
+            << "\t" << std::setprecision(4) << c.cost << "\t" << c.params_text
+            << (c.scene_error.empty() ? "" : "\tINVALID: " + c.scene_error) << "\n";
+      }
+    }
+    return 0;
+  }
+
+  // Rank 0 decides what is left and takes the slice's manifest lock; the others wait for its word
+  // so that a refusal (e.g. the slice is already running) ends every rank the same way.
+  std::vector<CaseState> states;
+  ScheduleInput in;
+  std::unique_ptr<ManifestWriter> manifest;
+  std::string refusal;
+  int status_rc = 0;
+  if (rank == 0) {
+    try {
+      int torn = 0;
+      states = classify(spec, e, dir, slice, opt.retry_failed, &torn);
+      int done = 0, failed = 0;
+      std::vector<std::size_t> pending;
+      for (std::size_t k = 0; k < states.size(); ++k) {
+        if (states[k].state == State::Done) ++done;
+        if (states[k].state == State::Failed) ++failed;
+        if (states[k].state == State::Pending) pending.push_back(k);
+      }
+      // Largest first: the long cases start early, the short ones fill the gaps at the end.
+      std::stable_sort(pending.begin(), pending.end(), [&](std::size_t a, std::size_t b) {
+        return e.cases[slice[a]].cost > e.cases[slice[b]].cost;
+      });
+      for (std::size_t k : pending) in.tasks.push_back(states[k].next);
+      in.total = static_cast<int>(slice.size());
+      in.done_before = done;
+      in.failed_before = failed;
+      if (opt.status) {
+        out << "campaign " << spec.name << " slice " << slice_text << ": " << slice.size()
+            << " cases: " << done << " done, " << failed << " failed, " << pending.size()
+            << " to run\n";
+        for (std::size_t k : pending)
+          out << "  to run: " << e.cases[slice[k]].id << " [" << e.cases[slice[k]].params_text
+              << "] attempt " << states[k].next.attempt
+              << (states[k].note.empty() ? "" : " (" + states[k].note + ")") << "\n";
+        status_rc = pending.empty() ? 0 : 10;
+      } else {
+        fs::create_directories(dir + "/partials");
+        manifest = std::make_unique<ManifestWriter>(dir + "/manifest/slice_" +
+                                                    std::to_string(opt.slice_i) + "_of_" +
+                                                    std::to_string(opt.slice_n) + ".jsonl");
+        std::ifstream src(opt.file);
+        std::stringstream ss;
+        ss << src.rdbuf();
+        write_text_atomically(dir + "/campaign.toml", ss.str());
+        write_text_atomically(dir + "/cases.tsv", cases_table(e));
+        out << "[campaign] " << spec.name << ": " << e.cases.size() << " cases in "
+            << e.points.size() << " points; slice " << slice_text << ": " << slice.size()
+            << " cases, " << done << " done before, " << failed << " failed before, "
+            << in.tasks.size() << " to run on " << size << " rank" << (size > 1 ? "s" : "")
+            << " (groups of " << spec.ranks_per_case << "); output in " << dir << std::endl;
+        if (torn > 0)
+          out << "[campaign] ignored " << torn << " torn manifest line(s) (a crash mid-write)\n";
+      }
+    } catch (const std::exception& err) {
+      refusal = err.what();
+    }
+  }
+  int sizes[2] = {static_cast<int>(refusal.size()), status_rc};
+  MPI_Bcast(sizes, 2, MPI_INT, 0, world);
+  refusal.resize(static_cast<std::size_t>(sizes[0]));
+  MPI_Bcast(refusal.data(), sizes[0], MPI_CHAR, 0, world);
+  if (!refusal.empty()) throw InputError(refusal);
+  if (opt.status) return sizes[1];
+
+  in.manifest = manifest.get();
+  in.slice = slice_text;
+  in.out = &out;
+  in.quiet = opt.quiet;
+  CaseContext ctx{&spec, &e, dir, bed_cache, MPI_COMM_SELF};
+  const ScheduleStats stats = schedule(ctx, world, in);
+
+  // Rank 0 folds the statistics while the others wait (sleeping); an error here must not leave
+  // them waiting forever, so it is rethrown only after the barrier.
+  std::string error;
+  if (rank == 0) {
+    try {
+      manifest.reset();  // releases the lock: the slice may be run again
+      fold_statistics(spec, e, dir, slice, opt, stats, out);
+    } catch (const std::exception& err) {
+      error = err.what();
+    }
+  }
+  sleeping_barrier(world);
+  if (!error.empty()) throw std::runtime_error(error);
+  return 0;
+}
+
+}  // namespace tumble::campaign

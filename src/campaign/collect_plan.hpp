@@ -1,0 +1,34 @@
+#pragma once
+// When a case samples its fields: sample j is taken at the time step nearest to iteration j / n
+// (n = collect.samples_per_iteration; n = 1 is stroboscopic, at the end of every iteration). The
+// series uses every sample of the run; the maps use the samples of the window [from, to]; Δψ
+// pairs samples m = k n apart, both inside the window.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "campaign/campaign_spec.hpp"
+#include "scene/scene.hpp"
+
+namespace tumble::campaign {
+
+struct CollectPlan {
+  CollectSpec spec;
+  double radius = 0;               // tumbler radius R
+  double steps_per_iteration = 0;  // period / dt (not an integer in general)
+  std::int64_t total_steps = 0;
+  std::int64_t last_sample = 0;                    // largest j inside the run
+  std::int64_t window_first = 0, window_last = 0;  // sample indices of the window
+  std::int64_t lag = 0;                            // m: Δψ pairs samples j - m and j
+  // Step of sample j (the last one is clamped onto the run's final step).
+  std::int64_t sample_step(std::int64_t j) const {
+    return std::min(total_steps, static_cast<std::int64_t>(std::llround(
+                                     j * steps_per_iteration / spec.samples_per_iteration)));
+  }
+  bool in_window(std::int64_t j) const { return j >= window_first && j <= window_last; }
+};
+
+// Throws InputError naming the collect.* key that does not fit the scene.
+CollectPlan make_collect_plan(const CollectSpec& spec, const Scene& scene);
+
+}  // namespace tumble::campaign

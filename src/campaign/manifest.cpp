@@ -1,0 +1,149 @@
+#include "campaign/manifest.hpp"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "campaign/json_line.hpp"
+#include "base/error.hpp"
+
+namespace tumble::campaign {
+namespace fs = std::filesystem;
+
+std::string utc_now() {
+  const auto now = std::chrono::system_clock::now();
+  const std::time_t t = std::chrono::system_clock::to_time_t(now);
+  const auto ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000;
+  char buf[64], out[80];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S", std::gmtime(&t));
+  std::snprintf(out, sizeof out, "%s.%03dZ", buf, static_cast<int>(ms));
+  return out;
+}
+
+double unix_now() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+std::string to_json(const CaseRecord& r) {
+  JsonWriter w;
+  w.add("case", r.case_id).add("point", r.point_id).add("status", r.status);
+  w.add("attempt", r.attempt).add("replica", r.replica).add("seed", r.seed);
+  w.add("params", r.params).add("tier", r.tier);
+  w.add("group", r.group).add("rank", r.rank).add("host", r.host).add("output", r.output);
+  w.add("start", r.start);
+  if (!r.end.empty()) w.add("end", r.end).add("wall", r.wall);
+  if (r.resumed_from_step > 0) w.add("resumed_from_step", r.resumed_from_step);
+  if (!r.checksum.empty()) w.add("checksum", r.checksum);
+  if (r.status == "failed")
+    w.add("failure", r.failure).add("diagnostic", r.diagnostic).add("final", r.final_failure);
+  w.add("slice", r.slice).add("t", r.t);
+  return w.str();
+}
+
+bool from_json(const std::string& line, CaseRecord& r) {
+  JsonObject o;
+  if (!parse_json_line(line, o)) return false;
+  auto text = [&](const char* k) { return o.count(k) ? o[k].text : std::string(); };
+  auto num = [&](const char* k) { return o.count(k) ? o[k].number : 0.0; };
+  r = CaseRecord{};
+  r.case_id = text("case");
+  r.point_id = text("point");
+  r.status = text("status");
+  if (r.case_id.empty() || r.status.empty()) return false;
+  r.params = text("params");
+  r.tier = text("tier");
+  r.attempt = static_cast<int>(num("attempt"));
+  r.replica = static_cast<int>(num("replica"));
+  r.seed = static_cast<long long>(num("seed"));
+  r.group = static_cast<int>(num("group"));
+  r.rank = static_cast<int>(num("rank"));
+  r.host = text("host");
+  r.output = text("output");
+  r.start = text("start");
+  r.end = text("end");
+  r.wall = num("wall");
+  r.resumed_from_step = static_cast<long long>(num("resumed_from_step"));
+  r.checksum = text("checksum");
+  r.failure = text("failure");
+  r.diagnostic = text("diagnostic");
+  r.final_failure = num("final") != 0;
+  r.slice = text("slice");
+  r.t = num("t");
+  return true;
+}
+
+ManifestWriter::ManifestWriter(const std::string& path) : path_(path) {
+  fs::create_directories(fs::path(path).parent_path());
+  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd_ < 0)
+    throw std::runtime_error("cannot open manifest '" + path + "': " + std::strerror(errno));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    fd_ = -1;
+    throw InputError("campaign error: '" + path +
+                     "' is locked: this slice of the campaign is already running");
+  }
+}
+
+ManifestWriter::~ManifestWriter() {
+  if (fd_ >= 0) {
+    ::fsync(fd_);
+    ::close(fd_);  // releases the lock
+  }
+}
+
+void ManifestWriter::append(const CaseRecord& r) {
+  const std::string line = to_json(r) + "\n";
+  // One write(2) per line: O_APPEND places it atomically at the end, so a kill never interleaves
+  // or truncates a line in the page cache.
+  const ssize_t n = ::write(fd_, line.data(), line.size());
+  if (n != static_cast<ssize_t>(line.size()))
+    throw std::runtime_error("cannot append to manifest '" + path_ + "': " + std::strerror(errno));
+}
+
+void ManifestWriter::sync() { ::fsync(fd_); }
+
+ManifestState read_manifests(const std::string& dir) {
+  ManifestState st;
+  const fs::path mdir = fs::path(dir) / "manifest";
+  if (!fs::is_directory(mdir)) return st;
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(mdir))
+    if (e.path().extension() == ".jsonl") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  std::vector<CaseRecord> all;
+  for (const auto& f : files) {
+    std::ifstream in(f);
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.empty()) continue;
+      CaseRecord r;
+      if (from_json(line, r))
+        all.push_back(std::move(r));
+      else
+        ++st.torn_lines;
+    }
+  }
+  // Lines from several files are ordered by their time stamp; within one file the order of
+  // appends is kept (stable sort), which settles equal stamps.
+  std::stable_sort(all.begin(), all.end(),
+                   [](const CaseRecord& a, const CaseRecord& b) { return a.t < b.t; });
+  for (auto& r : all) {
+    st.attempts[r.case_id] = std::max(st.attempts[r.case_id], r.attempt);
+    st.history[r.case_id].push_back(r);
+    st.latest[r.case_id] = r;
+  }
+  return st;
+}
+
+}  // namespace tumble::campaign

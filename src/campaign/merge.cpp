@@ -1,0 +1,82 @@
+#include "campaign/merge.hpp"
+
+#include <filesystem>
+#include <map>
+#include <ostream>
+#include <regex>
+
+#include "campaign/campaign_run.hpp"
+#include "campaign/ensemble.hpp"
+#include "campaign/manifest.hpp"
+#include "base/error.hpp"
+#include "base/version.hpp"
+#include "h5/hdf5_file.hpp"
+
+namespace tumble::campaign {
+namespace fs = std::filesystem;
+
+int merge_campaign(const std::string& dir, int slices, std::ostream& out) {
+  const fs::path pdir = fs::path(dir) / "partials";
+  if (!fs::is_directory(pdir))
+    throw InputError("merge: '" + pdir.string() +
+                     "' does not exist: run the campaign (or its slices) into " + dir + " first");
+  std::map<int, std::map<int, std::string>> found;  // n -> i -> file
+  const std::regex name(R"(slice_(\d+)_of_(\d+)\.h5)");
+  for (const auto& entry : fs::directory_iterator(pdir)) {
+    std::smatch m;
+    const std::string f = entry.path().filename().string();
+    if (std::regex_match(f, m, name))
+      found[std::stoi(m[2])][std::stoi(m[1])] = entry.path().string();
+  }
+  if (found.empty()) throw InputError("merge: no partial results in " + pdir.string());
+  if (slices == 0) {
+    if (found.size() > 1) {
+      std::string ns;
+      for (const auto& [n, files] : found) ns += (ns.empty() ? "" : ", ") + std::to_string(n);
+      throw InputError("merge: " + pdir.string() +
+                       " holds partial results of several slicings (n = " + ns +
+                       "); choose one with --slices N or remove the stale files");
+    }
+    slices = found.begin()->first;
+  }
+  if (!found.count(slices))
+    throw InputError("merge: no partial results of " + std::to_string(slices) + " slices in " +
+                     pdir.string());
+  const auto& files = found.at(slices);
+
+  PetscScope petsc;
+  Ensemble total;
+  std::string sources, missing_slices, campaign;
+  for (int i = 1; i <= slices; ++i) {  // fixed order: the merge is reproducible bit for bit
+    auto it = files.find(i);
+    if (it == files.end()) {
+      missing_slices += (missing_slices.empty() ? "" : ",") + std::to_string(i);
+      continue;
+    }
+    const Ensemble part = Ensemble::read(it->second);
+    total.merge(part);
+    sources += (sources.empty() ? "" : ",") + fs::path(it->second).filename().string();
+    io::H5File f(it->second, io::H5File::Mode::Read);
+    if (campaign.empty() && f.has_attr("/", "campaign")) campaign = f.attr_string("/", "campaign");
+  }
+  total.notes["campaign"] = campaign;
+  total.notes["slice"] = "merged " + std::to_string(files.size()) + " of " + std::to_string(slices);
+  total.notes["sources"] = sources;
+  total.notes["missing_slices"] = missing_slices;
+  total.notes["written_utc"] = utc_now();
+  total.notes["tumble_version"] = kVersion;
+  total.notes["git_hash"] = kGitHash;
+  const std::string path = dir + "/ensemble.h5";
+  total.write(path);
+  out << "merge: " << files.size() << " of " << slices << " slices -> " << path << ": "
+      << total.points.size() << " points, " << total.member_count() << " cases, "
+      << total.failed_count() << " failed (excluded), " << total.missing_count()
+      << " without result\n";
+  for (const auto& [id, p] : total.points)
+    for (const auto& f : p.failed) out << "merge:   excluded " << f << "\n";
+  if (!missing_slices.empty())
+    out << "merge: slices not run yet: " << missing_slices << " (their cases are not included)\n";
+  return missing_slices.empty() && total.missing_count() == 0 ? 0 : 10;
+}
+
+}  // namespace tumble::campaign

@@ -1,0 +1,480 @@
+#include "engine/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+#include <type_traits>
+
+#include "base/error.hpp"
+
+namespace tumble {
+
+Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol protocol,
+                       double time, std::int64_t step, MPI_Comm comm)
+    : p_(std::move(particles)),
+      n_local_(p_.size()),
+      protocol_(std::move(protocol)),
+      gravity_{0, -s.g, 0},
+      dt_(s.time_step()),
+      time_(time),
+      step_(step) {
+  wall_.radius = s.radius;
+  is_cylinder_ = s.cylinder();
+  rapaport_ = s.rapaport();
+  leapfrog_ = s.integrator == "leapfrog";
+  cylinder_.radius = s.radius;
+  cylinder_.half_length = 0.5 * s.length;
+  cylinder_.periodic = s.periodic == "on";
+  const double m[2] = {s.mass_small(), s.mass_large()};
+  for (int a = 0; a < 2; ++a) {
+    for (int b = 0; b < 2; ++b)
+      pair_[a][b] = contact::yu2022_pair(s.restitution, s.collision_time, s.tangential_damping,
+                                         s.friction, m[a] * m[b] / (m[a] + m[b]));
+    wall_pair_[a] = contact::yu2022_pair(s.restitution, s.collision_time, s.tangential_damping,
+                                         s.wall_friction, m[a]);
+  }
+  // Rapaport 2007: μ of a species pair is μ_max times its γ_s over the largest γ_s; the walls use
+  // the like-species values ("the particle-wall values are identical").
+  const double gs[2][2] = {{s.gamma_s_ss, s.gamma_s_sl}, {s.gamma_s_sl, s.gamma_s_ll}};
+  const double gs_max = std::max({s.gamma_s_ss, s.gamma_s_sl, s.gamma_s_ll});
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b) {
+      contact::Rapaport2007Pair& c = rpair_[a][b];
+      c.kn = s.kn;
+      c.gn = s.gamma_n;
+      c.gs = gs[a][b];
+      c.mu = gs_max > 0 ? s.mu_max * gs[a][b] / gs_max : s.mu_max;
+      c.kg = s.kg;
+      c.ratchet = s.ratchet;
+    }
+  for (int a = 0; a < 2; ++a) rwall_[a] = rpair_[a][a];
+
+  // Chosen once per scene: law, wall and, for frictionless scenes, no tangential history and no
+  // rotation; one species present: no species lookups. TUMBLE_GENERAL_KERNELS=1 turns the last two
+  // specialisations off, for measuring what they gain (jobs/bench/bench_specialisations.sh).
+  int ranks = 1;
+  if (comm != MPI_COMM_NULL) MPI_Comm_size(comm, &ranks);
+  // Species present and the largest radius over the whole bed (every rank must choose the same
+  // kernels and cell size).
+  int sp_range[2] = {1 << 30, 1 << 30};  // {min species, -max species}
+  for (std::int32_t sp : p_.species) {
+    sp_range[0] = std::min(sp_range[0], static_cast<int>(sp));
+    sp_range[1] = std::min(sp_range[1], -static_cast<int>(sp));
+  }
+  double rmax = 0;
+  for (double r : p_.radius) rmax = std::max(rmax, r);
+  if (ranks > 1) {
+    MPI_Allreduce(MPI_IN_PLACE, sp_range, 2, MPI_INT, MPI_MIN, comm);
+    MPI_Allreduce(MPI_IN_PLACE, &rmax, 1, MPI_DOUBLE, MPI_MAX, comm);
+  }
+  species0_ = sp_range[0] == (1 << 30) ? 0 : sp_range[0];
+  one_species_ = sp_range[0] == (1 << 30) || sp_range[0] == -sp_range[1];
+  const char* general = std::getenv("TUMBLE_GENERAL_KERNELS");
+  const bool force_general = general != nullptr && std::string(general) == "1";
+  if (force_general) one_species_ = false;
+  if (rapaport_) {
+    const bool friction = s.mu_max > 0 && (gs_max > 0 || s.kg > 0);
+    select_kernels<contact::Rapaport2007Law>(friction, friction, cylinder_.periodic);
+  } else {
+    select_kernels<contact::Yu2022Law>(s.friction > 0, s.wall_friction > 0, cylinder_.periodic);
+  }
+  if (force_general) rotation_ = true;
+
+  // Cells cover the tumbler's bounding box; side >= largest cutoff. A periodic cylinder's box is
+  // exactly one period long in z.
+  const double skin = s.skin * s.d_small;
+  const double R = s.radius + skin;
+  if (is_cylinder_) {
+    const double hz = cylinder_.periodic ? 0.5 * s.length : 0.5 * s.length + skin;
+    list_ =
+        neighbor::VerletList(neighbor::CellGrid({-R, -R, -hz}, {R, R, hz}, 2 * rmax + skin), skin);
+    if (cylinder_.periodic) list_.set_period_z(s.length);
+  } else {
+    list_ =
+        neighbor::VerletList(neighbor::CellGrid({-R, -R, -R}, {R, R, R}, 2 * rmax + skin), skin);
+  }
+  // More than one rank: the parallel layer bisects the tumbler's box among them. Ghosts are the
+  // particles within one list cutoff (2 r_max + skin) of a rank's domain.
+  if (ranks > 1) {
+    const double hz = is_cylinder_ ? 0.5 * s.length + (cylinder_.periodic ? 0 : skin) : R;
+    const parallel::Box root{{-R, -R, -hz}, {R, R, hz}};
+    dom_ = std::make_unique<parallel::Domain>(comm, root, cylinder_.periodic ? s.length : 0.0,
+                                              s.rebalance_threshold);
+    halo_reach_ = 2 * rmax + skin;
+  }
+}
+
+double Simulation::sum(double local) const {
+  if (!dom_) return local;
+  double total = 0;
+  MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, dom_->comm());
+  return total;
+}
+
+std::int64_t Simulation::global_count() const {
+  return static_cast<std::int64_t>(std::llround(sum(static_cast<double>(n_local_))));
+}
+
+Particles Simulation::gather_all() const {
+  if (dom_) return dom_->gather_all(p_, n_local_);
+  return p_;
+}
+
+void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
+  // (rebuild_lists has brought the centres back into the period: owners come from positions.)
+  // The live springs leave with the pair's particles: saved by id with the position of the pair,
+  // routed to every rank near that position, matched by id after the move.
+  std::vector<neighbor::SavedSpring> records;
+  if (history) {
+    records = history->records();
+  } else if (list_.start.size() == n_local_ + 1) {
+    neighbor::ContactHistory h;
+    list_.save_history(p_, h);
+    records = h.records();
+  }
+  p_.resize(n_local_);  // drop the ghosts
+  dom_->distribute(p_, records, halo_reach_);
+  n_local_ = p_.size();
+  list_.sort(p_);
+  dom_->exchange_ghosts(p_, n_local_, halo_reach_);
+  neighbor::ContactHistory h;
+  h.set_records(std::move(records));
+  list_.build_with_ghosts(p_, n_local_, h);
+}
+
+template <class Law, bool kFriction, bool kPeriodic>
+Simulation::Kernel Simulation::pair_kernel_for(bool one_species) {
+  return one_species ? &Simulation::pair_forces<Law, kFriction, kPeriodic, true>
+                     : &Simulation::pair_forces<Law, kFriction, kPeriodic, false>;
+}
+
+template <class Law>
+void Simulation::select_kernels(bool friction, bool wall_friction, bool periodic) {
+  if (friction)
+    pair_kernel_ = periodic ? pair_kernel_for<Law, true, true>(one_species_)
+                            : pair_kernel_for<Law, true, false>(one_species_);
+  else
+    pair_kernel_ = periodic ? pair_kernel_for<Law, false, true>(one_species_)
+                            : pair_kernel_for<Law, false, false>(one_species_);
+  if (is_cylinder_)
+    wall_kernel_ = wall_friction ? &Simulation::cylinder_wall_forces<Law, true>
+                                 : &Simulation::cylinder_wall_forces<Law, false>;
+  else
+    wall_kernel_ = wall_friction ? &Simulation::sphere_wall_forces<Law, true>
+                                 : &Simulation::sphere_wall_forces<Law, false>;
+  // Without friction nothing exerts a torque: the integrator leaves the spins alone.
+  rotation_ = friction || wall_friction;
+}
+
+template <class Law>
+const typename Law::Pair& Simulation::table(int a, int b) const {
+  if constexpr (std::is_same_v<Law, contact::Rapaport2007Law>)
+    return rpair_[a][b];
+  else
+    return pair_[a][b];
+}
+
+template <class Law>
+const typename Law::Pair& Simulation::wall_table(int a) const {
+  if constexpr (std::is_same_v<Law, contact::Rapaport2007Law>)
+    return rwall_[a];
+  else
+    return wall_pair_[a];
+}
+
+void Simulation::rebuild_lists(const neighbor::ContactHistory* history) {
+  if (cylinder_.periodic) {  // bring centres back into the period before sorting into cells
+    const double L = 2 * cylinder_.half_length;
+    for (Vec3& x : p_.x) x.z -= L * std::floor((x.z + cylinder_.half_length) / L);
+  }
+  if (dom_)
+    rebuild_distributed(history);
+  else
+    list_.rebuild(p_, history);
+  // Only particles within one skin of the wall can touch it before the next rebuild (no particle
+  // moves more than skin/2 in between).
+  wall_candidates_.clear();
+  cap_candidates_.clear();
+  const double skin = list_.skin();
+  for (std::size_t i = 0; i < n_local_; ++i) {
+    const auto k = static_cast<std::uint32_t>(i);
+    if (is_cylinder_) {
+      if (cylinder_.near_curved(p_.x[i], p_.radius[i], skin)) wall_candidates_.push_back(k);
+      if (cylinder_.near_cap(p_.x[i], p_.radius[i], skin)) cap_candidates_.push_back(k);
+      continue;
+    }
+    const double reach = wall_.radius - p_.radius[i] - skin;
+    if (reach <= 0 || norm2(p_.x[i]) > reach * reach) wall_candidates_.push_back(k);
+  }
+}
+
+void Simulation::compute_forces() {
+  rebuild_lists(nullptr);
+  last_build_step_ = step_;
+  for (std::size_t i = 0; i < p_.size(); ++i) p_.f[i] = p_.t[i] = Vec3{};
+  (this->*pair_kernel_)();
+  (this->*wall_kernel_)();
+}
+
+void Simulation::restore(const neighbor::ContactHistory& history) {
+  rebuild_lists(&history);
+  last_build_step_ = step_;
+}
+
+void Simulation::maybe_rebuild(double max_displacement2) {
+  const double half = 0.5 * list_.skin();
+  if (dom_) {  // every rank rebuilds at the same step (migration is collective)
+    double d2 = force_rebuild_ ? 1e300 : max_displacement2;
+    MPI_Allreduce(MPI_IN_PLACE, &d2, 1, MPI_DOUBLE, MPI_MAX, dom_->comm());
+    if (d2 == 1e300) force_rebuild_ = true;  // a rebuild requested on any rank
+    max_displacement2 = d2;
+  }
+  if (force_rebuild_ || max_displacement2 > half * half) {
+    if (!force_rebuild_ && step_ - last_build_step_ < 10) ++fast_rebuilds_;
+    rebuild_lists(nullptr);
+    last_build_step_ = step_;
+    force_rebuild_ = false;
+  }
+}
+
+// First kick and drift; the force and torque accumulators are cleared and the largest
+// displacement since the last neighbour rebuild found in the same pass. kRotation = false (no
+// friction anywhere: no torque ever) leaves the spins alone.
+template <bool kRotation>
+double Simulation::kick_drift(double kick) {
+  const std::size_t n = n_local_;
+  Vec3* __restrict x = p_.x.data();
+  Vec3* __restrict v = p_.v.data();
+  Vec3* __restrict w = p_.w.data();
+  Vec3* __restrict f = p_.f.data();
+  Vec3* __restrict t = p_.t.data();
+  const double* __restrict im = p_.inv_mass.data();
+  const double* __restrict ii = p_.inv_inertia.data();
+  const Vec3* __restrict x_ref = list_.reference_positions().data();
+  const bool have_ref = list_.reference_positions().size() == n;
+  // Ghost accumulators collect the partner halves of border pairs; they are thrown away.
+  for (std::size_t g = n; g < p_.size(); ++g) f[g] = t[g] = Vec3{};
+  double max_d2 = have_ref ? 0.0 : 1e300;
+  for (std::size_t i = 0; i < n; ++i) {
+    v[i] += kick * (im[i] * f[i] + gravity_);
+    if constexpr (kRotation) {
+      w[i] += (kick * ii[i]) * t[i];
+      t[i] = Vec3{};
+    }
+    x[i] += dt_ * v[i];
+    f[i] = Vec3{};
+    if (have_ref) max_d2 = std::max(max_d2, norm2(x[i] - x_ref[i]));
+  }
+  return max_d2;
+}
+
+template <bool kRotation>
+void Simulation::half_kick() {
+  const std::size_t n = n_local_;
+  const double h = 0.5 * dt_;
+  Vec3* __restrict v = p_.v.data();
+  Vec3* __restrict w = p_.w.data();
+  const Vec3* __restrict f = p_.f.data();
+  const Vec3* __restrict t = p_.t.data();
+  const double* __restrict im = p_.inv_mass.data();
+  const double* __restrict ii = p_.inv_inertia.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    v[i] += h * (im[i] * f[i] + gravity_);
+    if constexpr (kRotation) w[i] += (h * ii[i]) * t[i];
+  }
+}
+
+void Simulation::step() {
+  // Leapfrog: one kick of a whole step per step (half-step velocities), except the very first,
+  // which starts the half-step velocities from v(0). Velocity Verlet: two half kicks. Both give
+  // the same positions (the forces see the half-step velocity in either form).
+  const double kick = leapfrog_ && step_ > 0 ? dt_ : 0.5 * dt_;
+  const double max_d2 = rotation_ ? kick_drift<true>(kick) : kick_drift<false>(kick);
+  if (dom_) dom_->refresh_ghosts(p_, n_local_);
+  time_ += dt_;
+  ++step_;
+  maybe_rebuild(max_d2);  // may permute particles
+  (this->*pair_kernel_)();
+  (this->*wall_kernel_)();
+  if (leapfrog_) return;
+  if (rotation_)
+    half_kick<true>();
+  else
+    half_kick<false>();
+}
+
+template <class Law, bool kFriction, bool kPeriodic, bool kOneSpecies>
+void Simulation::pair_forces() {
+  const std::size_t n = n_local_;  // rows: owned particles (partners may be ghosts)
+  const Vec3* __restrict x = p_.x.data();
+  const Vec3* __restrict v = p_.v.data();
+  const Vec3* __restrict w = p_.w.data();
+  const double* __restrict rad = p_.radius.data();
+  const std::int32_t* __restrict sp = p_.species.data();
+  Vec3* __restrict f = p_.f.data();
+  Vec3* __restrict t = p_.t.data();
+  const std::uint32_t* __restrict start = list_.start.data();
+  const std::uint32_t* __restrict nbr = list_.nbr.data();
+  Vec3* __restrict spring = list_.spring.data();
+  const double period = 2 * cylinder_.half_length;
+  const typename Law::Pair only = table<Law>(species0_, species0_);  // kOneSpecies: the pair
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 xi = x[i];
+    const double ri = rad[i];
+    Vec3 fi{}, ti{};
+    for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
+      const std::uint32_t j = nbr[k];
+      Vec3 d = xi - x[j];
+      if constexpr (kPeriodic) d.z -= period * std::nearbyint(d.z / period);
+      const double rsum = ri + rad[j];
+      const double d2 = norm2(d);
+      if (d2 >= rsum * rsum) {
+        if constexpr (kFriction)  // contact over: the history starts afresh
+          if (spring[k].x != 0.0 || spring[k].y != 0.0 || spring[k].z != 0.0) spring[k] = Vec3{};
+        continue;
+      }
+      const double dist = std::sqrt(d2);
+      const Vec3 nrm = (1.0 / dist) * d;
+      const double li = Law::lever(ri, dist, rsum), lj = Law::lever(rad[j], dist, rsum);
+      const Vec3 vrel = v[i] - v[j] - cross(li * w[i] + lj * w[j], nrm);
+      Vec3 ft;
+      const Vec3 fc = Law::template force<kFriction>(kOneSpecies ? only : table<Law>(sp[i], sp[j]),
+                                                     nrm, rsum - dist, vrel, spring[k], dt_, ft);
+      fi += fc;
+      f[j] -= fc;
+      if constexpr (kFriction) {
+        const Vec3 tq = cross(ft, nrm);  // = -n x F_t: torque per unit lever arm on both
+        ti += li * tq;
+        t[j] += lj * tq;
+      }
+    }
+    f[i] += fi;
+    t[i] += ti;
+  }
+}
+
+// The rough wall of either tumbler (the sphere, or the cylinder's curved wall): every force term
+// of the law, the wall surface moving with Ω × r.
+template <class Law, bool kFriction, class Wall>
+void Simulation::rough_wall_forces(const Wall& wall) {
+  const Vec3 omega = protocol_.omega(time_);
+  for (const std::uint32_t i : wall_candidates_) {
+    Vec3 nrm, point;
+    const double ri = p_.radius[i];
+    const double overlap = wall.overlap(p_.x[i], ri, nrm, point);
+    if (overlap <= 0) {
+      if constexpr (kFriction) p_.wall_spring[i] = Vec3{};
+      continue;
+    }
+    const double li = Law::lever(ri, ri - overlap, ri);
+    const Vec3 vrel = p_.v[i] - cross(li * p_.w[i], nrm) - cross(omega, point);
+    Vec3 ft;
+    const Vec3 fc = Law::template force<kFriction>(wall_table<Law>(p_.species[i]), nrm, overlap,
+                                                   vrel, p_.wall_spring[i], dt_, ft);
+    p_.f[i] += fc;
+    if constexpr (kFriction) p_.t[i] += li * cross(ft, nrm);
+  }
+}
+
+template <class Law, bool kFriction>
+void Simulation::sphere_wall_forces() {
+  rough_wall_forces<Law, kFriction>(wall_);
+}
+
+// The cylinder: the curved wall rough, the end caps smooth (normal force only: Rapaport's f_v +
+// f_d). The caps turn in their own plane, so their normal velocity is zero.
+template <class Law, bool kFriction>
+void Simulation::cylinder_wall_forces() {
+  rough_wall_forces<Law, kFriction>(cylinder_);
+  for (const std::uint32_t i : cap_candidates_) {
+    double nz;
+    const double overlap = cylinder_.cap_overlap(p_.x[i], p_.radius[i], nz);
+    if (overlap <= 0) continue;
+    p_.f[i].z += nz * Law::normal(wall_table<Law>(p_.species[i]), overlap, nz * p_.v[i].z);
+  }
+}
+
+void Simulation::check_health() const {
+  std::string problem;
+  for (std::size_t i = 0; i < n_local_ && problem.empty(); ++i) {
+    const Vec3& x = p_.x[i];
+    const Vec3& v = p_.v[i];
+    std::ostringstream os;
+    if (!std::isfinite(x.x + x.y + x.z + v.x + v.y + v.z)) {
+      os << "non-finite state of particle " << p_.id[i] << " at t = " << time_ << " s (step "
+         << step_ << "): the time step may be too large for the contact stiffness";
+    } else if (is_cylinder_ ? cylinder_.escaped(x) : wall_.escaped(x)) {
+      os << "particle " << p_.id[i] << " left the tumbler at t = " << time_ << " s (step " << step_
+         << "), at (" << x.x << ", " << x.y << ", " << x.z << "), tumbler radius " << wall_.radius;
+      if (is_cylinder_) os << ", length " << 2 * cylinder_.half_length;
+    }
+    problem = os.str();
+  }
+  // Every rank throws together (a rank left behind would wait forever in the next collective).
+  if (dom_) {
+    int bad = problem.empty() ? 0 : 1, any = 0;
+    MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, dom_->comm());
+    if (any && problem.empty()) problem = "another rank of this realization reported a failure";
+  }
+  if (!problem.empty()) throw RunError(problem);
+}
+
+double Simulation::wall_overlap(const Vec3& x, double r, Vec3& n, Vec3& point) const {
+  return is_cylinder_ ? cylinder_.overlap(x, r, n, point) : wall_.overlap(x, r, n, point);
+}
+
+template <class Law>
+double Simulation::elastic_energy() const {
+  double e = 0;
+  const double period = 2 * cylinder_.half_length;
+  for (std::size_t i = 0; i < n_local_; ++i) {
+    Vec3 nrm, point;
+    const double ov = wall_overlap(p_.x[i], p_.radius[i], nrm, point);
+    if (ov > 0) e += Law::elastic_energy(wall_table<Law>(p_.species[i]), ov, p_.wall_spring[i]);
+    if (is_cylinder_) {
+      double nz;
+      const double ovc = cylinder_.cap_overlap(p_.x[i], p_.radius[i], nz);
+      if (!cylinder_.periodic && ovc > 0)
+        e += Law::elastic_energy(wall_table<Law>(p_.species[i]), ovc, Vec3{});
+    }
+    for (std::uint32_t k = list_.start[i]; k < list_.start[i + 1]; ++k) {
+      const std::uint32_t j = list_.nbr[k];
+      Vec3 d = p_.x[i] - p_.x[j];
+      if (cylinder_.periodic) d.z -= period * std::nearbyint(d.z / period);
+      const double ovp = p_.radius[i] + p_.radius[j] - norm(d);
+      // A pair across a rank border is held by both ranks: half from each.
+      const double share = j >= n_local_ ? 0.5 : 1.0;
+      if (ovp > 0)
+        e += share *
+             Law::elastic_energy(table<Law>(p_.species[i], p_.species[j]), ovp, list_.spring[k]);
+    }
+  }
+  return e;
+}
+
+EnergyBreakdown Simulation::energy() const {
+  EnergyBreakdown e;
+  for (std::size_t i = 0; i < n_local_; ++i) {
+    const double m = 1.0 / p_.inv_mass[i];
+    e.kinetic += 0.5 * m * norm2(p_.v[i]) + 0.5 / p_.inv_inertia[i] * norm2(p_.w[i]);
+    e.potential -= m * dot(gravity_, p_.x[i]);
+  }
+  e.elastic =
+      rapaport_ ? elastic_energy<contact::Rapaport2007Law>() : elastic_energy<contact::Yu2022Law>();
+  if (dom_) {
+    double parts[3] = {e.kinetic, e.potential, e.elastic};
+    MPI_Allreduce(MPI_IN_PLACE, parts, 3, MPI_DOUBLE, MPI_SUM, dom_->comm());
+    e = {parts[0], parts[1], parts[2]};
+  }
+  return e;
+}
+
+double Simulation::rms_speed() const {
+  double s = 0;
+  for (std::size_t i = 0; i < n_local_; ++i) s += norm2(p_.v[i]);
+  const double n = sum(static_cast<double>(n_local_));
+  return n > 0 ? std::sqrt(sum(s) / n) : 0.0;
+}
+
+}  // namespace tumble

@@ -1,0 +1,151 @@
+#pragma once
+// The DEM engine for one realization: particle state, neighbour list with contact history, the
+// contact law, the tumbler wall (sphere, or cylinder with end caps) and its rotation protocol, and
+// the integrator (velocity Verlet, or leapfrog). Physics options are resolved once at construction
+// into member-function pointers to kernels instantiated for exactly those options (law, wall,
+// friction, axial periodicity): the per-contact loops have no option branches.
+#include <mpi.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "contact/laws.hpp"
+#include "base/particles.hpp"
+#include "scene/scene.hpp"
+#include "geometry/cylinder_wall.hpp"
+#include "geometry/protocol.hpp"
+#include "geometry/sphere_wall.hpp"
+#include "neighbor/verlet_list.hpp"
+#include "parallel/domain.hpp"
+
+namespace tumble {
+
+struct EnergyBreakdown {
+  double kinetic = 0;    // translational + rotational
+  double potential = 0;  // gravity, relative to y = 0
+  double elastic = 0;    // normal springs (pairs + wall); tangential springs
+  double total() const { return kinetic + potential + elastic; }
+};
+
+class Simulation {
+ public:
+  // `time` and `step` let a restart continue the clock. `comm`: the ranks that share this
+  // realization (MPI_COMM_NULL or a one-rank communicator: serial). With more than one rank,
+  // `particles` is this rank's share of the bed (any split in which every particle is on exactly
+  // one rank); the engine bisects the tumbler among the ranks and moves each particle to its
+  // owner. Every public call is then collective over `comm`.
+  Simulation(const Scene& scene, Particles particles, geometry::Protocol protocol, double time = 0,
+             std::int64_t step = 0, MPI_Comm comm = MPI_COMM_NULL);
+
+  // Advances one time step.
+  void step();
+  // Forces a neighbour rebuild during the next step (checkpoints: see io/checkpoint.cpp).
+  void request_rebuild() { force_rebuild_ = true; }
+  // Restores contact history and forces from a checkpoint; rebuilds the list from the current
+  // (already sorted) particle order without recomputing forces.
+  void restore(const neighbor::ContactHistory& history);
+  // Computes forces for the current state (initial call of a fresh run).
+  void compute_forces();
+
+  // Throws RunError if a particle has a non-finite state or left the tumbler.
+  void check_health() const;
+
+  EnergyBreakdown energy() const;
+  double rms_speed() const;
+
+  // This rank's particles: the owned ones first (local_count()), then the ghosts (parallel runs
+  // only; copies of neighbours' particles, refreshed every step).
+  const Particles& particles() const { return p_; }
+  Particles& particles() { return p_; }
+  std::size_t local_count() const { return n_local_; }
+  // Collective: every particle of the realization, sorted by id (a copy of particles() when
+  // serial).
+  Particles gather_all() const;
+  std::int64_t global_count() const;
+  // The parallel layer, or nullptr for a serial run.
+  const parallel::Domain* domain() const { return dom_.get(); }
+  const neighbor::VerletList& neighbors() const { return list_; }
+  const geometry::Protocol& protocol() const { return protocol_; }
+  const geometry::SphereWall& wall() const { return wall_; }
+  const geometry::CylinderWall& cylinder() const { return cylinder_; }
+  bool is_cylinder() const { return is_cylinder_; }
+  bool leapfrog() const { return leapfrog_; }
+  bool rotation() const { return rotation_; }
+  bool one_species() const { return one_species_; }
+  double time() const { return time_; }
+  std::int64_t step_count() const { return step_; }
+  double dt() const { return dt_; }
+  std::uint64_t rebuilds() const { return list_.builds; }
+  // Number of rebuilds that came fewer than 10 steps after the previous one (skin too thin).
+  std::uint64_t fast_rebuilds() const { return fast_rebuilds_; }
+  const contact::Yu2022Pair& pair(int a, int b) const { return pair_[a][b]; }
+  const contact::Yu2022Pair& wall_pair(int a) const { return wall_pair_[a]; }
+  const contact::Rapaport2007Pair& rapaport_pair(int a, int b) const { return rpair_[a][b]; }
+  const contact::Rapaport2007Pair& rapaport_wall(int a) const { return rwall_[a]; }
+
+ private:
+  using Kernel = void (Simulation::*)();
+  template <class Law, bool kFriction, bool kPeriodic, bool kOneSpecies>
+  void pair_forces();
+  template <class Law, bool kFriction, bool kPeriodic>
+  static Kernel pair_kernel_for(bool one_species);
+  template <bool kRotation>
+  double kick_drift(double kick);
+  template <bool kRotation>
+  void half_kick();
+  template <class Law, bool kFriction, class Wall>
+  void rough_wall_forces(const Wall& wall);
+  template <class Law, bool kFriction>
+  void sphere_wall_forces();
+  template <class Law, bool kFriction>
+  void cylinder_wall_forces();
+  template <class Law>
+  void select_kernels(bool friction, bool wall_friction, bool periodic);
+  template <class Law>
+  const typename Law::Pair& table(int a, int b) const;
+  template <class Law>
+  const typename Law::Pair& wall_table(int a) const;
+  template <class Law>
+  double elastic_energy() const;
+  // Overlap with the tumbler's wall (curved wall of a cylinder) for diagnostics.
+  double wall_overlap(const Vec3& x, double r, Vec3& n, Vec3& point) const;
+  void maybe_rebuild(double max_displacement2);
+  void rebuild_lists(const neighbor::ContactHistory* history);
+  // Parallel rebuild: migrate (with contact records), sort, exchange ghosts, list.
+  void rebuild_distributed(const neighbor::ContactHistory* history);
+  double sum(double local) const;  // over the ranks (identity when serial)
+
+  Particles p_;
+  std::size_t n_local_ = 0;  // owned particles: p_[0, n_local_); ghosts after them
+  std::unique_ptr<parallel::Domain> dom_;
+  double halo_reach_ = 0;  // ghosts: particles within this distance of a rank's domain
+  geometry::Protocol protocol_;
+  geometry::SphereWall wall_;
+  geometry::CylinderWall cylinder_;
+  bool is_cylinder_ = false;
+  bool rapaport_ = false;
+  bool leapfrog_ = false;
+  bool rotation_ = true;      // false: no friction anywhere, the spins never change
+  bool one_species_ = false;  // every particle of species species0_: no pair-table lookups
+  std::int32_t species0_ = 0;
+  neighbor::VerletList list_;
+  std::vector<std::uint32_t>
+      wall_candidates_;  // particles that may touch the (curved) wall before the next rebuild
+  std::vector<std::uint32_t> cap_candidates_;  // cylinder: particles that may touch an end cap
+  contact::Yu2022Pair pair_[2][2];
+  contact::Yu2022Pair wall_pair_[2];
+  contact::Rapaport2007Pair rpair_[2][2];
+  contact::Rapaport2007Pair rwall_[2];
+  Vec3 gravity_;
+  double dt_;
+  double time_;
+  std::int64_t step_;
+  std::int64_t last_build_step_ = -1000;
+  std::uint64_t fast_rebuilds_ = 0;
+  bool force_rebuild_ = false;
+  Kernel pair_kernel_ = nullptr;
+  Kernel wall_kernel_ = nullptr;
+};
+
+}  // namespace tumble

@@ -1,0 +1,413 @@
+#include "islands/campaign_analysis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <map>
+
+#include "islands/enrichment.hpp"
+#include "analysis/light_concentration.hpp"
+#include "analysis/snapshot_data.hpp"
+#include "cm/cm_io.hpp"
+#include "scene/scene.hpp"
+#include "base/version.hpp"
+#include "h5/hdf5_file.hpp"
+
+namespace tumble::analysis {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// What one finished case's fields file says about it.
+struct CaseFields {
+  std::string dir, case_id, point_id, params, scene_text;
+  long long replica = 0;
+  int grid_n = 0;
+  double shell_inner = 0.9;
+  std::vector<double> volume_large, c_L, c_S;
+};
+
+std::vector<CaseFields> read_cases(const std::string& dir) {
+  std::vector<CaseFields> out;
+  const fs::path cases = fs::path(dir) / "cases";
+  if (!fs::is_directory(cases)) return out;
+  for (const auto& e : fs::directory_iterator(cases)) {
+    const fs::path fp = e.path() / "fields.h5";
+    if (!fs::exists(fp)) continue;  // not finished (or failed): not part of the ensemble
+    io::H5File f(fp.string(), io::H5File::Mode::Read);
+    CaseFields c;
+    c.dir = e.path().string();
+    c.case_id = f.attr_string("/", "case_id");
+    c.point_id = f.attr_string("/", "point_id");
+    c.params = f.attr_string("/", "params");
+    c.scene_text = f.attr_string("/", "scene");
+    c.replica = f.attr_int64("/", "replica");
+    c.grid_n = static_cast<int>(f.attr_int64("/", "grid_n"));
+    if (f.exists("concentration/volume_large")) {
+      c.volume_large = f.read_double("concentration/volume_large");
+      c.c_L = f.read_double("concentration/c_L");
+      c.c_S = f.read_double("concentration/c_S");
+      c.shell_inner = f.attr_double("concentration", "shell_inner");
+    }
+    out.push_back(std::move(c));
+  }
+  std::sort(out.begin(), out.end(), [](const CaseFields& a, const CaseFields& b) {
+    return a.point_id != b.point_id ? a.point_id < b.point_id : a.replica < b.replica;
+  });
+  return out;
+}
+
+// Index of the snapshot whose iteration is nearest `want` (< 0: the first or last).
+std::size_t nearest(const std::vector<double>& iters, double want, bool last) {
+  if (want < 0) return last ? iters.size() - 1 : 0;
+  std::size_t best = 0;
+  for (std::size_t k = 1; k < iters.size(); ++k)
+    if (std::abs(iters[k] - want) < std::abs(iters[best] - want)) best = k;
+  return best;
+}
+
+// The Fig. 5 section of one case: the snapshots of the last half of the run (stroboscopic
+// snapshots see the islands where the CM puts them; the first half is still mixing).
+void add_section(CaseAnalysis& ca, const std::vector<SnapshotData>& snaps,
+                 const std::vector<double>& iters, const PointAnalysis& p, int n) {
+  SectionMap map(n);
+  for (std::size_t k = 0; k < snaps.size(); ++k)
+    if (iters[k] >= 0.5 * iters.back()) {
+      map.add(snaps[k], p.section_plane, p.section_half_width);
+      ++ca.section_snapshots;
+    }
+  ca.section = map.c_large();
+}
+
+void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMask& mask,
+                       bool have_islands, const PointAnalysis& p, const LambertGrid& grid,
+                       const CampaignAnalysisOptions& opt) {
+  const int light = p.light_species;
+  const auto files = list_snapshots(dir);
+  if (files.size() < 2) return;
+  std::vector<SnapshotData> snaps;
+  std::vector<double> iters;
+  for (const auto& p : files) {
+    snaps.push_back(read_snapshot(p));
+    iters.push_back(snaps.back().iteration);
+  }
+  const std::size_t a = nearest(iters, opt.fates_from, false);
+  const std::size_t b = nearest(iters, opt.fates_to, true);
+  if (have_islands && a != b) {
+    ca.has_fates = true;
+    ca.fate_detail = classify_fates(snaps[a], snaps[b], mask);
+    ca.fates = ca.fate_detail.counts;
+    ca.fates_from = iters[a];
+    ca.fates_to = iters[b];
+  }
+  if (have_islands)
+    ca.enrichment_snap = enrichment_from_particles(snaps.back(), mask, opt.enrichment_inner).value;
+  if (light >= 0) ca.light = light_concentration(snaps, grid, opt.light_inner);
+  if (!p.section_plane_of.empty()) add_section(ca, snaps, iters, p, p.section_grid);
+}
+
+// Per-cell mean and CI of equally sized per-case maps (cases with another size left out).
+void fold_maps(const std::vector<const std::vector<double>*>& maps, std::size_t cells,
+               std::vector<double>& mean, std::vector<double>& ci95) {
+  mean.assign(cells, kNaN);
+  ci95.assign(cells, kNaN);
+  for (std::size_t k = 0; k < cells; ++k) {
+    std::vector<double> v;
+    for (const auto* m : maps)
+      if (m->size() == cells) v.push_back((*m)[k]);
+    const MeanCI s = mean_ci95(v);
+    mean[k] = s.mean;
+    ci95[k] = s.ci95;
+  }
+}
+
+// Largest particle radius of a case's first snapshot (0 without snapshots).
+double largest_radius(const std::string& dir) {
+  const auto files = list_snapshots(dir);
+  if (files.empty()) return 0;
+  double r = 0;
+  for (double x : read_snapshot(files.front()).radius) r = std::max(r, x);
+  return r;
+}
+
+std::vector<double> fate_column(const std::vector<CaseAnalysis>& cases,
+                                std::int64_t FateCounts::*m) {
+  std::vector<double> v;
+  for (const auto& c : cases) v.push_back(c.has_fates ? static_cast<double>(c.fates.*m) : kNaN);
+  return v;
+}
+
+}  // namespace
+
+std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
+                                            const CampaignAnalysisOptions& opt) {
+  const auto cases = read_cases(dir);
+  std::map<std::string, PointAnalysis> points;
+  const std::string cache =
+      opt.islands_cache.empty() ? (fs::path(dir) / "analysis").string() : opt.islands_cache;
+  double r_large = 0;    // the largest particle radius of the campaign's snapshots (Fig. 5 slab)
+  int auto_grid = 1000;  // Fig. 5 default: bins of about one large diameter (finest bed's)
+
+  // Pass 1: the parameter points, their islands and the masks' cell coverage.
+  for (const auto& c : cases) {
+    auto [it, fresh] = points.try_emplace(c.point_id);
+    if (!fresh) continue;
+    PointAnalysis& p = it->second;
+    const Scene sc = parse_scene(c.scene_text);
+    p.point_id = c.point_id;
+    p.params = c.params;
+    p.theta_z = sc.theta_z;
+    p.theta_x = sc.theta_x;
+    p.density_ratio = sc.density_ratio;
+    p.size_ratio = sc.d_large / sc.d_small;
+    p.grid_n = c.grid_n;
+    auto_grid = std::min(auto_grid, static_cast<int>(std::lround(2 * sc.radius / sc.d_large)));
+    p.islands = cm::islands_on_shell(protocol_islands(p.theta_z, p.theta_x, opt.islands, cache),
+                                     opt.islands.r);
+    p.light_species = lighter_species(p.density_ratio);
+    std::vector<cm::Polygon> polys;
+    for (const auto& is : p.islands) polys.push_back(is.boundary);
+    const IslandMask mask(polys);
+    p.island_area_fraction = mask.area_fraction();
+    p.coverage = mask.cell_coverage(LambertGrid(p.grid_n));
+    r_large = std::max(r_large, largest_radius(c.dir));
+  }
+
+  // The Fig. 5 plane: a point's own two islands (different orbits farthest apart), else the
+  // plane of the first point that has two, so that points without islands are cut alike.
+  const PointAnalysis* plane_owner = nullptr;
+  for (auto& [id, p] : points) {
+    if (p.islands.size() < 2) continue;
+    auto pair = farthest_island_pair(p.islands);
+    if (pair.first < 0) pair = {0, 1};
+    p.section_pair = pair;
+    p.section_plane = upright(plane_through_islands(p.islands[pair.first], p.islands[pair.second]));
+    p.section_plane_of = id;
+    if (!plane_owner) plane_owner = &p;
+  }
+  for (auto& [id, p] : points) {
+    if (r_large <= 0 || !plane_owner) {
+      p.section_plane_of.clear();  // no snapshots, or no point with two islands: no section
+      continue;
+    }
+    if (p.section_plane_of.empty()) {
+      p.section_plane_of = plane_owner->point_id;
+      p.section_pair = plane_owner->section_pair;
+      p.section_plane = plane_owner->section_plane;
+    }
+    p.section_half_width = opt.section_half_width * 2 * r_large;
+    p.section_grid = opt.section_grid > 0 ? opt.section_grid : std::clamp(auto_grid, 4, 200);
+    CmIslandOptions kam = opt.islands;
+    kam.kam = true;  // the tube boundaries cross the plane on the KAM shells 0.55 ... 0.95
+    const PointAnalysis& owner = points.at(p.section_plane_of);
+    p.section_tubes =
+        tube_crossings(protocol_islands(owner.theta_z, owner.theta_x, kam, cache), p.section_plane);
+  }
+
+  // Pass 2: every case.
+  for (const auto& c : cases) {
+    PointAnalysis& p = points.at(c.point_id);
+    std::vector<cm::Polygon> polys;
+    for (const auto& is : p.islands) polys.push_back(is.boundary);
+    const IslandMask mask(polys);
+    const LambertGrid grid(p.grid_n);
+    CaseAnalysis ca;
+    ca.case_id = c.case_id;
+    ca.point_id = c.point_id;
+    ca.params = c.params;
+    ca.replica = c.replica;
+    const bool have_islands = !p.islands.empty();
+    ca.enrichment_map = (have_islands && !c.volume_large.empty())
+                            ? enrichment_from_map(c.volume_large, p.coverage).value
+                            : kNaN;
+    ca.enrichment_snap = kNaN;
+    if (!c.volume_large.empty())
+      for (const auto& [qid, q] : points)
+        if (!q.islands.empty() && q.coverage.size() == c.volume_large.size())
+          ca.enrichment_vs[qid] = enrichment_from_map(c.volume_large, q.coverage).value;
+    analyze_snapshots(ca, c.dir, mask, have_islands, p, grid, opt);
+    if (p.light_species >= 0 && ca.light.empty() && !c.c_L.empty()) {
+      ca.light = p.light_species == 1 ? c.c_L : c.c_S;
+      p.light_source = "fields " + std::string(p.light_species == 1 ? "c_L" : "c_S") + ", r/R > " +
+                       std::to_string(c.shell_inner).substr(0, 4);
+    } else if (!ca.light.empty()) {
+      p.light_source = "snapshots, r/R > " + std::to_string(opt.light_inner).substr(0, 4);
+    }
+    p.cases.push_back(std::move(ca));
+  }
+
+  std::vector<PointAnalysis> out;
+  for (auto& [id, p] : points) {
+    std::vector<double> em, es;
+    std::map<std::string, std::vector<double>> vs;
+    std::vector<const std::vector<double>*> light, section;
+    for (const auto& c : p.cases) {
+      em.push_back(c.enrichment_map);
+      es.push_back(c.enrichment_snap);
+      for (const auto& [qid, v] : c.enrichment_vs) vs[qid].push_back(v);
+      light.push_back(&c.light);
+      if (!c.section.empty()) section.push_back(&c.section);
+    }
+    p.enrichment_map = mean_ci95(em);
+    p.enrichment_snap = mean_ci95(es);
+    for (const auto& [qid, v] : vs) p.enrichment_vs[qid] = mean_ci95(v);
+    p.persistent = mean_ci95(fate_column(p.cases, &FateCounts::persistent));
+    p.captured = mean_ci95(fate_column(p.cases, &FateCounts::captured));
+    p.dispersed = mean_ci95(fate_column(p.cases, &FateCounts::dispersed));
+    p.other = mean_ci95(fate_column(p.cases, &FateCounts::other));
+    p.same_island = mean_ci95(fate_column(p.cases, &FateCounts::same_island));
+    if (p.light_species >= 0)
+      fold_maps(light, static_cast<std::size_t>(p.grid_n) * p.grid_n, p.light_mean, p.light_ci95);
+    if (!section.empty()) {
+      const auto cells = static_cast<std::size_t>(p.section_grid) * p.section_grid;
+      fold_maps(section, cells, p.section_mean, p.section_ci95);
+    }
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+namespace {
+void write_stat(io::H5File& f, const std::string& obj, const std::string& name, const MeanCI& m) {
+  f.set_attr(obj, name + "_mean", m.mean);
+  f.set_attr(obj, name + "_ci95", m.ci95);
+  f.set_attr(obj, name + "_n", static_cast<std::int64_t>(m.n));
+}
+// Fig. 5 of one point: per-bin mean and CI over its cases, the plane and the tube boundaries.
+void write_section_stats(io::H5File& f, const std::string& g, const PointAnalysis& p) {
+  const auto n = static_cast<hsize_t>(std::lround(std::sqrt(p.section_mean.size())));
+  f.create_group(g);
+  f.write(g + "/mean", p.section_mean, {n, n});
+  f.write(g + "/ci95", p.section_ci95, {n, n});
+  const Vec3& a = p.section_plane.e1;
+  const Vec3& b = p.section_plane.e2;
+  f.write(g + "/e1", std::vector<double>{a.x, a.y, a.z});
+  f.write(g + "/e2", std::vector<double>{b.x, b.y, b.z});
+  std::vector<double> tubes;
+  for (const auto& t : p.section_tubes) tubes.insert(tubes.end(), {t.r, t.s1, t.s2});
+  f.write(g + "/tube_crossings", tubes, {tubes.size() / 3, 3});
+  std::vector<std::int64_t> snaps;
+  for (const auto& c : p.cases) snaps.push_back(c.section_snapshots);
+  f.write(g + "/snapshots", snaps);
+  f.set_attr(g, "plane_of", p.section_plane_of);
+  f.set_attr(g, "island_a", static_cast<std::int64_t>(p.section_pair.first));
+  f.set_attr(g, "island_b", static_cast<std::int64_t>(p.section_pair.second));
+  f.set_attr(g, "half_width_m", p.section_half_width);
+}
+}  // namespace
+
+void write_campaign_analysis(const std::string& path, const std::string& dir,
+                             const std::vector<PointAnalysis>& points) {
+  io::AtomicH5Writer out(path);
+  io::H5File& f = out.file();
+  f.set_attr("/", "kind", std::string("tumble campaign analysis"));
+  f.set_attr("/", "campaign_dir", fs::absolute(dir).string());
+  f.set_attr("/", "tumble_version", std::string(kVersion));
+  f.set_attr("/", "git_hash", std::string(kGitHash));
+  f.set_attr("/", "n_points", static_cast<std::int64_t>(points.size()));
+  f.create_group("points");
+  for (const auto& p : points) {
+    const std::string g = "points/" + p.point_id;
+    f.create_group(g);
+    f.set_attr(g, "params", p.params);
+    f.set_attr(g, "theta_z", p.theta_z);
+    f.set_attr(g, "theta_x", p.theta_x);
+    f.set_attr(g, "density_ratio", p.density_ratio);
+    f.set_attr(g, "size_ratio", p.size_ratio);
+    f.set_attr(g, "grid_n", static_cast<std::int64_t>(p.grid_n));
+    f.set_attr(g, "island_area_fraction", p.island_area_fraction);
+    f.set_attr(g, "n_islands", static_cast<std::int64_t>(p.islands.size()));
+    f.set_attr(g, "light_species", static_cast<std::int64_t>(p.light_species));
+    f.set_attr(g, "light_source", p.light_source);
+    std::vector<double> verts, centre;
+    std::vector<std::int64_t> offsets{0};
+    for (const auto& is : p.islands) {
+      for (const auto& v : is.boundary.vertices) {
+        verts.push_back(v.x());
+        verts.push_back(v.y());
+      }
+      offsets.push_back(static_cast<std::int64_t>(verts.size() / 2));
+      centre.push_back(is.center.x());
+      centre.push_back(is.center.y());
+    }
+    f.write(g + "/islands/vertices", verts, {verts.size() / 2, 2});
+    f.write(g + "/islands/offsets", offsets);
+    f.write(g + "/islands/center", centre, {centre.size() / 2, 2});
+    const hsize_t n = p.grid_n;
+    f.write(g + "/coverage", p.coverage, {n, n});
+    std::string ids;
+    std::vector<std::int64_t> replica, fates[5];
+    std::vector<double> em, es, from, to;
+    for (const auto& c : p.cases) {
+      ids += (ids.empty() ? "" : "\n") + c.case_id;
+      replica.push_back(c.replica);
+      em.push_back(c.enrichment_map);
+      es.push_back(c.enrichment_snap);
+      const std::int64_t none = -1;
+      fates[0].push_back(c.has_fates ? c.fates.persistent : none);
+      fates[1].push_back(c.has_fates ? c.fates.captured : none);
+      fates[2].push_back(c.has_fates ? c.fates.dispersed : none);
+      fates[3].push_back(c.has_fates ? c.fates.other : none);
+      fates[4].push_back(c.has_fates ? c.fates.same_island : none);
+      from.push_back(c.has_fates ? c.fates_from : kNaN);
+      to.push_back(c.has_fates ? c.fates_to : kNaN);
+    }
+    f.set_attr(g, "cases", ids);
+    f.write(g + "/replica", replica);
+    f.write(g + "/enrichment_map", em);
+    f.write(g + "/enrichment_snap", es);
+    write_stat(f, g, "enrichment_map", p.enrichment_map);
+    write_stat(f, g, "enrichment_snap", p.enrichment_snap);
+    const char* names[5] = {"persistent", "captured", "dispersed", "other", "same_island"};
+    const MeanCI* stats[5] = {&p.persistent, &p.captured, &p.dispersed, &p.other, &p.same_island};
+    f.create_group(g + "/fates");
+    for (int k = 0; k < 5; ++k) {
+      f.write(g + "/fates/" + names[k], fates[k]);
+      write_stat(f, g + "/fates", names[k], *stats[k]);
+    }
+    for (const auto& c : p.cases) {
+      if (!c.has_fates) continue;  // the first case with fates, per particle, for the figure
+      const FateResult& d = c.fate_detail;
+      std::vector<double> xs, xe;
+      for (std::size_t k = 0; k < d.id.size(); ++k) {
+        xs.insert(xs.end(), {d.x_start[k].x, d.x_start[k].y, d.x_start[k].z});
+        xe.insert(xe.end(), {d.x_end[k].x, d.x_end[k].y, d.x_end[k].z});
+      }
+      const std::string e = g + "/fates/example";
+      f.write(e + "/id", d.id);
+      f.write(e + "/fate", d.fate);
+      f.write(e + "/x_start", xs, {d.id.size(), 3});
+      f.write(e + "/x_end", xe, {d.id.size(), 3});
+      f.set_attr(e, "case", c.case_id);
+      f.set_attr(e, "from_iteration", c.fates_from);
+      f.set_attr(e, "to_iteration", c.fates_to);
+      break;
+    }
+    f.write(g + "/fates/from_iteration", from);
+    f.write(g + "/fates/to_iteration", to);
+    if (!p.light_mean.empty()) {
+      f.write(g + "/light/mean", p.light_mean, {n, n});
+      f.write(g + "/light/ci95", p.light_ci95, {n, n});
+    }
+    if (!p.enrichment_vs.empty()) f.create_group(g + "/enrichment_vs");
+    for (const auto& [qid, stat] : p.enrichment_vs) {
+      const std::string e = g + "/enrichment_vs/" + qid;
+      std::vector<double> v;
+      for (const auto& c : p.cases) {
+        const auto it = c.enrichment_vs.find(qid);
+        v.push_back(it == c.enrichment_vs.end() ? kNaN : it->second);
+      }
+      f.create_group(e);
+      f.write(e + "/values", v);
+      write_stat(f, e, "enrichment", stat);
+    }
+    if (!p.section_mean.empty()) write_section_stats(f, g + "/section", p);
+  }
+  out.commit();
+}
+
+}  // namespace tumble::analysis

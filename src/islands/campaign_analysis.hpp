@@ -1,0 +1,88 @@
+#pragma once
+// `tumble analyze campaign DIR`: the analyses of Yu 2022 that need the CM islands, for every case
+// of a campaign directory (docs/campaign.md layout), folded per parameter point with 95%
+// confidence intervals across replicas:
+//   * island enrichment of each case from its time-averaged large-particle volume map
+//     (fields.h5 concentration/volume_large, the c_L window of the campaign) and, when the case
+//     kept snapshots, from the particles of its last snapshot;
+//   * Fig. 8 counts between the case's first and last snapshot (or the snapshots nearest the
+//     iterations asked for), when it kept snapshots;
+//   * for density-bidisperse points, the lighter species' concentration map (Fig. 13): from
+//     snapshots on 0.97 < r/R < 1 when there are any, else the fields' c_S / c_L on the
+//     campaign's shell (its shell_inner is recorded);
+//   * cross-enrichment: each case's map against the islands of every point of the campaign that
+//     has islands. A point without islands, e.g. (68°, 68°), is measured against the islands of
+//     (57°, 57°): 1 within its CI is the absence of that pattern, on the same scale on which
+//     (57°, 57°) shows it;
+//   * Fig. 5: c_L in the plane through the tumbler centre and two islands, from the snapshots
+//     of the last half of each case (a point without islands uses the plane of the first point
+//     that has them, so the sections compare side by side), with the KAM-tube boundaries.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "islands/cm_islands.hpp"
+#include "islands/cross_section.hpp"
+#include "islands/fates.hpp"
+#include "islands/replica_stats.hpp"
+
+namespace tumble::analysis {
+
+struct CampaignAnalysisOptions {
+  CmIslandOptions islands;
+  double fates_from = -1, fates_to = -1;  // iterations; < 0: first / last snapshot
+  double light_inner = 0.97;
+  double enrichment_inner = 0.9;  // shell of the snapshot-based enrichment
+  int section_grid = 0;           // Fig. 5: bins per in-plane axis (0: one per large diameter)
+  double section_half_width = 1;  // Fig. 5: slab half-width, in large diameters
+  std::string islands_cache;      // where computed islands are cached ("": DIR/analysis)
+};
+
+struct CaseAnalysis {
+  std::string case_id, point_id, params;
+  long long replica = 0;
+  double enrichment_map = 0;   // from fields.h5 (NaN without islands)
+  double enrichment_snap = 0;  // from the last snapshot (NaN without snapshots or islands)
+  bool has_fates = false;
+  FateCounts fates;
+  FateResult fate_detail;  // per particle (the file keeps it for the point's first case)
+  double fates_from = 0, fates_to = 0;          // iterations actually compared
+  std::vector<double> light;                    // lighter-species map (density-bidisperse points)
+  std::map<std::string, double> enrichment_vs;  // map enrichment against each island point's
+  std::vector<double> section;                  // Fig. 5 c_L per bin (NaN: nothing binned)
+  int section_snapshots = 0;                    // configurations averaged into it
+};
+
+struct PointAnalysis {
+  std::string point_id, params;
+  double theta_z = 0, theta_x = 0, density_ratio = 1, size_ratio = 2;
+  int grid_n = 0;
+  std::vector<cm::Island> islands;  // shell r, the mask
+  double island_area_fraction = 0;  // of the unit Lambert disc
+  std::vector<double> coverage;     // per cell of the fields grid
+  std::vector<CaseAnalysis> cases;  // by replica
+  MeanCI enrichment_map, enrichment_snap;
+  MeanCI persistent, captured, dispersed, other, same_island;
+  int light_species = -1;    // -1: not density-bidisperse
+  std::string light_source;  // "snapshots r/R > 0.97" or "fields c_S, r/R > 0.9", ...
+  std::vector<double> light_mean, light_ci95;
+  std::map<std::string, MeanCI> enrichment_vs;  // by the id of the point whose islands are used
+  // Fig. 5 (empty when no point of the campaign has two islands).
+  std::string section_plane_of;  // the point whose islands define the plane
+  int section_grid = 0;          // bins per in-plane axis
+  std::pair<int, int> section_pair{-1, -1};
+  SectionPlane section_plane;
+  double section_half_width = 0;  // [m]
+  std::vector<double> section_mean, section_ci95;
+  std::vector<TubeCrossing> section_tubes;
+};
+
+// Reads every DIR/cases/*/fields.h5 (the finished cases), groups them by parameter point.
+std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
+                                            const CampaignAnalysisOptions& opt);
+
+// Writes the result atomically (layout in docs/report.md).
+void write_campaign_analysis(const std::string& path, const std::string& dir,
+                             const std::vector<PointAnalysis>& points);
+
+}  // namespace tumble::analysis

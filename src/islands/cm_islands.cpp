@@ -1,0 +1,50 @@
+#include "islands/cm_islands.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "cm/cm_io.hpp"
+#include "cm/kam.hpp"
+#include "cm/section_map.hpp"
+
+namespace tumble::analysis {
+
+std::vector<cm::Island> load_islands(const std::string& path) { return cm::read_islands(path); }
+
+std::vector<cm::Island> protocol_islands(double theta_z, double theta_x, const CmIslandOptions& opt,
+                                         const std::string& cache_dir) {
+  namespace fs = std::filesystem;
+  char name[96];
+  std::snprintf(name, sizeof name, "orbits_%g_%g%s.h5", theta_z, theta_x, opt.kam ? "_kam" : "");
+  const std::string path = cache_dir.empty() ? "" : (fs::path(cache_dir) / name).string();
+  if (!path.empty() && fs::exists(path)) return cm::read_islands(path);
+
+  const cm::Protocol pr = cm::Protocol::degrees(theta_z, theta_x);
+  const cm::SectionMap map(pr, cm::ShellChart(opt.r, pr.layer_eps()));
+  cm::PeriodicSearch search;
+  search.max_period = opt.max_period;
+  search.grid = opt.grid;
+  const cm::IslandOptions iopt;
+  const auto points = cm::find_periodic_points(map, search);
+  auto islands = cm::find_islands(map, points, iopt);
+  if (opt.kam) {
+    std::vector<double> radii;
+    for (int k = 11; k <= 18; ++k) radii.push_back(0.05 * k);  // 0.55 ... 0.9 (Fig. 1(b))
+    const auto tubes = cm::kam_tubes(pr, points, opt.r, radii, {search, iopt});
+    islands.insert(islands.end(), tubes.begin(), tubes.end());
+  }
+  if (!path.empty()) {
+    fs::create_directories(cache_dir);
+    cm::write_orbits(path, pr, opt.r, points, islands);
+  }
+  return islands;
+}
+
+std::vector<cm::Polygon> shell_polygons(const std::vector<cm::Island>& all, double r) {
+  std::vector<cm::Polygon> out;
+  for (const auto& is : cm::islands_on_shell(all, r)) out.push_back(is.boundary);
+  return out;
+}
+
+}  // namespace tumble::analysis

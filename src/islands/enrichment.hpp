@@ -1,0 +1,31 @@
+#pragma once
+// Island enrichment: the share of the large particles that lie inside the CM islands, divided by
+// the share of the view the islands cover. 1 = large particles spread evenly; > 1 = they gather
+// in the islands, the segregation pattern of Yu 2022 Figs. 2 and 4; with no islands (e.g.
+// (68°, 68°)) it is undefined (NaN), and the pattern's absence is read from the c_L maps instead.
+#include <vector>
+
+#include "islands/island_mask.hpp"
+#include "analysis/snapshot_data.hpp"
+
+namespace tumble::analysis {
+
+struct Enrichment {
+  double inside_share = 0;  // large particles (or their volume) inside islands / all counted
+  double area_share = 0;    // islands' share of the counted area
+  double value = 0;         // inside_share / area_share (NaN if either is undefined)
+  double counted = 0;       // particles (or volume) counted
+};
+
+// From particles: large particles with centres in inner R < r < R on the lower hemisphere,
+// lab frame; area share = islands' share of the unit Lambert disc.
+Enrichment enrichment_from_particles(const SnapshotData& s, const IslandMask& islands,
+                                     double inner);
+
+// From a map of large-particle solid volume per equal-area cell (a case's
+// concentration/volume_large) and each cell's island coverage (IslandMask::cell_coverage):
+// both shares are taken over the cells the large particles could be seen in (all cells).
+Enrichment enrichment_from_map(const std::vector<double>& volume_large,
+                               const std::vector<double>& coverage);
+
+}  // namespace tumble::analysis

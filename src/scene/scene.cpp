@@ -1,0 +1,458 @@
+#include "scene/scene.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "base/error.hpp"
+#include "scene/fidelity.hpp"
+#include "scene/fill.hpp"
+#include "base/text_util.hpp"
+#include "base/vec3.hpp"
+
+namespace tumble {
+
+double Scene::omega() const { return omega_set > 0 ? omega_set : rpm * 2.0 * kPi / 60.0; }
+double Scene::mean_cube(double d) const {
+  if (size_spread <= 0) return d * d * d;
+  const double a = d - size_spread;  // uniform in [a, d]: E[d^3] = (d^4 - a^4) / (4 (d - a))
+  return (d * d * d * d - a * a * a * a) / (4.0 * size_spread);
+}
+double Scene::mass_small() const { return density * kPi / 6.0 * d_small * d_small * d_small; }
+double Scene::mass_large() const {
+  return density * density_ratio * kPi / 6.0 * d_large * d_large * d_large;
+}
+double Scene::run_time() const {
+  if (mode == "biaxial") {
+    const double w = omega();
+    if (w <= 0) return 0;
+    const double period = (deg2rad(theta_z) + deg2rad(theta_x) + 4.0 * deg2rad(repose)) / w;
+    return iterations * period;
+  }
+  if (mode == "single_axis" && revolutions > 0 && omega() > 0)
+    return revolutions * 2.0 * kPi / omega();
+  return duration;
+}
+
+namespace {
+
+struct Value {
+  bool numeric = false;
+  double num = 0;
+  std::string text;
+  std::string origin;  // where it came from, for messages
+};
+
+// Member pointers for every key: one table, so adding a key is one line here + one in the schema.
+const std::map<std::string, double Scene::*>& real_members() {
+  static const std::map<std::string, double Scene::*> m = {
+      {"tumbler.radius", &Scene::radius},
+      {"tumbler.length", &Scene::length},
+      {"particles.size_spread", &Scene::size_spread},
+      {"contact.kn", &Scene::kn},
+      {"contact.gamma_n", &Scene::gamma_n},
+      {"contact.gamma_s_ss", &Scene::gamma_s_ss},
+      {"contact.gamma_s_sl", &Scene::gamma_s_sl},
+      {"contact.gamma_s_ll", &Scene::gamma_s_ll},
+      {"contact.mu_max", &Scene::mu_max},
+      {"contact.kg", &Scene::kg},
+      {"contact.ratchet", &Scene::ratchet},
+      {"protocol.omega", &Scene::omega_set},
+      {"protocol.revolutions", &Scene::revolutions},
+      {"output.slice_width", &Scene::slice_width},
+      {"particles.d_small", &Scene::d_small},
+      {"particles.d_large", &Scene::d_large},
+      {"particles.density", &Scene::density},
+      {"particles.density_ratio", &Scene::density_ratio},
+      {"particles.large_fraction", &Scene::large_fraction},
+      {"particles.fill_level", &Scene::fill_level},
+      {"particles.packing_fraction", &Scene::packing_fraction},
+      {"contact.restitution", &Scene::restitution},
+      {"contact.collision_time", &Scene::collision_time},
+      {"contact.friction", &Scene::friction},
+      {"contact.wall_friction", &Scene::wall_friction},
+      {"contact.tangential_damping", &Scene::tangential_damping},
+      {"fill.settle_rms_speed", &Scene::settle_rms_speed},
+      {"fill.settle_max_time", &Scene::settle_max_time},
+      {"protocol.theta_z", &Scene::theta_z},
+      {"protocol.theta_x", &Scene::theta_x},
+      {"protocol.repose", &Scene::repose},
+      {"protocol.rpm", &Scene::rpm},
+      {"protocol.iterations", &Scene::iterations},
+      {"protocol.duration", &Scene::duration},
+      {"gravity.g", &Scene::g},
+      {"time.dt", &Scene::dt},
+      {"time.dt_fraction", &Scene::dt_fraction},
+      {"neighbor.skin", &Scene::skin},
+      {"parallel.rebalance_threshold", &Scene::rebalance_threshold},
+      {"output.snapshot_interval", &Scene::snapshot_interval},
+      {"output.checkpoint_interval", &Scene::checkpoint_interval},
+      {"output.progress_interval", &Scene::progress_interval},
+      {"output.analysis_interval", &Scene::analysis_interval},
+  };
+  return m;
+}
+const std::map<std::string, std::string Scene::*>& text_members() {
+  static const std::map<std::string, std::string Scene::*> m = {
+      {"scene.name", &Scene::name},           {"scene.output_dir", &Scene::output_dir},
+      {"tumbler.shape", &Scene::shape},       {"contact.law", &Scene::law},
+      {"fill.start", &Scene::start},          {"fill.bed_file", &Scene::bed_file},
+      {"fill.bed_cache", &Scene::bed_cache},  {"protocol.mode", &Scene::mode},
+      {"protocol.axis", &Scene::axis},        {"output.drift_grid", &Scene::drift_grid},
+      {"tumbler.periodic", &Scene::periodic}, {"time.integrator", &Scene::integrator},
+      {"fidelity.tier", &Scene::tier},        {"fidelity.applied", &Scene::tier_applied},
+  };
+  return m;
+}
+
+const std::map<std::string, std::int64_t Scene::*>& int_members() {
+  static const std::map<std::string, std::int64_t Scene::*> m = {
+      {"fill.seed", &Scene::seed},
+      {"particles.count", &Scene::count},
+  };
+  return m;
+}
+
+const KeySpec* find_spec(const std::string& key) {
+  for (const auto& s : scene_schema())
+    if (s.key == key) return &s;
+  return nullptr;
+}
+
+[[noreturn]] void unknown_key(const std::string& key, const std::string& origin) {
+  std::string best;
+  std::size_t best_d = 1000;
+  for (const auto& s : scene_schema()) {
+    const std::size_t d = edit_distance(key, s.key);
+    if (d < best_d) best_d = d, best = s.key;
+  }
+  std::string msg = "scene error (" + origin + "): unknown key '" + key + "'";
+  if (best_d <= 4) msg += " (did you mean '" + best + "'?)";
+  msg += "; run 'tumble run --list-keys' for all keys";
+  throw InputError(msg);
+}
+
+void flatten(const toml::table& t, const std::string& prefix, const std::string& origin,
+             std::map<std::string, Value>& out) {
+  for (const auto& [k, node] : t) {
+    const std::string key =
+        prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    if (const auto* sub = node.as_table()) {
+      flatten(*sub, key, origin, out);
+      continue;
+    }
+    Value v;
+    v.origin = origin;
+    if (auto d = node.value<double>()) {
+      v.numeric = true;
+      v.num = *d;
+      std::ostringstream os;
+      os.precision(17);
+      os << *d;
+      v.text = os.str();
+    } else if (auto s = node.value<std::string>()) {
+      v.text = *s;
+    } else if (auto b = node.value<bool>()) {
+      v.text = *b ? "true" : "false";
+    } else {
+      throw InputError("scene error (" + origin + "): key '" + key +
+                       "' has an unsupported value type (use a number or a string)");
+    }
+    out[key] = v;
+  }
+}
+
+Value parse_override(const std::string& item, std::string& key) {
+  const auto eq = item.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("scene error: override '" + item + "' is not of the form section.key=value");
+  key = item.substr(0, eq);
+  std::string text = item.substr(eq + 1);
+  if (text.size() >= 2 && (text.front() == '"' || text.front() == '\'') &&
+      text.back() == text.front())
+    text = text.substr(1, text.size() - 2);
+  Value v;
+  v.origin = "--set " + item;
+  v.text = text;
+  char* end = nullptr;
+  const double d = std::strtod(text.c_str(), &end);
+  if (!text.empty() && end && *end == '\0') {
+    v.numeric = true;
+    v.num = d;
+  }
+  return v;
+}
+
+std::string range_text(const KeySpec& s) {
+  std::ostringstream os;
+  os << "[" << s.lo << ", " << s.hi << "]";
+  return os.str();
+}
+
+// Checks every key and value (range, choices) and sets them on a default scene.
+Scene apply_values(const std::map<std::string, Value>& values) {
+  Scene s;
+  for (const auto& [key, v] : values) {
+    const KeySpec* spec = find_spec(key);
+    if (!spec) unknown_key(key, v.origin);
+    const std::string where = "scene error (" + v.origin + "): key '" + key + "'";
+    if (spec->type == KeySpec::Text) {
+      if (!spec->choices.empty() &&
+          std::find(spec->choices.begin(), spec->choices.end(), v.text) == spec->choices.end()) {
+        std::string allowed;
+        for (const auto& c : spec->choices) allowed += (allowed.empty() ? "" : ", ") + c;
+        throw InputError(where + " = '" + v.text + "' is not one of: " + allowed);
+      }
+      s.*(text_members().at(key)) = v.text;
+    } else {
+      if (!v.numeric || !std::isfinite(v.num))
+        throw InputError(where + " = '" + v.text + "' must be a number in " + range_text(*spec) +
+                         " (" + spec->help + ")");
+      if (v.num < spec->lo || v.num > spec->hi)
+        throw InputError(where + " = " + v.text + " is out of range " + range_text(*spec) + " (" +
+                         spec->help + ")");
+      if (spec->type == KeySpec::Integer) {
+        if (v.num != std::floor(v.num))
+          throw InputError(where + " = " + v.text + " must be an integer");
+        s.*(int_members().at(key)) = static_cast<std::int64_t>(v.num);
+      } else {
+        s.*(real_members().at(key)) = v.num;
+      }
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& overrides,
+                  const std::string& origin) {
+  std::map<std::string, Value> values;
+  toml::table tbl;
+  try {
+    tbl = toml::parse(toml_text, origin);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream os;
+    os << "scene error: " << origin << " is not valid TOML: " << e.description() << " (line "
+       << e.source().begin.line << ")";
+    throw InputError(os.str());
+  }
+  flatten(tbl, "", origin, values);
+  std::map<std::string, Value> given;  // --set overrides: they win over a tier's values
+  for (const auto& item : overrides) {
+    std::string key;
+    Value v = parse_override(item, key);
+    values[key] = v;
+    given[key] = v;
+  }
+  // A fidelity tier rewrites keys of the scene as written (scene/fidelity.hpp).
+  Scene s = apply_values(values);
+  if (s.tier != "standard") {
+    for (const auto& [key, text] : tier_values(s.tier, s)) {
+      if (given.count(key)) continue;
+      Value v;
+      v.origin = "fidelity.tier = " + s.tier;
+      v.text = text;
+      v.numeric = true;
+      v.num = std::strtod(text.c_str(), nullptr);
+      values[key] = v;
+    }
+    const std::string applied = s.tier;
+    s = apply_values(values);
+    s.tier_applied = applied;
+  }
+  // Resolved scene for provenance: every key, defaults included.
+  std::istringstream lines(scene_to_text(s));
+  for (std::string line; std::getline(lines, line);) {
+    const auto eq = line.find(" = ");
+    if (eq != std::string::npos) s.resolved[line.substr(0, eq)] = line.substr(eq + 3);
+  }
+  validate_scene(s);
+  return s;
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw InputError("scene error: cannot read scene file '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_scene(ss.str(), overrides, path);
+}
+
+// Velocity Verlet with the dashpot evaluated at the half-step velocity (equivalently leapfrog)
+// integrates x'' = -Ω² x - C x' stably iff Ω² δt² + 2 C δt < 4. The stiffest mode of a packing is
+// estimated by a particle between two of its stiffest contacts (a 1D chain, alternating mode),
+// which doubles both the spring and the damping seen by one contact: Ω² = 4 ω0², C = 4 γ, with ω0²
+// = max k/m over every pair and wall contact (m the lighter partner) and γ = c / 2m the damping
+// rate of that contact. Hence
+//   δt <= (sqrt(4 γ² + ω0²) - 2 γ) / ω0²,
+// which is 1/ω0 without damping (≈ t_c/π for the Yu law) and shrinks as damping grows (e = 0.05:
+// 0.075 t_c). For the Yu law the wall contact (m_eff = m) is the stiffest: ω0² = (π/t_c)² + γ_n²,
+// γ = γ_n. Measured in tests/test_extremes.cpp: the former undamped bound let a bed with e = 0.05
+// gain energy.
+double damped_bound(double w0_squared, double gamma) {
+  return (std::sqrt(4 * gamma * gamma + w0_squared) - 2 * gamma) / w0_squared;
+}
+
+double time_step_bound(const Scene& s) {
+  if (s.rapaport()) {
+    // Rapaport's k_n and γ_n are the same for every pair, so the lightest particle against the
+    // wall (m_eff = m) is the stiffest mode, m the smallest mass of either species.
+    const double ds = s.d_small - s.size_spread, dl = s.d_large - s.size_spread;
+    const double m = s.density * kPi / 6.0 * std::min(ds * ds * ds, s.density_ratio * dl * dl * dl);
+    return damped_bound(s.kn / m, s.gamma_n / (2.0 * m));
+  }
+  const double gamma_n = -std::log(s.restitution) / s.collision_time;
+  const double w2 = (kPi / s.collision_time) * (kPi / s.collision_time) + gamma_n * gamma_n;
+  const double ms = s.mass_small(), ml = s.mass_large();
+  double scale = 1;  // k/m relative to the wall contact's w2 (pairs: m_eff / lighter mass <= 1/2)
+  for (double a : {ms, ml})
+    for (double b : {ms, ml}) scale = std::max(scale, (a * b / (a + b)) / std::min(a, b));
+  return damped_bound(scale * w2, scale * gamma_n);
+}
+
+// Static overlap under the bed's own weight, as a fraction of d_small: a column of H / d_small
+// small particles of the denser species' density (H = 2R × the bed's volume share of the tumbler)
+// resting on one small-small contact. Used to refuse contacts so soft that particles would pass
+// through each other.
+double weight_overlap_fraction(const Scene& s) {
+  double share = s.fill_level;
+  if (s.cylinder()) {
+    const double fl = s.large_fraction / s.mean_cube(s.d_large);
+    const double fs = (1 - s.large_fraction) / s.mean_cube(s.d_small);
+    const double v_solid = s.count * kPi / 6.0 / (fl + fs);
+    share = std::min(1.0, v_solid / s.packing_fraction / (kPi * s.radius * s.radius * s.length));
+  }
+  const double column = 2 * s.radius * share / s.d_small;
+  const double ms = s.mass_small();
+  const double heavy = std::max(1.0, s.density_ratio);  // a column of the denser species
+  double k;
+  if (s.rapaport()) {
+    k = s.kn;
+  } else {
+    const double gamma_n = -std::log(s.restitution) / s.collision_time;
+    k = ((kPi / s.collision_time) * (kPi / s.collision_time) + gamma_n * gamma_n) * 0.5 * ms;
+  }
+  return column * heavy * ms * s.g / k / s.d_small;
+}
+
+void validate_scene(const Scene& s) {
+  auto fail = [](const std::string& key, const std::string& what) {
+    throw InputError("scene error: key '" + key + "' " + what);
+  };
+  if (s.d_large < s.d_small)
+    fail("particles.d_large", "= " + std::to_string(s.d_large) + " must be >= particles.d_small (" +
+                                  std::to_string(s.d_small) + ")");
+  if (s.d_large / s.d_small > 8)
+    fail("particles.d_large", "gives a size ratio above the supported maximum 8");
+  if (s.size_spread > 0 && !s.rapaport())
+    fail("particles.size_spread",
+         "> 0 needs contact.law = 'rapaport2007' (the yu2022 law tabulates two particle sizes)");
+  if (s.size_spread >= s.d_small)
+    fail("particles.size_spread", "must be below particles.d_small = " + std::to_string(s.d_small));
+  if (s.rapaport() && s.dt <= 0)
+    fail("time.dt", "must be set (> 0) for contact.law = 'rapaport2007' (MD units, e.g. 5e-3)");
+  if (s.cylinder()) {
+    if (s.length <= 0) fail("tumbler.length", "must be > 0 for tumbler.shape = 'cylinder'");
+    const double cell = s.d_large + s.skin * s.d_small;
+    if (s.length < 3 * cell)
+      fail("tumbler.length",
+           "must be at least 3 neighbour cells (" + std::to_string(3 * cell) + ") long");
+    if (s.count <= 0)
+      fail("particles.count", "must be > 0 for tumbler.shape = 'cylinder' (the particle number)");
+    if (s.mode == "biaxial")
+      fail("protocol.mode",
+           "= 'biaxial' is for the sphere; a cylinder turns about its axis: "
+           "use 'single_axis' with protocol.axis = 'z', or 'rest'");
+    if (s.mode == "single_axis" && s.axis != "z")
+      fail("protocol.axis", "must be 'z' for a cylinder (its axis)");
+    if (s.start == "large_top" || s.start == "large_xneg")
+      fail("fill.start", "= '" + s.start +
+                             "' is for the sphere; a cylinder starts 'mixed' or "
+                             "'large_zneg' (presegregated in two axial halves)");
+    // Cheap fit check (the placement itself is in fill_cylinder.cpp): solids must not exceed 60%
+    // of the cylinder.
+    const double fl = s.large_fraction / s.mean_cube(s.d_large);
+    const double fs = (1 - s.large_fraction) / s.mean_cube(s.d_small);
+    const double v_mean = kPi / 6.0 / (fl + fs);  // volume of the mean particle (by number)
+    const double v_cyl = kPi * s.radius * s.radius * s.length;
+    if (s.count * v_mean > 0.6 * v_cyl)
+      fail("particles.count",
+           "= " + std::to_string(s.count) + " does not fit: the solids would fill " +
+               std::to_string(s.count * v_mean / v_cyl) + " of the cylinder (at most 0.6)");
+  } else {
+    if (s.count > 0)
+      fail("particles.count", "is for cylinders; a sphere is filled by particles.fill_level");
+    if (s.periodic == "on") fail("tumbler.periodic", "= 'on' needs tumbler.shape = 'cylinder'");
+    if (s.start == "large_zneg")
+      fail("fill.start", "= 'large_zneg' is for the cylinder (axial halves)");
+  }
+  if (s.d_large * 4 > s.radius)
+    fail("tumbler.radius",
+         "must be at least 4 large diameters (" + std::to_string(4 * s.d_large) + ")");
+  const double bound = time_step_bound(s);
+  if (s.time_step() > bound) {
+    std::ostringstream os;
+    os.precision(4);
+    // The allowed values are rounded down, so that pasting them back is accepted.
+    auto down = [](double v) {
+      const double unit = std::pow(10.0, std::floor(std::log10(v)) - 3);
+      return std::floor(v / unit) * unit;
+    };
+    os << "gives a time step " << s.time_step() << " s above the stability bound " << bound
+       << " s = 1/sqrt(max k/m) of the stiffest pair (about t_c/pi); allowed: time.dt <= "
+       << down(bound);
+    if (!s.rapaport()) os << " or time.dt_fraction <= " << down(bound / s.collision_time);
+    fail(s.dt > 0 ? "time.dt" : "time.dt_fraction", os.str());
+  }
+  if (const double ov = weight_overlap_fraction(s); ov > kMaxWeightOverlap) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "makes the contacts so soft that the bed's weight would press the bottom particles "
+          "into each other by about "
+       << 100 * ov << "% of d_small (at most " << 100 * kMaxWeightOverlap << "%); ";
+    // The overlap scales as 1/k: k ∝ 1/t_c² (Yu), k = k_n (Rapaport).
+    if (s.rapaport())
+      os << "use contact.kn >= " << s.kn * ov / kMaxWeightOverlap;
+    else
+      os << "use contact.collision_time <= "
+         << s.collision_time * std::sqrt(kMaxWeightOverlap / ov);
+    fail(s.rapaport() ? "contact.kn" : "contact.collision_time", os.str());
+  }
+  if (s.mode != "rest" && s.omega() <= 0)
+    fail("protocol.rpm", "(or protocol.omega) must be > 0 when protocol.mode is '" + s.mode + "'");
+  if (s.mode == "biaxial" && s.theta_z + s.theta_x <= 0 && s.iterations > 0)
+    fail("protocol.theta_z",
+         "and protocol.theta_x are both 0: the biaxial protocol would not move");
+  if (!s.bed_file.empty()) {
+    std::ifstream f(s.bed_file);
+    if (!f) fail("fill.bed_file", "names a file that cannot be read: '" + s.bed_file + "'");
+  } else if (!s.cylinder()) {
+    // Raises InputError if the requested bed does not fit in the tumbler.
+    (void)plan_bed(s);
+  }
+}
+
+std::string scene_to_text(const Scene& s) {
+  // Dotted keys at top level: valid TOML that parse_scene reads back to the same scene.
+  std::ostringstream os;
+  os.precision(17);
+  for (const auto& spec : scene_schema()) {
+    os << spec.key << " = ";
+    if (spec.key == "fidelity.tier")  // already applied (fidelity.applied names it)
+      os << "\"standard\"";
+    else if (spec.type == KeySpec::Text)
+      os << '"' << s.*(text_members().at(spec.key)) << '"';
+    else if (spec.type == KeySpec::Integer)
+      os << s.*(int_members().at(spec.key));
+    else
+      os << s.*(real_members().at(spec.key));
+    os << "\n";
+  }
+  return os.str();
+}
+
+}  // namespace tumble
