@@ -4,39 +4,24 @@
 #include <filesystem>
 #include <fstream>
 
+#include "base/error.hpp"
+#include "base/hash.hpp"
 #include "campaign/collect_plan.hpp"
 #include "campaign/cylinder_fields.hpp"
 #include "campaign/field_collector.hpp"
-#include "base/hash.hpp"
 #include "campaign/json_line.hpp"
 #include "campaign/manifest.hpp"
-#include "base/error.hpp"
-#include "run/realization.hpp"
 #include "engine/simulation.hpp"
-#include "io/bed_io.hpp"
 #include "h5/hdf5_file.hpp"
+#include "io/bed_io.hpp"
+#include "run/realization.hpp"
+#include "run/time_limit_observer.hpp"
 
 namespace tumble::campaign {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-// Distinct from RunError so that the manifest can say "time limit" rather than "run".
-struct TimeLimitError : RunError {
-  using RunError::RunError;
-};
-
-// Stops an attempt that has run longer than its wall-clock limit (checked every 16 steps).
-Observer time_limit_observer(Clock::time_point t0, double limit) {
-  return {16, [t0, limit](const Simulation& sim) {
-            const double el = std::chrono::duration<double>(Clock::now() - t0).count();
-            if (el > limit)
-              throw TimeLimitError("time limit: the attempt ran " + std::to_string(el) +
-                                   " s wall, more than its limit of " + std::to_string(limit) +
-                                   " s (at step " + std::to_string(sim.step_count()) + ")");
-          }};
-}
-
 long long checkpoint_step(const std::string& path) {
   io::H5File f(path, io::H5File::Mode::Read);
   return static_cast<long long>(f.attr_int64("/", "step"));
@@ -76,7 +61,8 @@ void run_cylinder_case(const CaseContext& ctx, const CaseTask& task, const Case&
   ro.resume = true;
   ro.write_snapshots = ctx.spec->snapshots;
   ro.log = &log;
-  if (c.time_limit > 0) ro.observers.push_back(time_limit_observer(t0, c.time_limit));
+  TimeLimitObserver time_limit(t0, c.time_limit);
+  if (c.time_limit > 0) ro.observers.push_back(&time_limit);
   const RunResult res = run_realization(scene, ro);
   FieldsMeta meta{c.id,      c.point_id, c.params_text, ctx.spec->tier, scene_to_text(scene),
                   c.replica, task.seed};
@@ -134,8 +120,9 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
       ro.resume = true;  // uses DIR/cases/<id>/checkpoint.h5 when it exists
       ro.write_snapshots = spec.snapshots;
       ro.log = &log;
-      ro.observers.push_back({1, [&collector](const Simulation& sim) { collector.observe(sim); }});
-      if (c.time_limit > 0) ro.observers.push_back(time_limit_observer(t0, c.time_limit));
+      ro.observers.push_back(&collector);
+      TimeLimitObserver time_limit(t0, c.time_limit);
+      if (c.time_limit > 0) ro.observers.push_back(&time_limit);
       (void)run_realization(scene, ro);
       if (!collector.finished())
         throw RunError("the run ended before the collector's last sample (" +

@@ -5,9 +5,10 @@
 
 #include "analysis/radial_segregation.hpp"
 #include "base/error.hpp"
-#include "engine/simulation.hpp"
 #include "base/version.hpp"
+#include "engine/simulation.hpp"
 #include "h5/hdf5_file.hpp"
+#include "run/run_state.hpp"
 
 namespace tumble::campaign {
 namespace fs = std::filesystem;
@@ -64,6 +65,9 @@ void FieldCollector::ensure_slots(const Particles& p) {
     species_[s] = p.species[i];
   }
 }
+
+void FieldCollector::start(RunState& s) { observe(s.sim); }
+void FieldCollector::after_step(RunState& s) { observe(s.sim); }
 
 void FieldCollector::observe(const Simulation& sim) {
   const std::int64_t step = sim.step_count();

@@ -1,6 +1,7 @@
 #pragma once
-// The in-situ collector of one case: an engine Observer that takes the samples of its CollectPlan
-// (the c_L map, the Δψ map and the segregation/mixing series) and writes the case's fields file.
+// The in-situ collector of one case: an observer of the run (run/observer.hpp) that takes the
+// samples of its CollectPlan (the c_L map, the Δψ map and the segregation/mixing series) and writes
+// the case's fields file.
 //
 // Kill-safety: after every sample the collector's whole state (running sums, series, the ring of
 // start directions that Δψ still needs) is written atomically to state.h5. A resumed case restarts
@@ -14,9 +15,10 @@
 
 #include "analysis/concentration.hpp"
 #include "analysis/displacement.hpp"
-#include "projection/lambert.hpp"
 #include "campaign/collect_plan.hpp"
 #include "h5/hdf5_file.hpp"
+#include "projection/lambert.hpp"
+#include "run/observer.hpp"
 
 namespace tumble {
 class Simulation;
@@ -37,7 +39,7 @@ struct FieldsMeta {
 // parameters, collection, code version and the resolved scene.
 void write_case_attributes(io::H5File& f, const FieldsMeta& meta, const CollectSpec& spec);
 
-class FieldCollector {
+class FieldCollector : public Observer {
  public:
   FieldCollector(const CollectPlan& plan, std::string state_path);
 
@@ -49,7 +51,9 @@ class FieldCollector {
   std::int64_t next_sample_step() const { return plan_.sample_step(next_j_); }
   bool finished() const { return next_j_ > plan_.last_sample; }
 
-  // The Observer body: acts only at the steps of its samples.
+  // The observer: acts only at the steps of its samples.
+  void start(RunState& s) override;
+  void after_step(RunState& s) override;
   void observe(const Simulation& sim);
   // One sample of a configuration (tests call this directly). `to_frame` maps lab positions to
   // the analysis frame.

@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "cm/drift_grid.hpp"
 #include "base/particles.hpp"
+#include "cm/drift_grid.hpp"
 
 namespace tumble::analysis {
 

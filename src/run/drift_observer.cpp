@@ -1,0 +1,35 @@
+#include "run/drift_observer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+#include <string>
+
+#include "cm/drift_grid.hpp"
+#include "run/run_state.hpp"
+
+namespace tumble {
+
+DriftObserver::DriftObserver(const Scene& scene)
+    : meter_(30, scene.radius, deg2rad(scene.repose), scene.omega(), scene.d_large),
+      every_(std::max<std::int64_t>(1, std::llround(0.1 / scene.time_step()))) {}
+
+void DriftObserver::after_step(RunState& s) {
+  const Simulation& sim = s.sim;
+  if (sim.step_count() % every_ != 0) return;
+  const char* flowing = sim.protocol().periodic() ? "rotate" : "spin";
+  if (std::string(sim.protocol().phase(sim.time())) == flowing)
+    meter_.sample(s.whole_bed(), sim.protocol().omega(sim.time()));
+}
+
+void DriftObserver::finish(RunState& s) {
+  if (!s.lead()) return;
+  const Scene& scene = s.scene;
+  const std::string path = scene.output_dir + "/drift_grid.h5";
+  cm::write_drift_grid(
+      path, meter_.grid("DEM scene " + scene.name + ", seed " + std::to_string(scene.seed) + ", " +
+                        std::to_string(meter_.samples()) + " samples"));
+  if (s.log) *s.log << "[run] drift grid (" << meter_.samples() << " samples) in " << path << "\n";
+}
+
+}  // namespace tumble

@@ -1,0 +1,20 @@
+#pragma once
+// Progress lines every scene.progress_interval wall seconds (checked every 64 steps): simulated
+// time, iteration and phase (revolutions for a constant spin), step, particle-steps per second,
+// ETA, and for a decomposed run the rank count and load imbalance.
+#include <chrono>
+
+#include "run/observer.hpp"
+
+namespace tumble {
+
+class ProgressObserver : public Observer {
+ public:
+  void after_step(RunState& s) override;
+
+ private:
+  std::chrono::steady_clock::time_point last_{};
+  bool started_ = false;
+};
+
+}  // namespace tumble

@@ -1,0 +1,49 @@
+#include "run/series_observer.hpp"
+
+#include <cmath>
+
+#include "analysis/radial_segregation.hpp"
+#include "run/run_state.hpp"
+
+namespace tumble {
+
+SeriesObserver::SeriesObserver(const Scene& scene, std::int64_t every_steps) : every_(every_steps) {
+  cylinder_.radius = scene.radius;
+  cylinder_.length = scene.length;
+  cylinder_.slice =
+      scene.slice_width > 0 ? scene.slice_width : 2.5 * (scene.d_small - 0.5 * scene.size_spread);
+  cylinder_.b3 = std::pow(scene.d_large / scene.d_small, 3);
+  flow_.axis =
+      scene.axis == "x" ? Vec3{1, 0, 0} : (scene.axis == "y" ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+  flow_.radius = scene.radius;
+  flow_.bin = 2 * scene.d_large;
+  flow_.depth = scene.d_large;
+}
+
+void SeriesObserver::after_step(RunState& s) {
+  if (s.sim.step_count() % every_ == 0) sample(s);
+}
+
+void SeriesObserver::sample(RunState& s) {
+  const Scene& scene = s.scene;
+  const Simulation& sim = s.sim;
+  const double kinetic = sim.energy().kinetic;  // collective: before the gather, on all ranks
+  const Particles& all = s.whole_bed();
+  analysis::Series& series = s.series;
+  if (scene.cylinder()) {
+    analysis::sample_cylinder(all, cylinder_, sim.time(), scene.omega() * sim.time() / (2 * kPi),
+                              kinetic, series.cylinder);
+    return;
+  }
+  series.append(sim.time(), sim.protocol().iteration(sim.time()),
+                analysis::radial_segregation(all, scene.radius), kinetic);
+  if (scene.mode == "single_axis") {  // the flowing layer: repose angle and surface speed
+    const analysis::FlowProfile fp = analysis::flow_profile(all, all.size(), flow_);
+    series.repose_angle.push_back(fp.repose_deg);
+    series.surface_speed.push_back(fp.surface_speed);
+    series.profile_h = fp.h;
+    series.surface_profile.insert(series.surface_profile.end(), fp.speed.begin(), fp.speed.end());
+  }
+}
+
+}  // namespace tumble

@@ -1,0 +1,140 @@
+#include "run/settled_bed.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+#include "base/error.hpp"
+#include "base/text_util.hpp"
+#include "engine/simulation.hpp"
+#include "io/bed_io.hpp"
+#include "scene/fill.hpp"
+#include "scene/fill_cylinder.hpp"
+
+namespace tumble {
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+int rank_in(MPI_Comm comm) {
+  int r = 0;
+  if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &r);
+  return r;
+}
+int size_of(MPI_Comm comm) {
+  int n = 1;
+  if (comm != MPI_COMM_NULL) MPI_Comm_size(comm, &n);
+  return n;
+}
+}  // namespace
+
+Particles share_of(const Particles& all, MPI_Comm comm) {
+  const int p = size_of(comm), r = rank_in(comm);
+  if (p == 1) return all;
+  const auto n = static_cast<std::int64_t>(all.size());
+  std::vector<std::uint32_t> rows;
+  for (std::int64_t i = n * r / p; i < n * (r + 1) / p; ++i)
+    rows.push_back(static_cast<std::uint32_t>(i));
+  Particles mine = all;
+  mine.permute(rows);
+  mine.resize(rows.size());
+  return mine;
+}
+
+Particles fill_and_settle(const Scene& scene, std::ostream* log, MPI_Comm comm) {
+  double shrink = 1;
+  Particles bed;
+  if (scene.cylinder()) {
+    CylinderBed cb = make_cylinder_bed(scene);
+    bed = std::move(cb.particles);
+    shrink = cb.shrink;
+  } else {
+    bed = make_bed(scene);
+  }
+  if (log) {
+    *log << "[fill] " << bed.size() << " particles placed (seed " << scene.seed << ", start '"
+         << scene.start << "'";
+    if (shrink < 1) *log << ", at " << shrink << " of their size, grown back while settling";
+    *log << "); settling until rms speed < " << scene.settle_rms_speed << "\n";
+  }
+  // The engine is built with the full radii (they size its cells); a shrunk placement starts
+  // with every radius scaled by `shrink` and grows back linearly over kGrowBlocks blocks of 200
+  // steps, rebuilding the neighbour list after each change.
+  std::vector<double> full_radius(bed.size());
+  for (std::size_t i = 0; i < bed.size(); ++i) full_radius[bed.id[i]] = bed.radius[i];
+  Simulation sim(scene, share_of(bed, comm), geometry::Protocol::at_rest(), 0, 0, comm);
+  constexpr int kGrowBlocks = 50;
+  auto set_scale = [&](double scale) {
+    Particles& p = sim.particles();
+    for (std::size_t i = 0; i < p.size(); ++i) p.radius[i] = scale * full_radius[p.id[i]];
+  };
+  if (shrink < 1) set_scale(shrink);
+  sim.compute_forces();
+  const auto t0 = Clock::now();
+  auto last = t0;
+  const double min_time =
+      20 * scene.collision_time + std::sqrt(2 * scene.d_large / std::max(scene.g, 1e-12));
+  for (int block = 1;; ++block) {
+    if (shrink < 1 && block <= kGrowBlocks) {
+      set_scale(shrink + (1 - shrink) * block / kGrowBlocks);
+      sim.request_rebuild();
+    }
+    for (int k = 0; k < 200; ++k) sim.step();
+    const double rms = sim.rms_speed();
+    const bool grown = shrink == 1 || block >= kGrowBlocks;
+    if (grown && sim.time() > min_time && rms < scene.settle_rms_speed) break;
+    if (sim.time() > scene.settle_max_time) {
+      std::ostringstream os;
+      os << "the bed did not settle within fill.settle_max_time = " << scene.settle_max_time
+         << " s (rms speed " << rms << " m/s > fill.settle_rms_speed = " << scene.settle_rms_speed
+         << "); raise fill.settle_max_time";
+      throw RunError(os.str());
+    }
+    if (log && seconds_since(last) > scene.progress_interval) {
+      last = Clock::now();
+      *log << "[fill] t = " << std::setprecision(4) << sim.time() << " s, rms speed " << rms
+           << " m/s, " << format_hms(seconds_since(t0)) << " elapsed" << std::endl;
+    }
+  }
+  sim.check_health();
+  if (log)
+    *log << "[fill] settled at t = " << sim.time() << " s (" << sim.step_count() << " steps, "
+         << std::setprecision(3) << seconds_since(t0) << " s wall)" << std::endl;
+  Particles out = sim.gather_all();
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out.v[i] = out.w[i] = out.f[i] = out.t[i] = out.wall_spring[i] = Vec3{};
+  }
+  return out;
+}
+
+Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_Comm comm) {
+  if (reused) *reused = true;
+  if (!scene.bed_file.empty()) {
+    if (log) *log << "[fill] starting from bed file " << scene.bed_file << "\n";
+    return io::read_bed(scene.bed_file, scene);
+  }
+  const std::string cached = io::bed_cache_path(scene);
+  int have = fs::exists(cached) ? 1 : 0;  // rank 0 decides for all
+  if (size_of(comm) > 1) MPI_Bcast(&have, 1, MPI_INT, 0, comm);
+  if (have) {
+    if (log) *log << "[fill] reusing settled bed " << cached << "\n";
+    return io::read_bed(cached, scene);
+  }
+  if (reused) *reused = false;
+  Particles bed = fill_and_settle(scene, log, comm);
+  if (rank_in(comm) == 0) {
+    fs::create_directories(scene.bed_cache);
+    io::write_bed(cached, bed, scene);
+    if (log) *log << "[fill] saved settled bed to " << cached << "\n";
+  }
+  if (size_of(comm) > 1) MPI_Barrier(comm);
+  return bed;
+}
+
+}  // namespace tumble
