@@ -15,8 +15,8 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 out=results/default
 np=$(nproc)
 if ((np > 4)); then np=4; fi  # 4 cases: more ranks would idle
-# One rank per case until domain decomposition lands (issue 3); --bind-to none: Open MPI would
-# otherwise pin every run on a shared machine to the same cores.
+# One rank per case (campaign.ranks_per_case = 1: 2,000-particle cases gain nothing from more);
+# --bind-to none: Open MPI would otherwise pin every run on a shared machine to the same cores.
 mpirun -n "$np" --bind-to none ./build/tumble campaign campaign/default.toml --output "$out" "$@"
 ./build/tumble analyze campaign "$out"
 /usr/bin/python3 postproc/report.py "$out" -o "$out/report"

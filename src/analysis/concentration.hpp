@@ -6,9 +6,9 @@
 // cell that is empty at some instants is weighted by what it held, not dropped.
 #include <vector>
 
-#include "projection/lambert.hpp"
 #include "base/particles.hpp"
 #include "base/vec3.hpp"
+#include "projection/lambert.hpp"
 
 namespace tumble::analysis {
 

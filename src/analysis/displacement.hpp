@@ -8,9 +8,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "projection/lambert.hpp"
 #include "base/particles.hpp"
 #include "base/vec3.hpp"
+#include "projection/lambert.hpp"
 
 namespace tumble::analysis {
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "scene/scene.hpp"
 #include "h5/hdf5_file.hpp"
+#include "scene/scene.hpp"
 
 namespace tumble::analysis {
 

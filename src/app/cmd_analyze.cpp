@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "islands/analysis_io.hpp"
-#include "islands/campaign_analysis.hpp"
-#include "islands/cm_islands.hpp"
 #include "analysis/light_concentration.hpp"
 #include "app/commands.hpp"
 #include "cm/cm_io.hpp"
+#include "islands/analysis_io.hpp"
+#include "islands/campaign_analysis.hpp"
+#include "islands/cm_islands.hpp"
 
 namespace tumble::app {
 

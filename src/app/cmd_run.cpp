@@ -5,8 +5,8 @@
 #include <iostream>
 
 #include "app/commands.hpp"
-#include "scene/fill.hpp"
 #include "run/realization.hpp"
+#include "scene/fill.hpp"
 #include "scene/scene.hpp"
 
 namespace tumble::app {

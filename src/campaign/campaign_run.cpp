@@ -9,16 +9,16 @@
 #include <iostream>
 #include <sstream>
 
+#include "base/error.hpp"
+#include "base/hash.hpp"
+#include "base/version.hpp"
 #include "campaign/campaign_spec.hpp"
 #include "campaign/case_runner.hpp"
 #include "campaign/ensemble.hpp"
 #include "campaign/expand.hpp"
 #include "campaign/field_collector.hpp"
-#include "base/hash.hpp"
 #include "campaign/manifest.hpp"
 #include "campaign/scheduler.hpp"
-#include "base/error.hpp"
-#include "base/version.hpp"
 
 namespace tumble::campaign {
 namespace fs = std::filesystem;

@@ -13,8 +13,8 @@
 #include <sstream>
 
 #include "base/error.hpp"
-#include "scene/scene.hpp"
 #include "base/text_util.hpp"
+#include "scene/scene.hpp"
 
 namespace tumble::campaign {
 namespace fs = std::filesystem;

@@ -13,8 +13,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "base/student_t.hpp"
 #include "base/error.hpp"
+#include "base/student_t.hpp"
 #include "h5/hdf5_file.hpp"
 
 namespace tumble::campaign {

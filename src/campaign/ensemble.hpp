@@ -1,10 +1,10 @@
 #pragma once
-// Ensemble statistics in PETSc (design.md Sec. 5): for every parameter point and every collected
-// field, Vecs of count, mean and M2, component by component. Cases are folded in with Welford's
-// update; partial results (slices of a job array, other directories) are combined with the
-// pairwise formula of Chan, Golub & LeVeque (1979). A NaN component (a cell nobody visited) is
-// missing for that case: the count is per component. Written with PetscViewerHDF5 together with
-// the variance, the 95% confidence half-width, the parameters and the member cases.
+// Ensemble statistics in PETSc (docs/architecture.md, "Campaigns"): for every parameter point and
+// every collected field, Vecs of count, mean and M2, component by component. Cases are folded in
+// with Welford's update; partial results (slices of a job array, other directories) are combined
+// with the pairwise formula of Chan, Golub & LeVeque (1979). A NaN component (a cell nobody
+// visited) is missing for that case: the count is per component. Written with PetscViewerHDF5
+// together with the variance, the 95% confidence half-width, the parameters and the member cases.
 #include <petscvec.h>
 
 #include <map>

@@ -5,9 +5,9 @@
 #include <map>
 #include <set>
 
-#include "campaign/collect_plan.hpp"
-#include "base/hash.hpp"
 #include "base/error.hpp"
+#include "base/hash.hpp"
+#include "campaign/collect_plan.hpp"
 #include "scene/fill.hpp"
 
 namespace tumble::campaign {

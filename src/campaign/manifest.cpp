@@ -13,8 +13,8 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "campaign/json_line.hpp"
 #include "base/error.hpp"
+#include "campaign/json_line.hpp"
 
 namespace tumble::campaign {
 namespace fs = std::filesystem;

@@ -5,11 +5,11 @@
 #include <ostream>
 #include <regex>
 
+#include "base/error.hpp"
+#include "base/version.hpp"
 #include "campaign/campaign_run.hpp"
 #include "campaign/ensemble.hpp"
 #include "campaign/manifest.hpp"
-#include "base/error.hpp"
-#include "base/version.hpp"
 #include "h5/hdf5_file.hpp"
 
 namespace tumble::campaign {

@@ -13,9 +13,9 @@
 #include <stdexcept>
 #include <thread>
 
+#include "base/text_util.hpp"
 #include "campaign/eta.hpp"
 #include "campaign/expand.hpp"
-#include "base/text_util.hpp"
 
 namespace tumble::campaign {
 namespace {

@@ -1,7 +1,7 @@
 #pragma once
-// Dynamic scheduling of cases over rank groups (design.md Sec. 5). The world is split with
-// MPI_Comm_split into groups of ranks_per_case; world rank 0 hands out cases, largest first, to
-// whichever group asks, and records every assignment and result in the manifest.
+// Dynamic scheduling of cases over rank groups (docs/architecture.md, "Campaigns"). The world is
+// split with MPI_Comm_split into groups of ranks_per_case; world rank 0 hands out cases, largest
+// first, to whichever group asks, and records every assignment and result in the manifest.
 //
 // Rank 0 also computes: its own group's cases run in a second thread while the main thread keeps
 // dispatching, so no core idles for the dispatcher. That thread makes no MPI calls (the engine is

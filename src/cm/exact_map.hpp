@@ -5,7 +5,8 @@
 //   bulk:  solid-body rotation, (x, y) -> R(-t)(x, y), on circles s^2 = x^2 + y^2.
 //   layer: streamline eta = eps sqrt(a^2 - x^2), eta = y + delta, parametrised by the phase
 //          s = t/eps in [0, pi]:  x = -a cos s,  eta = eps a sin s.                  (Eq. L1)
-//          Every transit lasts pi eps, whatever a (Christov et al. 2014; design.md Sec. 8).
+//          Every transit lasts pi eps, whatever a (Christov et al. 2014; docs/architecture.md,
+//          "Continuum model notes").
 //   joins: a bulk circle s enters the layer at (-a, -delta(a)) and leaves it at (+a, -delta(a))
 //          with a^2 = (s^2 - eps^2 (1 - z^2)) / (1 - eps^2): the same circle on both ends.
 //

@@ -1,9 +1,9 @@
 #pragma once
 // Reference integrator of the single-axis CM velocity field, used only to check the exact map.
 // The streamwise velocity jumps at the interface y = -delta (bulk -delta vs layer 0), so a
-// fixed-step scheme across it is first order (design.md Sec. 8). This one integrates each region
-// with its own smooth field (adaptive Dormand-Prince 5(4)) and locates the crossing of
-// g = y + delta(x, z) = 0 as an event before switching fields.
+// fixed-step scheme across it is first order (docs/architecture.md, "Continuum model notes"). This
+// one integrates each region with its own smooth field (adaptive Dormand-Prince 5(4)) and locates
+// the crossing of g = y + delta(x, z) = 0 as an event before switching fields.
 #include "cm/flow_field.hpp"
 
 namespace tumble::cm {

@@ -1,9 +1,9 @@
 #pragma once
 // The eps -> 0 limit of the CM: the cutting-and-shuffling piecewise isometry (PWI) of the
-// hemispherical shell (Juarez et al. 2010; Park et al. 2016; design.md Sec. 8). In every slice
-// z = const a phase of duration t rotates the lower half-disc clockwise (as the CM bulk does)
-// by t modulo pi: a point reaching the free surface at x = -s reappears at x = +s, which is the
-// CM layer transit taking zero time.
+// hemispherical shell (Juarez et al. 2010; Park et al. 2016; docs/architecture.md, "Continuum model
+// notes"). In every slice z = const a phase of duration t rotates the lower half-disc clockwise (as
+// the CM bulk does) by t modulo pi: a point reaching the free surface at x = -s reappears at x =
+// +s, which is the CM layer transit taking zero time.
 #include "cm/flow_field.hpp"
 
 namespace tumble::cm {

@@ -4,10 +4,11 @@
 
 namespace tumble::geometry {
 
-// Sign convention, shared with the continuum model (docs/cm.md, design.md §8): a "rotation about z"
-// turns the tumbler with Ω = −ω ẑ, so the bulk moves with u = (y, −x, 0) (y up); a "rotation about
-// x" is that motion conjugated by a quarter turn about the vertical axis, Ω = +ω x̂. With the
-// opposite x sense the DEM would be the mirror image (x → −x) of the continuum model's islands.
+// Sign convention, shared with the continuum model (docs/cm.md, docs/architecture.md, "Continuum
+// model notes"): a "rotation about z" turns the tumbler with Ω = −ω ẑ, so the bulk moves with u =
+// (y, −x, 0) (y up); a "rotation about x" is that motion conjugated by a quarter turn about the
+// vertical axis, Ω = +ω x̂. With the opposite x sense the DEM would be the mirror image (x → −x) of
+// the continuum model's islands.
 namespace {
 const Vec3 kZ{0, 0, 1}, kX{1, 0, 0};
 }

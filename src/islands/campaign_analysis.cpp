@@ -6,13 +6,13 @@
 #include <limits>
 #include <map>
 
-#include "islands/enrichment.hpp"
 #include "analysis/light_concentration.hpp"
 #include "analysis/snapshot_data.hpp"
-#include "cm/cm_io.hpp"
-#include "scene/scene.hpp"
 #include "base/version.hpp"
+#include "cm/cm_io.hpp"
 #include "h5/hdf5_file.hpp"
+#include "islands/enrichment.hpp"
+#include "scene/scene.hpp"
 
 namespace tumble::analysis {
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "analysis/snapshot_data.hpp"
-#include "cm/island.hpp"
 #include "base/vec3.hpp"
+#include "cm/island.hpp"
 
 namespace tumble::analysis {
 

@@ -5,8 +5,8 @@
 // (68°, 68°)) it is undefined (NaN), and the pattern's absence is read from the c_L maps instead.
 #include <vector>
 
-#include "islands/island_mask.hpp"
 #include "analysis/snapshot_data.hpp"
+#include "islands/island_mask.hpp"
 
 namespace tumble::analysis {
 

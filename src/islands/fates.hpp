@@ -12,8 +12,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "islands/island_mask.hpp"
 #include "analysis/snapshot_data.hpp"
+#include "islands/island_mask.hpp"
 
 namespace tumble::analysis {
 
@@ -40,7 +40,8 @@ struct FateResult {
 };
 
 // Large particles (species 1) are matched by global id; positions are taken in the lab frame,
-// where the islands sit at the end of every iteration (design.md Sec. 8).
+// where the islands sit at the end of every iteration (docs/architecture.md, "Continuum model
+// notes").
 FateResult classify_fates(const SnapshotData& start, const SnapshotData& end,
                           const IslandMask& islands);
 

@@ -6,9 +6,9 @@
 // of the polygons: the same test that draws the red curves of Yu 2022 Figs. 4 and 8.
 #include <vector>
 
-#include "projection/lambert.hpp"
-#include "cm/polygon.hpp"
 #include "base/vec3.hpp"
+#include "cm/polygon.hpp"
+#include "projection/lambert.hpp"
 
 namespace tumble::analysis {
 

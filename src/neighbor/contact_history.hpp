@@ -1,5 +1,5 @@
 #pragma once
-// Contact history that survives neighbour-list rebuilds (and, later, migration between ranks):
+// Contact history that survives neighbour-list rebuilds and migration between ranks:
 // before a rebuild every live tangential spring is saved with the global ids of its pair; after
 // the rebuild the springs are matched back by ids. One mechanism, two phases (save / restore),
 // as LAMMPS fix neigh/history does.

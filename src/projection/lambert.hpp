@@ -3,7 +3,7 @@
 // N x N equal-area grid on it (Shirley-Chiu concentric square-to-disc map). One module for the
 // DEM analyses (concentration c_L, displacement on the shell 0.9 < r < 1) and the continuum
 // model (Poincare sections, island polygons), so that every map in Tumble lands on the same
-// cells (design.md Sec. 8; Yu 2022 Sec. II B, refs. [38,39]).
+// cells (docs/architecture.md, "Continuum model notes"; Yu 2022 Sec. II B, refs. [38,39]).
 //
 // Conventions (callers pass unit directions in whatever frame they analyse, e.g. the tumbler
 // frame):

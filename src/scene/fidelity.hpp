@@ -1,5 +1,5 @@
 #pragma once
-// Fidelity tiers (design.md §6, docs/accuracy.md): named presets that trade accuracy for speed by
+// Fidelity tiers (docs/accuracy.md): named presets that trade accuracy for speed by
 // changing a sphere scene's stiffness (t_c), δt/t_c, neighbour skin, tumbler-to-particle size
 // ratio, rotation speed within the rolling regime, and iterations. A scene file is written at the
 // `standard` tier (its own values); the other tiers are derived from it, so the same preset means

@@ -10,7 +10,8 @@ namespace {
 using namespace tumble::cm;
 using tumble::cm::test::random_bed_point;
 
-// For (90, 90) the PWI period map M satisfies M^6 = identity (design.md Sec. 8).
+// For (90, 90) the PWI period map M satisfies M^6 = identity (docs/architecture.md, "Continuum
+// model notes").
 TEST(Pwi, NinetyNinetyHasOrderSix) {
   const Protocol pr = Protocol::degrees(90, 90, 0.15, FlowModel::Pwi);
   std::mt19937_64 rng(31);
