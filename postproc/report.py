@@ -614,16 +614,6 @@ def fate_bound(q):
 
 def section_convergence(R, pts):
     R.h("<h2>7. Convergence with the number of replicas</h2>")
-    kmax = max((len(q["members"]) for q in pts), default=0)
-    if kmax < 3:
-        R.h(f"<p>Not shown: with at most {kmax} replica(s) per point the curves would have "
-            f"{kmax} point(s), the last of which is the all-replica mean by definition, and no "
-            "interval before k = 2: they say nothing about convergence. Run 3 or more replicas "
-            "per point to see it.</p>")
-        return
-    R.h("<p>Mean over the first k replicas (in replica order) with its 95% CI (bounded as in "
-        "Sec. 6), and the RMS over cells of the difference between the k-replica mean c_L map "
-        "and the all-replica mean: where the curves flatten, more replicas change little.</p>")
     panels, rows = [], []
     for metric in ("enrichment (map)", "final mixing index"):
         curves = []
@@ -656,7 +646,17 @@ def section_convergence(R, pts):
         curves.append((q["label"], np.array(ks), np.array(rms), nan, nan))
     if curves:
         panels.append(("c_L map: RMS(mean of k − mean of all)", "RMS over cells", curves))
-    if panels:
+    kmax = max((len(q["members"]) for q in pts), default=0)
+    if kmax < 3:
+        R.h(f"<p>Not shown: with at most {kmax} replica(s) per point the curves would have "
+            f"{kmax} point(s), the last of which is the all-replica mean by definition, and no "
+            "interval before k = 2: they say nothing about convergence. Run 3 or more replicas "
+            "per point to see it (the numbers are in convergence.csv).</p>")
+    elif panels:
+        R.h("<p>Mean over the first k replicas (in replica order) with its 95% CI (bounded as "
+            "in Sec. 6), and the RMS over cells of the difference between the k-replica mean "
+            "c_L map and the all-replica mean: where the curves flatten, more replicas change "
+            "little.</p>")
         rf.convergence_fig(panels, os.path.join(R.out, "convergence.png"))
         R.fig("convergence.png", "Convergence of the ensemble mean with the number of replicas.")
     R.csv("convergence.csv", ["point", "metric", "k", "mean", "ci95_lower", "ci95_upper", "n"],
