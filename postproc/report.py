@@ -284,7 +284,8 @@ def section_maps(R, pts, map_csv):
         "species). Right: the width (upper − lower) of each cell's 95% confidence interval, "
         "computed on the logit scale of the quantity's physical range (c_L in [0, 1], Δψ in "
         "[0°, 180°]) so that it stays inside it; a width equal to the range says the replicas "
-        "do not constrain the cell at all.</p>")
+        "do not constrain the cell at all, a width of 0 that they agree exactly (e.g. no large "
+        "particle in any replica): with N = 2 that is not certainty.</p>")
     for field, label, k, cmap, (lo, hi) in MAP_FIELDS:
         have = [q for q in pts if field in q["p"]["fields"]]
         if not have:

@@ -97,12 +97,13 @@ def finite_range(arrays, symmetric=False, floor=None):
     return (lo, hi if hi > lo else lo + 1e-12)
 
 
-def map_grid(rows, columns, out, suptitle, cmaps, ranges, cbar_labels, panel_in=4.6):
+def map_grid(rows, columns, out, suptitle, cmaps, ranges, cbar_labels, panel_in=5.0):
     """rows: [(label, n, islands, [values per column], [mask per column or None]
     [, [excluded per column or None], other_islands])]. Each panel is panel_in inches at 100
-    dpi (460 px for 4.6: larger than the 420-px bottom views), one colour bar per column."""
+    dpi, one colour bar per column: two columns make a 1200-px figure whose discs, shown in
+    the report's 1200-px column, are larger than the 420-px bottom views."""
     nr, nc = len(rows), len(columns)
-    fig, axes = plt.subplots(nr, nc, figsize=(panel_in * nc + 1.6 * nc, panel_in * nr + 0.7),
+    fig, axes = plt.subplots(nr, nc, figsize=(panel_in * nc + 1.0 * nc, panel_in * nr + 0.7),
                              squeeze=False, layout="constrained")
     mappables = [None] * nc
     for r, row in enumerate(rows):
@@ -196,8 +197,8 @@ def fates_fig(panels, out):
 def section_grid(rows, out, rng_mean, rng_ci):
     """rows: [(title, mean[n, n], ci[n, n], tubes[m, 3] = (r, s1, s2))]: Fig. 5 sections, bin
     (i, j) = (s1, s2) in [-1, 1]², the tumbler's circle and the KAM-tube boundary points."""
-    fig, axes = plt.subplots(len(rows), 2, figsize=(7.4, 3.0 * len(rows) + 0.4), squeeze=False)
-    fig.subplots_adjust(wspace=0.55)
+    fig, axes = plt.subplots(len(rows), 2, figsize=(11.0, 4.6 * len(rows) + 0.5), squeeze=False,
+                             layout="constrained")
     ims = [None, None]
     for r, (title, mean, ci, tubes) in enumerate(rows):
         for c, (v, rng, cmap) in enumerate(((mean, rng_mean, "viridis"), (ci, rng_ci, "YlOrBr"))):
@@ -212,11 +213,11 @@ def section_grid(rows, out, rng_mean, rng_ci):
             ax.set_xlim(-1.03, 1.03)
             ax.set_ylim(-1.03, 1.03)
             ax.set_aspect("equal")
-            ax.set_xlabel("s1 / R", fontsize=7)
-            ax.set_ylabel("s2 / R", fontsize=7)
-            ax.tick_params(labelsize=6)
-            ax.set_title(title + ("\nmean c_L" if c == 0 else "\n95% CI half-width"), fontsize=7)
+            ax.set_xlabel("s1 / R", fontsize=9)
+            ax.set_ylabel("s2 / R", fontsize=9)
+            ax.tick_params(labelsize=8)
+            ax.set_title(title + ("\nmean c_L" if c == 0 else "\n95% CI half-width"), fontsize=10)
     for c, label in enumerate(("c_L", "± c_L")):
-        fig.colorbar(ims[c], ax=[axes[r][c] for r in range(len(rows))], shrink=0.8, label=label)
-    fig.savefig(out, dpi=90)
+        fig.colorbar(ims[c], ax=[axes[r][c] for r in range(len(rows))], shrink=0.6, label=label)
+    fig.savefig(out, dpi=100)
     plt.close(fig)
