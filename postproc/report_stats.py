@@ -84,7 +84,7 @@ def bounded_interval(values, lo=None, hi=None, level=LEVEL, eps=None, axis=0):
     The Student interval z̄ ± t(½(1 + level), n − 1) s_z / sqrt(n) is computed for z = logit of
     (v − lo)/(hi − lo), or z = log(v − lo), and mapped back: the interval is asymmetric and stays
     inside the bounds for any n. Values on a bound are moved `eps` inside it first (default:
-    default_eps). Works element-wise along `axis` (replicas) for maps; NaN values are left out.
+    default_eps); identical replicas give the interval [value, value]. Works element-wise along `axis` (replicas) for maps; NaN values are left out.
     Returns dict(mean, lower, upper, n, lo, hi) (arrays for arrays); lower/upper NaN where n < 2; mean
     is the arithmetic mean of the values (the number ensemble.h5 holds)."""
     v = np.asarray(values, float)
@@ -103,6 +103,11 @@ def bounded_interval(values, lo=None, hi=None, level=LEVEL, eps=None, axis=0):
         half = tq * zs / np.sqrt(np.maximum(n, 1))
         lower = np.where(n >= 2, _backward(zm - half, lo, hi), np.nan)
         upper = np.where(n >= 2, _backward(zm + half, lo, hi), np.nan)
+        # Identical replicas: the interval is their value (not the value moved eps inside a
+        # bound, which would exclude the mean when all sit on the bound).
+        same = (n >= 2) & (zs == 0)
+        lower = np.where(same, mean, lower)
+        upper = np.where(same, mean, upper)
     out = dict(mean=mean, lower=lower, upper=upper, n=n)
     if np.ndim(mean) == 0:
         out = {k: (int(x) if k == "n" else float(x)) for k, x in out.items()}

@@ -123,6 +123,10 @@ def group_bounded():
     b = bounded_interval([0.4, 0.4, 0.4], 0.0, 1.0)
     good.append(check("equal replicas: lower = value", b["lower"], 0.4, 1e-12))
     good.append(check("equal replicas: upper = value", b["upper"], 0.4, 1e-12))
+    b = bounded_interval([0.0, 0.0], 0.0, 45.0, eps=0.5)
+    good.append(truth("identical replicas on a bound (two counts of 0): [0, 0]",
+                      b["lower"] == 0 and b["upper"] == 0 and b["mean"] == 0,
+                      f"{b['lower']} .. {b['upper']}"))
     b = bounded_interval([0.4, np.nan], 0.0, 1.0)
     good.append(check("one finite replica: no interval", b["lower"], math.nan, 0))
     # Per cell (replicas along axis 0), NaN cells left out: the same as cell by cell.
