@@ -4,7 +4,7 @@ set -euo pipefail
 pkgs=(build-essential cmake pkg-config git
       libopenmpi-dev openmpi-bin petsc-dev libhdf5-openmpi-dev libeigen3-dev libcli11-dev
       googletest libgtest-dev libtomlplusplus-dev
-      python3 python3-numpy python3-h5py python3-matplotlib python3-pil
+      python3 python3-numpy python3-scipy python3-h5py python3-matplotlib python3-pil
       chromium)  # the report test loads the HTML report in headless Chromium
 missing=()
 for p in "${pkgs[@]}"; do

@@ -3,11 +3,14 @@
 and a CSV of every number, for one or more campaign directories (docs/report.md).
 
 usage: postproc/report.py RESULTS_A [RESULTS_B ...] [-o OUTDIR] [--baseline K]
+       python3 -m postproc.report ... (the same, as a module of the postproc package)
 
 RESULTS_* are campaign directories (or their ensemble.h5). Run `tumble analyze campaign DIR`
 first for the CM islands, island enrichment, Fig. 8 counts and lighter-particle maps; without
 analysis.h5 those parts say so and the rest is reported. Every parameter point of every
-campaign is one row; difference maps compare each point with the baseline point (the first).
+campaign is one row; difference maps compare each point with the baseline point (the first
+in the campaign file unless --baseline names one). The page opens with its Findings: one
+sentence per comparison, generated from the numbers (postproc/report_findings.py).
 """
 import argparse
 import base64
@@ -16,30 +19,66 @@ import datetime
 import html
 import os
 import platform
+import re
 import subprocess
-import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import report_data as rd  # noqa: E402
-import report_figs as rf  # noqa: E402
-import report_islands as ri  # noqa: E402
-from report_stats import fmt, mean_ci, welch_half_width  # noqa: E402
+if __package__:  # python3 -m postproc.report
+    from . import report_data as rd
+    from . import report_figs as rf
+    from . import report_findings as fi
+    from . import report_islands as ri
+    from . import report_mixing as rm
+    from .report_stats import (bounded_interval, bh_reject, cell_tests, fmt, mean_ci,
+                               welch_half_width)
+else:  # /usr/bin/python3 postproc/report.py: the script's directory is sys.path[0]
+    import report_data as rd
+    import report_figs as rf
+    import report_findings as fi
+    import report_islands as ri
+    import report_mixing as rm
+    from report_stats import (bounded_interval, bh_reject, cell_tests, fmt, mean_ci,
+                              welch_half_width)
 
-MAP_FIELDS = [  # (field, label, unit factor, colour map)
-    ("concentration/c_L", "c_L (large-particle concentration)", 1.0, "viridis"),
-    ("displacement/dpsi_large", "Δψ large [deg]", 180 / np.pi, "magma"),
-    ("displacement/dpsi_small", "Δψ small [deg]", 180 / np.pi, "magma"),
+MAP_FIELDS = [  # (field, label, unit factor, colour map, physical bounds in the shown unit)
+    ("concentration/c_L", "c_L (large-particle concentration)", 1.0, "viridis", (0.0, 1.0)),
+    ("displacement/dpsi_large", "Δψ large [deg]", 180 / np.pi, "magma", (0.0, 180.0)),
+    ("displacement/dpsi_small", "Δψ small [deg]", 180 / np.pi, "magma", (0.0, 180.0)),
 ]
-SERIES = [("series/shell_large_fraction", "large share of the shell 0.9 < r/R < 1"),
-          ("series/radial_segregation", "radial segregation (shell share − bed share)"),
-          ("series/mixing_index", "intensity of segregation of the shell map")]
+# A cell is empty for a field when no replica had a particle of the species the field follows
+# there: large for c_L (the large share: 0 without a large particle, whatever the small ones do)
+# and Δψ large, small for Δψ small.
+EMPTY_COUNT = {"concentration/c_L": "concentration/volume_large",
+               "displacement/dpsi_large": "displacement/count_large",
+               "displacement/dpsi_small": "displacement/count_small"}
+FDR_Q = 0.05
+SERIES = [("series/shell_large_fraction", "large share of the shell 0.9 < r/R < 1", (0.0, 1.0)),
+          ("series/radial_segregation", "radial segregation (shell share − bed share)",
+           (-1.0, 1.0)),
+          ("series/mixing_index", "intensity of segregation of the shell map", (0.0, 1.0))]
 FATES = ["persistent", "captured", "dispersed", "other", "same_island"]
 
 
+class Html(str):
+    """A table cell that is HTML already (e.g. an interval in its checkable span)."""
+
+
+def plain(cell):
+    """A cell as CSV text: the HTML's text."""
+    if isinstance(cell, Html):
+        return html.unescape(re.sub(r"<[^>]+>", "", cell))
+    return cell
+
+
+def cell_html(c):
+    return c if isinstance(c, Html) else html.escape(str(c))
+
+
 class Report:
+    html_cell = staticmethod(Html)  # for the sections in other modules
+
     def __init__(self, out):
         self.out = out
         self.parts = []
@@ -62,10 +101,10 @@ class Report:
     def table(self, header, rows, csv_name=None):
         self.h("<table><tr>" + "".join(f"<th>{html.escape(str(c))}</th>" for c in header) + "</tr>")
         for r in rows:
-            self.h("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in r) + "</tr>")
+            self.h("<tr>" + "".join(f"<td>{cell_html(c)}</td>" for c in r) + "</tr>")
         self.h("</table>")
         if csv_name:
-            self.csv(csv_name, header, rows)
+            self.csv(csv_name, header, [[plain(c) for c in r] for r in rows])
 
     def csv(self, name, header, rows):
         with open(os.path.join(self.out, name), "w", newline="") as fh:
@@ -100,18 +139,51 @@ def short(params):
     return s + ("; " + ", ".join(extra) if extra else "")
 
 
+def file_order(c):
+    """Position of each point in the campaign file: the expansion index of its first case
+    (cases.tsv); points absent from cases.tsv follow, in ensemble.h5's row order."""
+    first = {}
+    for r in c["cases_tsv"].values():
+        try:
+            k = int(r.get("index", ""))
+        except ValueError:
+            continue
+        pid = r.get("point", "")
+        first[pid] = min(k, first.get(pid, k))
+    big = len(c["cases_tsv"]) + 1
+    return lambda kv: (first.get(kv[0], big), kv[1]["row"])
+
+
 def gather_points(camps):
-    """Every (campaign, point) as one row, labelled A1, A2, B1, ..."""
+    """Every (campaign, point) as one row, labelled A1, A2, B1, ... in campaign-file order."""
     rows = []
     for ci, c in enumerate(camps):
-        for k, (pid, p) in enumerate(sorted(c["points"].items(), key=lambda kv: kv[1]["row"])):
+        for k, (pid, p) in enumerate(sorted(c["points"].items(), key=file_order(c))):
             label = f"{chr(65 + ci)}{k + 1} {short(p['params'])}"
             members = [cf for cf in c["case_fields"].values() if cf.get("point_id") == pid]
             members.sort(key=lambda cf: int(cf.get("replica", 0)))
             an = (c["analysis"] or {}).get(pid)
-            rows.append(dict(label=label, camp=c, pid=pid, p=p, members=members, an=an,
-                             islands=an["islands"] if an else []))
+            rows.append(dict(label=label, short=label, camp=c, pid=pid, p=p, members=members,
+                             an=an, islands=an["islands"] if an else []))
     return rows
+
+
+def resolve_baseline(arg, pts):
+    """--baseline: a row number (0 = first), a label (A2) or a point id (or its start);
+    default the first point in campaign-file order."""
+    if arg is None:
+        return 0
+    if re.fullmatch(r"\d+", arg):
+        k = int(arg)
+        if 0 <= k < len(pts):
+            return k
+    hits = [k for k, q in enumerate(pts) if q["label"].split()[0] == arg
+            or q["pid"].startswith(arg)]
+    if len(hits) == 1:
+        return hits[0]
+    raise SystemExit(f"--baseline {arg}: not one of the points: "
+                     + "; ".join(f"{k} = {q['label']} ({q['pid'][:8]})"
+                                 for k, q in enumerate(pts)))
 
 
 def section_provenance(R, camps, pts):
@@ -197,56 +269,87 @@ def cell_rows(label, field, stat, values, n):
     return [[label, field, stat, k, k // n, k % n, v[k]] for k in range(len(v))]
 
 
+def member_maps(q, field, k=1.0):
+    """The per-replica maps of a point [replicas][cells] (NaN: the cell was empty), or None."""
+    maps = [cf["data"].get(field) for cf in q["members"]]
+    maps = [np.asarray(m, float).ravel() * k for m in maps if m is not None]
+    return np.array(maps) if maps else None
+
+
 def section_maps(R, pts, map_csv):
     R.h("<h2>3. Maps per parameter point</h2><p>Lambert equal-area projection of the lower "
         "hemisphere viewed from below (X right, Z up; docs/campaign.md). Red curves: CM island "
         "boundaries on r = 0.95 from <code>tumble analyze campaign</code>. One colour scale per "
         "field for all points; grey cells were never visited (or hold no particle of the "
-        "species).</p>")
-    for field, label, k, cmap in MAP_FIELDS:
+        "species). Right: the width (upper − lower) of each cell's 95% confidence interval, "
+        "computed on the logit scale of the quantity's physical range (c_L in [0, 1], Δψ in "
+        "[0°, 180°]) so that it stays inside it; a width equal to the range says the replicas "
+        "do not constrain the cell at all, a width of 0 that they agree exactly (e.g. no large "
+        "particle in any replica): with N = 2 that is not certainty.</p>")
+    for field, label, k, cmap, (lo, hi) in MAP_FIELDS:
         have = [q for q in pts if field in q["p"]["fields"]]
         if not have:
             continue
         means = [q["p"]["fields"][field]["mean"] * k for q in have]
-        cis = [q["p"]["fields"][field]["ci95"] * k for q in have]
-        rng_m = rf.finite_range(means)
-        rng_c = rf.finite_range(cis, floor=0.0)
+        widths = []
         rows = []
-        for q, m, c in zip(have, means, cis):
-            rows.append((q["label"], q["p"]["grid_n"], q["islands"], [m, c], None))
+        for q, m in zip(have, means):
+            reps = member_maps(q, field, k)
             n = q["p"]["grid_n"]
+            if reps is not None and reps.shape[1] == np.size(m):
+                b = bounded_interval(reps, lo, hi)
+                w = (b["upper"] - b["lower"]).reshape(np.shape(m))
+                map_csv += cell_rows(q["label"], field, "ci95_lower", b["lower"], n)
+                map_csv += cell_rows(q["label"], field, "ci95_upper", b["upper"], n)
+            else:  # no per-case fields: the ensemble's Student interval, width 2 × half-width
+                w = 2 * q["p"]["fields"][field]["ci95"] * k
+            widths.append(w)
+            rows.append((q["label"], n, q["islands"], [m, w], None))
             map_csv += cell_rows(q["label"], field, "mean", m, n)
-            map_csv += cell_rows(q["label"], field, "ci95", c, n)
+            map_csv += cell_rows(q["label"], field, "ci95", q["p"]["fields"][field]["ci95"] * k, n)
             map_csv += cell_rows(q["label"], field, "count", q["p"]["fields"][field]["count"], n)
+        rng_m = rf.finite_range(means)
+        rng_c = (0.0, hi - lo)
         name = "map_" + field.replace("/", "_") + ".png"
-        rf.map_grid(rows, ["mean", "95% CI half-width"], os.path.join(R.out, name), label,
-                    [cmap, "YlOrBr"], [rng_m, rng_c], [label, "± " + label])
-        R.fig(name, f"{html.escape(label)}: ensemble mean (left) and its 95% confidence "
-                    f"half-width (right) per parameter point.")
+        rf.map_grid(rows, ["mean", "95% CI width (upper − lower)"], os.path.join(R.out, name),
+                    label, [cmap, "YlOrBr"], [rng_m, rng_c], [label, "CI width"])
+        R.fig(name, f"{html.escape(label)}: ensemble mean (left) and the width of its 95% "
+                    f"confidence interval (right, 0 to the full range {lo:g}–{hi:g}) per "
+                    f"parameter point.")
 
 
-def difference_half_width(qf, bf):
-    """95% half-width of mean(q) − mean(b) per cell: Welch from the variances and counts; a
-    file without variances (older ensemble.h5) falls back to the quadrature sum of the two
-    Student half-widths (wider than Welch's, so fewer cells pass)."""
-    if "variance" in qf and "variance" in bf:
-        return welch_half_width(qf["variance"], qf["count"], bf["variance"], bf["count"])
-    return np.sqrt(qf["ci95"] ** 2 + bf["ci95"] ** 2)
+def empty_cells(q, field):
+    """Cells of point q where no replica had a particle of the field's species (EMPTY_COUNT),
+    from the per-case fields; without them, where the ensemble's count is 0."""
+    c = member_maps(q, EMPTY_COUNT[field])
+    if c is None or c.shape[1] != np.size(q["p"]["fields"][field]["mean"]):
+        return np.asarray(q["p"]["fields"][field]["count"]).ravel() == 0
+    return ~(np.nansum(c, axis=0) > 0)
 
 
-def section_differences(R, pts, baseline, map_csv):
+def section_differences(R, pts, baseline, map_csv, findings):
     R.h("<h2>4. Differences from the baseline point</h2>")
     if len(pts) < 2:
         R.h("<p>One parameter point only: nothing to compare.</p>")
         return
     base = pts[baseline]
-    R.h(f"<p>Baseline: <b>{html.escape(base['label'])}</b>. Each map shows mean(point) − "
-        "mean(baseline); cells where |difference| ≤ the 95% half-width of the difference are "
-        "masked grey (not significant at the 5% level). The half-width is Welch's: "
-        "t(0.975, ν) sqrt(s²_point/N_point + s²_baseline/N_baseline), ν by Welch–Satterthwaite, "
-        "per cell from the replicas that visited it (ensemble.h5 variance and count); with "
-        "fewer than 2 replicas on either side it is undefined and the cell is masked.</p>")
-    for field, label, k, _ in MAP_FIELDS[:2]:
+    btag = base["label"].split()[0]
+    R.h(f"<p>Baseline: <b>{html.escape(base['label'])}</b> (the first point in the campaign "
+        "file, or <code>--baseline</code>). Each map shows mean(point) − mean(baseline); red "
+        "curves: the point's CM islands, black dashed: the baseline's. Right: only the cells "
+        "whose difference is significant after controlling the <b>false discovery rate at "
+        f"{FDR_Q:.0%} (Benjamini–Hochberg)</b> over the cells tested in that map: each cell's "
+        "two-sided p-value is Welch's t, (difference) / sqrt(s²_point/N_point + "
+        "s²_baseline/N_baseline) with ν by Welch–Satterthwaite, from the replicas that "
+        "visited it (ensemble.h5 variance and count), and the cells are then rejected by the "
+        "BH step-up rule, so that on average at most 5% of the flagged cells are false. Light "
+        "grey: tested, not significant; dark grey: <b>not tested</b>, because the cell was "
+        "empty in both points (no particle of the field's species, large for c_L, in any "
+        "replica of either), had fewer than 2 replicas on a side, or had no variance on "
+        "either side (the test is undefined there, so such a cell is neither significant nor "
+        "counted among the tests).</p>")
+    summary = []
+    for field, label, k, _, _ in MAP_FIELDS[:2]:
         if field not in base["p"]["fields"]:
             continue
         others = [q for i, q in enumerate(pts) if i != baseline and field in q["p"]["fields"]
@@ -255,26 +358,71 @@ def section_differences(R, pts, baseline, map_csv):
             continue
         bf = base["p"]["fields"][field]
         bm = bf["mean"] * k
-        diffs, masks = [], []
+        b_empty = empty_cells(base, field)
+        rows = []
+        diffs = []
         for q in others:
             qf = q["p"]["fields"][field]
             d = qf["mean"] * k - bm
-            half = difference_half_width(qf, bf) * k
-            mask = ~(np.abs(d) > half)
+            if "variance" in qf and "variance" in bf:
+                pval, status = cell_tests(qf["mean"], qf["variance"], qf["count"], bf["mean"],
+                                          bf["variance"], bf["count"],
+                                          empty_cells(q, field), b_empty)
+                pval, status = pval.ravel(), status.ravel()
+                rej, padj = bh_reject(pval, FDR_Q)
+                half = welch_half_width(qf["variance"], qf["count"], bf["variance"],
+                                        bf["count"]) * k
+            else:  # an older ensemble.h5 without variances: no test, every cell grey
+                status = np.full(np.size(d), 2)
+                pval = padj = np.full(np.size(d), np.nan)
+                rej = np.zeros(np.size(d), bool)
+                half = np.sqrt(qf["ci95"] ** 2 + bf["ci95"] ** 2) * k
+            tested = status == 0
+            m = int(tested.sum())
+            raw = int(np.sum(tested & (pval < 0.05)))
+            nsig = int(rej.sum())
+            # The old per-cell rule, for comparison: |d| > Welch's 95% half-width, every cell
+            # with a half-width (also those with no variance, where it is 0).
+            old = int(np.sum(np.abs(d.ravel()) > half.ravel()))
+            why = {s: int(np.sum(status == s)) for s in (1, 2, 3)}
+            summary.append((label, q, base, m, nsig, raw, old, why))
             diffs.append(d)
-            masks.append(mask)
             n = q["p"]["grid_n"]
-            map_csv += cell_rows(q["label"], field, "diff_vs_" + base["label"].split()[0], d, n)
-            map_csv += cell_rows(q["label"], field, "diff_half_width", half, n)
+            tag = "diff_vs_" + btag
+            map_csv += cell_rows(q["label"], field, tag, d, n)
+            map_csv += cell_rows(q["label"], field, "diff_welch_half_width", half, n)
+            map_csv += cell_rows(q["label"], field, "diff_p_welch", pval, n)
+            map_csv += cell_rows(q["label"], field, "diff_p_bh_adjusted", padj, n)
+            map_csv += cell_rows(q["label"], field, "diff_test_status", status, n)
+            map_csv += cell_rows(q["label"], field, "diff_bh_significant", rej.astype(int), n)
+            rows.append((f"{q['label']} − {btag}", n, q["islands"], [d, d],
+                         [None, ~rej.reshape(np.shape(d))],
+                         [None, (status != 0).reshape(np.shape(d))], base["islands"]))
         rng = rf.finite_range(diffs, symmetric=True)
-        rows = [(f"{q['label']} − {base['label'].split()[0]}", q["p"]["grid_n"], q["islands"],
-                 [d, d], [None, m]) for q, d, m in zip(others, diffs, masks)]
         name = "diff_" + field.replace("/", "_") + ".png"
-        rf.map_grid(rows, ["difference", "difference, masked within the CI"],
+        rf.map_grid(rows, ["difference", f"significant at FDR {FDR_Q:.0%} (BH)"],
                     os.path.join(R.out, name), f"{label}: difference from the baseline",
                     ["RdBu_r", "RdBu_r"], [rng, rng], ["Δ " + label] * 2)
-        R.fig(name, f"{html.escape(label)}: difference from the baseline, unmasked (left) and "
-                    f"masked where it is within the 95% CI (right).")
+        R.fig(name, f"{html.escape(label)}: difference from the baseline, all cells (left) and "
+                    f"only those significant at a false discovery rate of {FDR_Q:.0%} "
+                    f"(Benjamini–Hochberg; right).")
+    if summary:
+        trows = []
+        for label, q, base, m, nsig, raw, old, why in summary:
+            trows.append([label, f"{q['label']} − {btag}", m, nsig, raw, f"{0.05 * m:.1f}", old,
+                          why[1], why[2], why[3]])
+            findings.append(
+                f"{html.escape(label.split(' [')[0].split(' (')[0])} map, "
+                f"{html.escape(q['short'])} − {html.escape(btag)}: <b>{nsig} of {m}</b> tested "
+                f"cells differ at a false discovery rate of {FDR_Q:.0%} (Benjamini–Hochberg); "
+                f"{raw} pass an uncorrected 5% test, where {0.05 * m:.1f} are expected by chance; "
+                f"not tested: {why[1]} cells empty in both, {why[2]} with fewer than 2 replicas "
+                f"on a side, {why[3]} without variance on either side.")
+        R.table(["field", "difference", "cells tested", f"significant, FDR {FDR_Q:.0%} (BH)",
+                 "p < 0.05 uncorrected", "expected by chance at 5%",
+                 "old rule: |Δ| > Welch half-width", "not tested: empty in both",
+                 "not tested: < 2 replicas", "not tested: no variance"], trows,
+                "difference_tests.csv")
 
 
 def section_light(R, pts, map_csv):
@@ -298,10 +446,11 @@ def section_light(R, pts, map_csv):
 
 
 def section_series(R, pts):
-    R.h("<h2>5. Time series</h2><p>Ensemble mean with its 95% confidence band (Student t "
-        "across replicas).</p>")
+    R.h("<h2>5. Time series</h2><p>Ensemble mean with its 95% confidence band across "
+        "replicas, computed on the logit scale of each quantity's range (so that the band stays "
+        "inside it).</p>")
     rows = []
-    for k, (field, label) in enumerate(SERIES):
+    for k, (field, label, (lo, hi)) in enumerate(SERIES):
         curves = []
         for q in pts:
             st = q["p"]["fields"].get(field)
@@ -309,16 +458,25 @@ def section_series(R, pts):
                 continue
             x = q["p"]["series_iteration"]
             n = len(x)
-            m, ci, cnt = st["mean"][:n], st["ci95"][:n], st["count"][:n]
-            curves.append((q["label"], x, m, ci))
-            rows += [[q["label"], field, j, x[j], q["p"]["series_time"][j], m[j], ci[j], cnt[j]]
-                     for j in range(n)]
+            m, cnt = st["mean"][:n], st["count"][:n]
+            reps = [np.asarray(cf["data"][field], float) for cf in q["members"]
+                    if field in cf["data"]]
+            lower = upper = np.full(n, np.nan)
+            if reps:
+                stack = np.full((len(reps), n), np.nan)
+                for j, v in enumerate(reps):
+                    stack[j, :min(n, len(v))] = v[:n]
+                b = bounded_interval(stack, lo, hi)
+                lower, upper = b["lower"], b["upper"]
+            curves.append((q["label"], x, m, lower, upper))
+            rows += [[q["label"], field, j, x[j], q["p"]["series_time"][j], m[j], st["ci95"][j],
+                      lower[j], upper[j], cnt[j]] for j in range(n)]
         if curves:
             name = f"series_{k}.png"
             rf.series_fig(curves, label, os.path.join(R.out, name), label)
             R.fig(name, f"{html.escape(label)} against the protocol iteration.")
     R.csv("series.csv", ["point", "field", "sample", "iteration", "time_s", "mean", "ci95",
-                         "count"], rows)
+                         "ci95_lower", "ci95_upper", "count"], rows)
 
 
 def case_scalars(q):
@@ -355,54 +513,121 @@ def case_scalars(q):
 
 SCALARS = ["enrichment (map)", "enrichment (last snapshot)", "shell c_L", "mean Δψ large [deg]",
            "mean Δψ small [deg]", "final mixing index", "final radial segregation"]
+BOUNDS = {"enrichment (map)": (0.0, np.inf), "enrichment (last snapshot)": (0.0, np.inf),
+          "shell c_L": (0.0, 1.0), "mean Δψ large [deg]": (0.0, 180.0),
+          "mean Δψ small [deg]": (0.0, 180.0), "final mixing index": (0.0, 1.0),
+          "final radial segregation": (-1.0, 1.0)}
 
 
-def section_scalars(R, pts):
-    R.h("<h2>6. Scalar metrics</h2><p>Mean ± 95% CI half-width (N replicas). Island "
-        "enrichment = share of the large particles inside the CM islands ÷ the islands' share "
-        "of the view from below: 1 = no preference, &gt; 1 = the segregation pattern of Yu 2022 "
-        "Fig. 4; undefined (–) for a protocol without islands, e.g. (68°,68°). 'map': from "
-        "the case's time-averaged c_L window (0.9 &lt; r/R &lt; 1); 'last snapshot': from the "
-        "particles of its last snapshot.</p>")
+def mixing_baseline(q):
+    """Per case: the mixing index of its last snapshot, and of the same particles shuffled
+    (report_mixing.random_bed_index); lab-frame maps only."""
+    out = dict(observed=[], random=[], random_sd=[], excess=[], series=[])
+    for cf in q["members"]:
+        snaps = cf.get("snapshots") or []
+        if not snaps or str(cf.get("frame", "lab")) != "lab":
+            continue
+        m = re.search(r"(?:^|;)shell=([0-9.eE+-]+)", str(cf.get("collect", "")))
+        shell = float(m.group(1)) if m else 0.9
+        obs, rnd, sd = rm.random_bed_index(snaps[-1], q["p"]["grid_n"], shell,
+                                           seed=int(np.ravel(cf.get("seed", [0]))[0]) % 2**32)
+        series = cf["data"].get("series/mixing_index")
+        out["observed"].append(obs)
+        out["random"].append(rnd)
+        out["random_sd"].append(sd)
+        out["excess"].append(obs - rnd)
+        out["series"].append(float(series[-1]) if series is not None and len(series) else np.nan)
+    return out
+
+
+def section_scalars(R, pts, findings):
+    R.h("<h2>6. Scalar metrics</h2><p>Mean [95% confidence interval] (N replicas). Every "
+        "interval is computed on a scale on which the quantity is unbounded and mapped back, "
+        "so it stays within the physical bounds: log for the enrichment (&gt; 0), logit for "
+        "shares and indices in [0, 1], for Δψ in [0°, 180°] and for the radial segregation in "
+        "[−1, 1]. Island enrichment = share of the large particles inside the CM islands ÷ the "
+        "islands' share of the view from below: 1 = no preference, &gt; 1 = the segregation "
+        "pattern of Yu 2022 Fig. 4; undefined (–) for a protocol without islands, e.g. "
+        "(68°,68°). 'map': from the case's time-averaged c_L window (0.9 &lt; r/R &lt; 1); "
+        "'last snapshot': from the particles of its last snapshot. The mixing index (intensity "
+        "of segregation of the shell map, 0 = even, 1 = segregated) is compared with its value "
+        "for a <b>randomly mixed bed of the same particles</b> (species shuffled among the "
+        "positions of the last snapshot's shell, 200 shuffles; postproc/report_mixing.py): "
+        "with a few particles per cell a random bed is far from 0.</p>")
     per_case, rows = [], []
     for q in pts:
         sc = case_scalars(q)
         q["scalars"] = sc
+        q["mixing"] = mixing_baseline(q)
         for s in sc:
             per_case.append([q["label"], s["case"], s["replica"]] + [s[k] for k in SCALARS + FATES])
         row = [q["label"]]
         for k in SCALARS:
-            row.append(fmt(*mean_ci([s[k] for s in sc])))
+            lo, hi = BOUNDS[k]
+            row.append(Html(fi.ci_span(bounded_interval([s[k] for s in sc], lo, hi))))
+        mx = q["mixing"]
+        if mx["random"]:
+            row.append(f"{np.mean(mx['random']):.3g} (SD {np.mean(mx['random_sd']):.2g})")
+            row.append(fmt(*mean_ci(mx["excess"])))
+        else:
+            row += ["–", "–"]
         row.append(f"{q['an']['attrs'].get('island_area_fraction', np.nan):.3f}"
                    if q["an"] else "–")
         rows.append(row)
-    R.table(["point"] + SCALARS + ["islands' area share"], rows)
+        sent = fi.mixing_sentence(q)
+        if sent:
+            findings.append(sent)
+    R.table(["point"] + SCALARS + ["mixing index of a random bed, same particles",
+                                   "mixing index − random (last snapshot)",
+                                   "islands' area share"], rows, "scalar_table.csv")
     R.csv("case_scalars.csv", ["point", "case", "replica"] + SCALARS + FATES, per_case)
     summ = []
     for q in pts:
         for k in SCALARS + FATES:
             m, ci, n = mean_ci([s[k] for s in q["scalars"]])
-            summ.append([q["label"], k, m, ci, n])
-    R.csv("scalar_summary.csv", ["point", "metric", "mean", "ci95", "n"], summ)
+            lo, hi = BOUNDS.get(k, (0.0, fate_bound(q)))
+            b = bounded_interval([s[k] for s in q["scalars"]], lo, hi,
+                                 eps=0.5 if k in FATES else None)
+            summ.append([q["label"], k, m, ci, b["lower"], b["upper"], n])
+    R.csv("scalar_summary.csv", ["point", "metric", "mean", "ci95_student", "ci95_lower",
+                                 "ci95_upper", "n"], summ)
+    mrows = []
+    for q in pts:
+        mx = q["mixing"]
+        for j in range(len(mx["observed"])):
+            mrows.append([q["label"], j, mx["observed"][j], mx["series"][j], mx["random"][j],
+                          mx["random_sd"][j], mx["excess"][j]])
+    R.csv("mixing_random.csv", ["point", "member", "index_last_snapshot",
+                                "index_series_last_sample", "random_bed_mean", "random_bed_sd",
+                                "excess"], mrows)
+
+
+def fate_bound(q):
+    """The most large particles a Fig. 8 class can hold in a case of q (the four classes sum
+    to the large particles present at both times)."""
+    an = q["an"]
+    if an is None:
+        return np.inf
+    tot = sum(np.asarray(an["fates"][f], float) for f in FATES[:4])
+    tot = tot[tot >= 0]
+    return float(tot.max()) if tot.size else np.inf
 
 
 def section_convergence(R, pts):
-    R.h("<h2>7. Convergence with the number of replicas</h2><p>Mean over the first k replicas "
-        "(in replica order) with its 95% CI, and the RMS over cells of the difference between "
-        "the k-replica mean c_L map and the all-replica mean: where the curves flatten, more "
-        "replicas change little.</p>")
+    R.h("<h2>7. Convergence with the number of replicas</h2>")
     panels, rows = [], []
     for metric in ("enrichment (map)", "final mixing index"):
         curves = []
         for q in pts:
             v = [s[metric] for s in q["scalars"]]
-            ks, ms, cs = [], [], []
+            ks, ms, los, his = [], [], [], []
             for k in range(1, len(v) + 1):
-                m, ci, n = mean_ci(v[:k])
-                ks.append(k), ms.append(m), cs.append(ci)
-                rows.append([q["label"], metric, k, m, ci, n])
+                b = bounded_interval(v[:k], *BOUNDS[metric])
+                ks.append(k), ms.append(b["mean"]), los.append(b["lower"]), his.append(b["upper"])
+                rows.append([q["label"], metric, k, b["mean"], b["lower"], b["upper"], b["n"]])
             if np.isfinite(ms).any():
-                curves.append((q["label"], np.array(ks), np.array(ms), np.array(cs)))
+                curves.append((q["label"], np.array(ks), np.array(ms), np.array(los),
+                               np.array(his)))
         if curves:
             panels.append((metric, metric, curves))
     curves = []
@@ -417,14 +642,26 @@ def section_convergence(R, pts):
             part = np.nanmean(np.array(maps[:k]), axis=0)
             r = float(np.sqrt(np.nanmean((part - full) ** 2)))
             ks.append(k), rms.append(r)
-            rows.append([q["label"], "rms(c_L mean_k - mean_all)", k, r, np.nan, k])
-        curves.append((q["label"], np.array(ks), np.array(rms), np.full(len(ks), np.nan)))
+            rows.append([q["label"], "rms(c_L mean_k - mean_all)", k, r, np.nan, np.nan, k])
+        nan = np.full(len(ks), np.nan)
+        curves.append((q["label"], np.array(ks), np.array(rms), nan, nan))
     if curves:
         panels.append(("c_L map: RMS(mean of k − mean of all)", "RMS over cells", curves))
-    if panels:
+    kmax = max((len(q["members"]) for q in pts), default=0)
+    if kmax < 3:
+        R.h(f"<p>Not shown: with at most {kmax} replica(s) per point the curves would have "
+            f"{kmax} point(s), the last of which is the all-replica mean by definition, and no "
+            "interval before k = 2: they say nothing about convergence. Run 3 or more replicas "
+            "per point to see it (the numbers are in convergence.csv).</p>")
+    elif panels:
+        R.h("<p>Mean over the first k replicas (in replica order) with its 95% CI (bounded as "
+            "in Sec. 6), and the RMS over cells of the difference between the k-replica mean "
+            "c_L map and the all-replica mean: where the curves flatten, more replicas change "
+            "little.</p>")
         rf.convergence_fig(panels, os.path.join(R.out, "convergence.png"))
         R.fig("convergence.png", "Convergence of the ensemble mean with the number of replicas.")
-    R.csv("convergence.csv", ["point", "metric", "k", "mean", "ci95", "n"], rows)
+    R.csv("convergence.csv", ["point", "metric", "k", "mean", "ci95_lower", "ci95_upper", "n"],
+          rows)
 
 
 def section_fates(R, pts):
@@ -436,7 +673,9 @@ def section_fates(R, pts):
             "or <code>tumble analyze campaign</code> has not run: no Fig. 8 counts.</p>")
         return
     R.h("<p>Large particles, classified by whether the Lambert image of their direction lies in "
-        "a CM island (r = 0.95) at the start and at the end of the interval (lab frame). "
+        "a CM island (r = 0.95) at the start and at the end of the interval (lab frame). Mean "
+        "[95% interval, on the logit scale of 0 … the large particles of a case, a count "
+        "on a bound moved half a particle inside it] (N). "
         "'same island' counts the persistent ones in the same island at both times (the "
         "paper's text). Yu 2022, f = 0.15, N = 7 → 34, 1980 large: persistent 124, captured "
         "429, dispersed 241, other 1186.</p>")
@@ -445,14 +684,18 @@ def section_fates(R, pts):
         a = q["an"]
         frm, to = a["fates_from"], a["fates_to"]
         row = [q["label"], f"{np.nanmin(frm):.3g} → {np.nanmax(to):.3g}"]
+        top = fate_bound(q)
         for f in FATES:
-            row.append(fmt(*mean_ci([v if v >= 0 else np.nan for v in a["fates"][f]])))
+            b = bounded_interval([v if v >= 0 else np.nan for v in a["fates"][f]], 0.0, top,
+                                 eps=0.5)
+            row.append(Html(fi.ci_span(b)))
+        row.append(f"{top:g}")
         rows.append(row)
         ex = a.get("fate_example")
         if ex is not None:
-            panels.append((f"{q['label']} case {ex['case'][:8]} N = {ex['frm']:.3g} → "
+            panels.append((f"{q['label']}, case {ex['case'][:8]}, N = {ex['frm']:.3g} → "
                            f"{ex['to']:.3g}", q["islands"], ex["fate"], ex["x_start"], ex["x_end"]))
-    R.table(["point", "iterations"] + FATES, rows, "fates.csv")
+    R.table(["point", "iterations"] + FATES + ["large particles"], rows, "fates.csv")
     if panels:
         rf.fates_fig(panels, os.path.join(R.out, "fates.png"))
         R.fig("fates.png", "Large particles at the start (left) and end (right) of the interval, "
@@ -460,7 +703,10 @@ def section_fates(R, pts):
 
 
 def section_renders(R, pts):
-    import render_bottom as rb
+    if __package__:
+        from . import render_bottom as rb
+    else:
+        import render_bottom as rb
     panels = []
     for q in pts:
         for cf in q["members"]:
@@ -485,6 +731,9 @@ CSS = """body{font-family:sans-serif;max-width:1200px;margin:1em auto;padding:0 
 table{border-collapse:collapse;margin:0.5em 0;font-size:0.85em}
 td,th{border:1px solid #bbb;padding:2px 6px;text-align:left;vertical-align:top}
 th{background:#eee} figure{margin:1em 0} img{max-width:100%} figcaption{font-size:0.85em}
+#findings{border:2px solid #4a6fa5;background:#f4f8ff;padding:0.3em 1em;margin:1em 0}
+#findings li{margin:0.35em 0} .context{font-size:0.9em;color:#333}
+.warn{border-left:5px solid #d68910;background:#fef5e7;padding:0.4em 0.8em;margin:0.6em 0}
 pre{background:#f6f6f6;padding:0.5em;font-size:0.8em;overflow-x:auto}"""
 
 # Sets data attributes on <body> once everything has loaded: how many images the page holds and
@@ -503,11 +752,43 @@ window.addEventListener('load', function () {
 </script>"""
 
 
+def section_findings(camps, pts, findings):
+    """The first section: the run's context, warnings, then one sentence per comparison."""
+    out = ['<section id="findings"><h2>Findings</h2>']
+    for c in camps:
+        ctx = fi.campaign_context(c, pts)
+        out.append(f'<p class="context">{html.escape(fi.context_line(ctx))}.</p>')
+        nmin = min((len(q["members"]) for q in pts if q["camp"] is c), default=0)
+        if nmin < 3:
+            tq = f"{fi.t_quantile(0.975, nmin - 1):.3g}" if nmin >= 2 else "undefined"
+            out.append(f'<p class="warn"><b>Warning: N = {nmin} replica(s)</b> at a point of '
+                       f"{html.escape(c['name'])}. With N = {nmin} the 95% t quantile is {tq}: "
+                       "intervals are very wide, only a very large difference can be detected, "
+                       "and a variance estimated from so few replicas is itself unreliable. "
+                       "Use 3 or more (5 for a referee) before drawing a conclusion.</p>")
+        pc = fi.pipeline_check(ctx)
+        if pc:
+            out.append(f'<p class="warn">{pc}</p>')
+    sentences, csv_rows = fi.enrichment_sentences(pts)
+    items = sentences + findings
+    if not items:
+        items = ["No comparison available: no point has CM islands (run <code>tumble analyze "
+                 "campaign DIR</code>) and there is one point only."]
+    out.append("<ul>" + "".join(f"<li>{s}</li>" for s in items) + "</ul>")
+    out.append("<p class='context'>Intervals are 95%; 'significant' means Welch's two-sided "
+               "p &lt; 0.05 with the difference's 95% interval excluding 0; map cells are "
+               f"tested at a false discovery rate of {FDR_Q:.0%} (Benjamini–Hochberg). How "
+               "each number is computed: the sections below and docs/report.md.</p></section>")
+    return "\n".join(out), csv_rows
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("results", nargs="+", help="campaign directories (or their ensemble.h5)")
     ap.add_argument("-o", "--output", help="output directory (default RESULTS_A/report)")
-    ap.add_argument("--baseline", type=int, default=0, help="row of the baseline point")
+    ap.add_argument("--baseline", help="the point differences are taken from: a row number "
+                    "(0 = first), a label (A2) or a point id; default the first point in the "
+                    "campaign file")
     ap.add_argument("--title", default="Tumble ensemble report")
     a = ap.parse_args()
     started = time.time()
@@ -517,24 +798,33 @@ def main():
     pts = gather_points(camps)
     if not pts:
         raise SystemExit("no parameter point in " + ", ".join(a.results))
-    if not 0 <= a.baseline < len(pts):
-        raise SystemExit(f"--baseline {a.baseline}: must be in [0, {len(pts) - 1}]")
+    baseline = resolve_baseline(a.baseline, pts)
     R.h(f"<h1>{html.escape(a.title)}</h1><p>{len(camps)} campaign(s): "
         + ", ".join(html.escape(c["name"]) for c in camps) + f"; {len(pts)} parameter points. "
         "Every number is also in the CSV files next to this page.</p>")
+    for c in camps:
+        R.h(f'<p class="context">{html.escape(fi.context_line(fi.campaign_context(c, pts)))}'
+            "</p>")
+    findings_at = len(R.parts)
+    findings = []
     map_csv = []
     section_provenance(R, camps, pts)
     section_cases(R, camps)
     section_maps(R, pts, map_csv)
     section_light(R, pts, map_csv)
-    section_differences(R, pts, a.baseline, map_csv)
+    section_differences(R, pts, baseline, map_csv, findings)
     section_series(R, pts)
-    section_scalars(R, pts)
+    section_scalars(R, pts, findings)
     ri.section_cross_enrichment(R, pts)
     section_convergence(R, pts)
     section_fates(R, pts)
     ri.section_cross_sections(R, pts)
     section_renders(R, pts)
+    text, rows = section_findings(camps, pts, findings)
+    R.parts.insert(findings_at, text)
+    R.csv("findings.csv", ["islands_of", "compared", "enrichment_own", "own_lower", "own_upper",
+                           "enrichment_other_same_mask", "other_lower", "other_upper",
+                           "difference", "welch_ci95", "welch_p", "verdict"], rows)
     R.csv("maps.csv", ["point", "field", "stat", "cell", "i", "j", "value"], map_csv)
     elapsed = time.time() - started
     R.h("<h2>Files</h2><p>" + ", ".join(f'<a href="{c}">{c}</a>' for c in R.csvs)

@@ -37,7 +37,8 @@ def manifest(d):
 
 
 def cases_tsv(d):
-    """Every case the campaign expands to (also those never started), by case id."""
+    """Every case the campaign expands to (also those never started), by case id, in the
+    campaign file's order (the expansion's; column index)."""
     out = {}
     path = os.path.join(d, "cases.tsv")
     if not os.path.exists(path):
@@ -108,6 +109,7 @@ def load_case_fields(d):
         with h5py.File(path, "r") as f:
             c = {k: text(v) if isinstance(v, (bytes, str)) else v for k, v in f.attrs.items()}
             c["dir"] = os.path.dirname(path)
+            c["snapshots"] = sorted(glob.glob(os.path.join(c["dir"], "snap_*.h5")))
             c["data"] = {}
             f.visititems(lambda n, o: c["data"].__setitem__(n, o[()])
                          if isinstance(o, h5py.Dataset) else None)

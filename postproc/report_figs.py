@@ -45,8 +45,10 @@ def lambert_cells(n, sub=4):
 _CELLS = {}
 
 
-def draw_map(ax, values, n, vmin, vmax, cmap="viridis", islands=(), mask=None, title=""):
-    """One Lambert map: NaN (never visited) and masked cells light grey; islands in red."""
+def draw_map(ax, values, n, vmin, vmax, cmap="viridis", islands=(), mask=None, title="",
+             excluded=None, other_islands=()):
+    """One Lambert map: NaN (never visited) and masked cells light grey, excluded cells (not
+    tested) dark grey; islands in red, other_islands (a baseline's) black dashed."""
     if n not in _CELLS:
         _CELLS[n] = lambert_cells(n)
     v = np.asarray(values, float).ravel()
@@ -57,10 +59,15 @@ def draw_map(ax, values, n, vmin, vmax, cmap="viridis", islands=(), mask=None, t
     norm = matplotlib.colors.Normalize(vmin, vmax)
     colours = cm(norm(np.where(bad, vmin, v)))
     colours[bad] = (0.85, 0.85, 0.85, 1)
+    if excluded is not None:
+        colours[np.asarray(excluded, bool).ravel()] = (0.55, 0.55, 0.55, 1)
     ax.add_collection(PolyCollection(_CELLS[n], facecolors=colours, edgecolors="none"))
+    for poly in other_islands:
+        p = np.vstack([poly, poly[:1]])
+        ax.plot(p[:, 0], p[:, 1], color="k", lw=1.2, ls="--")
     disc_frame(ax, islands, "red", "0.3")
     if title:
-        ax.set_title(title, fontsize=8)
+        ax.set_title(title, fontsize=10)
     return matplotlib.cm.ScalarMappable(norm=norm, cmap=cm)
 
 
@@ -90,31 +97,42 @@ def finite_range(arrays, symmetric=False, floor=None):
     return (lo, hi if hi > lo else lo + 1e-12)
 
 
-def map_grid(rows, columns, out, suptitle, cmaps, ranges, cbar_labels):
-    """rows: [(label, n, islands, [values per column], [mask per column or None])]."""
+def map_grid(rows, columns, out, suptitle, cmaps, ranges, cbar_labels, panel_in=5.0):
+    """rows: [(label, n, islands, [values per column], [mask per column or None]
+    [, [excluded per column or None], other_islands])]. Each panel is panel_in inches at 100
+    dpi, one colour bar per column: two columns make a 1200-px figure whose discs, shown in
+    the report's 1200-px column, are larger than the 420-px bottom views."""
     nr, nc = len(rows), len(columns)
-    fig, axes = plt.subplots(nr, nc, figsize=(2.6 * nc + 0.8, 2.6 * nr + 0.6), squeeze=False)
+    fig, axes = plt.subplots(nr, nc, figsize=(panel_in * nc + 1.0 * nc, panel_in * nr + 0.7),
+                             squeeze=False, layout="constrained")
     mappables = [None] * nc
-    for r, (label, n, islands, values, masks) in enumerate(rows):
+    for r, row in enumerate(rows):
+        label, n, islands, values, masks = row[:5]
+        excluded = row[5] if len(row) > 5 else None
+        other = row[6] if len(row) > 6 else ()
         for c in range(nc):
             mappables[c] = draw_map(axes[r][c], values[c], n, *ranges[c], cmap=cmaps[c],
                                     islands=islands, mask=masks[c] if masks else None,
-                                    title=f"{label}\n{columns[c]}")
+                                    title=f"{label}\n{columns[c]}",
+                                    excluded=excluded[c] if excluded else None,
+                                    other_islands=other)
     for c in range(nc):
-        fig.colorbar(mappables[c], ax=[axes[r][c] for r in range(nr)], shrink=0.8,
-                     label=cbar_labels[c])
-    fig.suptitle(suptitle, fontsize=10)
-    fig.savefig(out, dpi=90)
+        cb = fig.colorbar(mappables[c], ax=[axes[r][c] for r in range(nr)], shrink=0.6,
+                          aspect=30, pad=0.02)
+        cb.set_label(cbar_labels[c], fontsize=10)
+        cb.ax.tick_params(labelsize=9)
+    fig.suptitle(suptitle, fontsize=12)
+    fig.savefig(out, dpi=100)
     plt.close(fig)
 
 
 def series_fig(curves, ylabel, out, title):
-    """curves: [(label, x, mean, ci)]; the band is mean ± ci (95%)."""
+    """curves: [(label, x, mean, lower, upper)]; the band is the 95% interval."""
     fig, ax = plt.subplots(figsize=(6.4, 3.4))
-    for label, x, m, ci in curves:
+    for label, x, m, lower, upper in curves:
         line, = ax.plot(x, m, label=label, lw=1.4)
-        ok = np.isfinite(ci)
-        ax.fill_between(np.asarray(x)[ok], (m - ci)[ok], (m + ci)[ok], color=line.get_color(),
+        ok = np.isfinite(lower) & np.isfinite(upper)
+        ax.fill_between(np.asarray(x)[ok], lower[ok], upper[ok], color=line.get_color(),
                         alpha=0.25, lw=0)
     ax.set_xlabel("protocol iteration N")
     ax.set_ylabel(ylabel)
@@ -127,14 +145,14 @@ def series_fig(curves, ylabel, out, title):
 
 
 def convergence_fig(panels, out):
-    """panels: [(title, ylabel, [(label, k, mean_k, ci_k)])]: running mean over the first k
-    replicas with its 95% CI."""
+    """panels: [(title, ylabel, [(label, k, mean_k, lower_k, upper_k)])]: running mean over the
+    first k replicas with its 95% CI."""
     fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.2), squeeze=False)
     for ax, (title, ylabel, curves) in zip(axes[0], panels):
-        for label, k, m, ci in curves:
+        for label, k, m, lower, upper in curves:
             line, = ax.plot(k, m, "o-", label=label, ms=3)
-            ok = np.isfinite(ci)
-            ax.fill_between(np.asarray(k)[ok], (m - ci)[ok], (m + ci)[ok],
+            ok = np.isfinite(lower) & np.isfinite(upper)
+            ax.fill_between(np.asarray(k)[ok], lower[ok], upper[ok],
                             color=line.get_color(), alpha=0.2, lw=0)
         ax.set_xlabel("replicas k")
         ax.set_ylabel(ylabel)
@@ -156,30 +174,31 @@ def lambert_points(x):
 
 def fates_fig(panels, out):
     """panels: [(title, islands, fate, x_start, x_end)]: large particles at the start and end of
-    the interval coloured by fate (Yu 2022 Fig. 8)."""
-    fig, axes = plt.subplots(len(panels), 2, figsize=(6.4, 3.2 * len(panels)), squeeze=False)
+    the interval coloured by fate (Yu 2022 Fig. 8); the legend under each row, off the discs."""
+    fig, axes = plt.subplots(len(panels), 2, figsize=(9.2, 5.0 * len(panels)), squeeze=False,
+                             layout="constrained")
     for r, (title, islands, fate, xs, xe) in enumerate(panels):
         for c, (x, when) in enumerate(((xs, "start"), (xe, "end"))):
             ax = axes[r][c]
             X, Z = lambert_points(x)
             for k in (3, 2, 1, 0):  # "other" underneath, as the paper's small black dots
                 sel = fate == k
-                ax.scatter(X[sel], Z[sel], s=3 if k == 3 else 7, c=FATE_COLOURS[k],
+                ax.scatter(X[sel], Z[sel], s=5 if k == 3 else 14, c=FATE_COLOURS[k],
                            label=f"{FATE_NAMES[k]} ({int(sel.sum())})", lw=0)
             disc_frame(ax, islands, "k", "0.4")
-            ax.set_title(f"{title}: {when}", fontsize=8)
-            if c == 1:
-                ax.legend(fontsize=6, loc="lower right", markerscale=2)
-    fig.tight_layout()
-    fig.savefig(out, dpi=90)
+            ax.set_title(f"{title}\n{when}", fontsize=10)
+        handles, labels = axes[r][0].get_legend_handles_labels()
+        axes[r][0].legend(handles[::-1], labels[::-1], fontsize=9, loc="upper left",
+                          bbox_to_anchor=(0.0, 0.0), ncol=4, markerscale=1.5, frameon=False)
+    fig.savefig(out, dpi=100)
     plt.close(fig)
 
 
 def section_grid(rows, out, rng_mean, rng_ci):
     """rows: [(title, mean[n, n], ci[n, n], tubes[m, 3] = (r, s1, s2))]: Fig. 5 sections, bin
     (i, j) = (s1, s2) in [-1, 1]², the tumbler's circle and the KAM-tube boundary points."""
-    fig, axes = plt.subplots(len(rows), 2, figsize=(7.4, 3.0 * len(rows) + 0.4), squeeze=False)
-    fig.subplots_adjust(wspace=0.55)
+    fig, axes = plt.subplots(len(rows), 2, figsize=(11.0, 4.6 * len(rows) + 0.5), squeeze=False,
+                             layout="constrained")
     ims = [None, None]
     for r, (title, mean, ci, tubes) in enumerate(rows):
         for c, (v, rng, cmap) in enumerate(((mean, rng_mean, "viridis"), (ci, rng_ci, "YlOrBr"))):
@@ -194,11 +213,11 @@ def section_grid(rows, out, rng_mean, rng_ci):
             ax.set_xlim(-1.03, 1.03)
             ax.set_ylim(-1.03, 1.03)
             ax.set_aspect("equal")
-            ax.set_xlabel("s1 / R", fontsize=7)
-            ax.set_ylabel("s2 / R", fontsize=7)
-            ax.tick_params(labelsize=6)
-            ax.set_title(title + ("\nmean c_L" if c == 0 else "\n95% CI half-width"), fontsize=7)
+            ax.set_xlabel("s1 / R", fontsize=9)
+            ax.set_ylabel("s2 / R", fontsize=9)
+            ax.tick_params(labelsize=8)
+            ax.set_title(title + ("\nmean c_L" if c == 0 else "\n95% CI half-width"), fontsize=10)
     for c, label in enumerate(("c_L", "± c_L")):
-        fig.colorbar(ims[c], ax=[axes[r][c] for r in range(len(rows))], shrink=0.8, label=label)
-    fig.savefig(out, dpi=90)
+        fig.colorbar(ims[c], ax=[axes[r][c] for r in range(len(rows))], shrink=0.6, label=label)
+    fig.savefig(out, dpi=100)
     plt.close(fig)

@@ -6,8 +6,14 @@ import os
 
 import numpy as np
 
-import report_figs as rf
-from report_stats import fmt, welch_half_width
+if __package__:
+    from . import report_figs as rf
+    from .report_findings import ci_span
+    from .report_stats import bounded_interval, welch_test
+else:  # loaded by postproc/report.py run as a file
+    import report_figs as rf
+    from report_findings import ci_span
+    from report_stats import bounded_interval, welch_test
 
 
 def section_cross_enrichment(R, pts):
@@ -28,7 +34,7 @@ def section_cross_enrichment(R, pts):
         "the free surface), so a mask can collect more than its share without a pattern. The "
         "test of a pattern is the difference from the islands' own point on the same mask, "
         "Δ ± Welch's 95% half-width: a protocol without that pattern has Δ &lt; 0 beyond its "
-        "CI. Mean ± 95% CI (N replicas).</p>")
+        "CI. Mean [95% interval on the log scale] (N replicas).</p>")
     own = {pid: (q["an"] or {}).get("enrichment_vs", {}).get(pid) for q in pts
            for _, pid, _ in cols if q["pid"] == pid}
     rows, csv_rows = [], []
@@ -39,11 +45,12 @@ def section_cross_enrichment(R, pts):
             e = vs.get(pid) if camp == id(q["camp"]) else None
             cell, delta, half = "–", np.nan, np.nan
             if e:
-                cell = fmt(e["mean"], e["ci95"], e["n"])
+                cell = ci_span(bounded_interval(e["values"], 0.0, np.inf))
                 if q["pid"] != pid and own.get(pid):
                     delta, half = difference(e["values"], own[pid]["values"])
                     if np.isfinite(delta):
-                        cell += f"; Δ vs {label} {delta:+.3g} ± {half:.2g}"
+                        cell += html.escape(f"; Δ vs {label} {delta:+.3g} ± {half:.2g}")
+                cell = R.html_cell(cell)
                 csv_rows.append([q["label"], label, e["mean"], e["ci95"], e["n"], delta, half]
                                 + [float(v) for v in e["values"]])
             row.append(cell)
@@ -57,15 +64,8 @@ def section_cross_enrichment(R, pts):
 
 def difference(a, b):
     """mean(a) − mean(b) of the finite values and Welch's 95% half-width (NaN below 2 each)."""
-    a = np.asarray(a, float)
-    b = np.asarray(b, float)
-    a, b = a[np.isfinite(a)], b[np.isfinite(b)]
-    if len(a) == 0 or len(b) == 0:
-        return np.nan, np.nan
-    h = np.nan
-    if len(a) >= 2 and len(b) >= 2:
-        h = float(welch_half_width([a.var(ddof=1)], [len(a)], [b.var(ddof=1)], [len(b)])[0])
-    return float(a.mean() - b.mean()), h
+    w = welch_test(a, b)
+    return w["diff"], w["half"]
 
 
 def section_cross_sections(R, pts):

@@ -1,53 +1,27 @@
-"""Replica statistics for the report: mean and 95% confidence half-width with Student's t, the
-same definition as ensemble.h5 (docs/campaign.md): ci95 = t(0.975, n - 1) s / sqrt(n). numpy and
-the standard library only (no scipy on a minimal machine)."""
+"""Replica statistics for the report (docs/report.md, "Statistics"), with scipy.stats:
+
+* mean_ci: mean and Student half-width t(0.975, n − 1) s / sqrt(n), the definition of
+  ensemble.h5 (docs/campaign.md);
+* bounded_interval: a 95% interval for a quantity with physical bounds, computed on a scale on
+  which it is unbounded (logit for a quantity in [lo, hi], log for one in [lo, ∞)) and mapped
+  back, so that it never leaves the bounds;
+* welch_half_width / welch_test / cell_tests: the difference of two ensemble means, per value or
+  per map cell, by Welch's t (unequal variances, ν by Welch–Satterthwaite);
+* bh_reject: Benjamini–Hochberg control of the false discovery rate over the cells of a map.
+
+This module imports nothing from the rest of postproc, so scripts outside the package
+(jobs/accuracy/pattern_table.py) can load it on its own."""
 import math
 
 import numpy as np
+from scipy import stats
 
-
-def _betacf(a, b, x):
-    # Continued fraction of the incomplete beta function (Numerical Recipes 6.4).
-    tiny = 1e-300
-    c, d = 1.0, 1.0 - (a + b) * x / (a + 1)
-    d = 1.0 / (d if abs(d) > tiny else tiny)
-    h = d
-    for m in range(1, 300):
-        m2 = 2 * m
-        for aa in (m * (b - m) * x / ((a + m2 - 1) * (a + m2)),
-                   -(a + m) * (a + b + m) * x / ((a + m2) * (a + m2 + 1))):
-            d = 1.0 + aa * d
-            d = 1.0 / (d if abs(d) > tiny else tiny)
-            c = 1.0 + aa / c
-            c = c if abs(c) > tiny else tiny
-            h *= d * c
-        if abs(d * c - 1) < 1e-15:
-            break
-    return h
-
-
-def _ibeta(a, b, x):
-    if x <= 0:
-        return 0.0
-    if x >= 1:
-        return 1.0
-    lbt = math.lgamma(a + b) - math.lgamma(a) - math.lgamma(b) + a * math.log(x) + b * math.log1p(-x)
-    if x < (a + 1) / (a + b + 2):
-        return math.exp(lbt) * _betacf(a, b, x) / a
-    return 1.0 - math.exp(lbt) * _betacf(b, a, 1 - x) / b
-
-
-def t_cdf(t, df):
-    p = 0.5 * _ibeta(df / 2, 0.5, df / (df + t * t))
-    return 1 - p if t > 0 else p
+LEVEL = 0.95
 
 
 def t_quantile(p, df):
-    lo, hi = -1e3, 1e3
-    while hi - lo > 1e-13 * max(1.0, abs(lo)):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if t_cdf(mid, df) < p else (lo, mid)
-    return 0.5 * (lo + hi)
+    """Student t quantile (scipy.stats.t.ppf); real degrees of freedom allowed (Welch)."""
+    return float(stats.t.ppf(p, df))
 
 
 def mean_ci(values):
@@ -62,7 +36,8 @@ def mean_ci(values):
 
 
 def fmt(m, ci, n=None, digits=3):
-    """'m ± ci (N = n)' with NaN shown as '–'."""
+    """'m ± ci (N = n)' with NaN shown as '–'. For quantities without physical bounds
+    (differences); bounded ones use bounded_interval and fmt_interval."""
     if not np.isfinite(m):
         return "–"
     s = f"{m:.{digits}g}"
@@ -73,29 +48,195 @@ def fmt(m, ci, n=None, digits=3):
     return s
 
 
-_TQ = {}
+# --- intervals that respect physical bounds --------------------------------------------------
+
+def _forward(v, lo, hi, eps):
+    """The unbounded scale: logit of the position in [lo, hi], or log of the distance from lo.
+    Values at a bound are moved eps (in the quantity's units) inside it."""
+    if lo is None:
+        return np.asarray(v, float)
+    if hi is None or not np.isfinite(hi):
+        return np.log(np.maximum(np.asarray(v, float) - lo, eps))
+    x = (np.clip(np.asarray(v, float), lo + eps, hi - eps) - lo) / (hi - lo)
+    return np.log(x) - np.log1p(-x)
 
 
-def _t975(df):
-    key = float(df)  # Welch's degrees of freedom are real; cells with equal counts share them
-    if key not in _TQ:
-        _TQ[key] = t_quantile(0.975, key)
-    return _TQ[key]
+def _backward(z, lo, hi):
+    if lo is None:
+        return z
+    if hi is None or not np.isfinite(hi):
+        return lo + np.exp(z)
+    return lo + (hi - lo) * stats.logistic.cdf(z)
 
 
-def welch_half_width(var_a, n_a, var_b, n_b):
-    """95% half-width of mean_a − mean_b by Welch's t (unequal variances), per element:
-    t(0.975, ν) sqrt(s_a²/n_a + s_b²/n_b), ν by Welch–Satterthwaite. NaN where either side has
-    fewer than 2 replicas. When both variances are 0 the half-width is 0: any difference
-    is then significant, as it is exactly reproducible."""
+def default_eps(lo, hi):
+    """How far inside its bound a value on the bound is placed: 1e-3 of the range (or of 1 for
+    a quantity bounded on one side). Bigger eps narrows the interval of such data."""
+    if lo is None:
+        return 0.0
+    return 1e-3 * ((hi - lo) if hi is not None and np.isfinite(hi) else 1.0)
+
+
+def bounded_interval(values, lo=None, hi=None, level=LEVEL, eps=None, axis=0):
+    """Mean and a `level` confidence interval of the replicas' mean of a quantity in [lo, hi]
+    (hi None or inf: [lo, ∞); lo None: unbounded, the Student interval).
+
+    The Student interval z̄ ± t(½(1 + level), n − 1) s_z / sqrt(n) is computed for z = logit of
+    (v − lo)/(hi − lo), or z = log(v − lo), and mapped back: the interval is asymmetric and stays
+    inside the bounds for any n. Values on a bound are moved `eps` inside it first (default:
+    default_eps); identical replicas give the interval [value, value]. Works element-wise along `axis` (replicas) for maps; NaN values are left out.
+    Returns dict(mean, lower, upper, n, lo, hi) (arrays for arrays); lower/upper NaN where n < 2; mean
+    is the arithmetic mean of the values (the number ensemble.h5 holds)."""
+    v = np.asarray(values, float)
+    if v.ndim == 0:
+        v = v[None]
+    v = np.moveaxis(v, axis, 0)
+    ok = np.isfinite(v)
+    n = ok.sum(axis=0)
+    eps = default_eps(lo, hi) if eps is None else eps
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = np.where(n > 0, np.where(ok, v, 0).sum(axis=0) / np.maximum(n, 1), np.nan)
+        z = np.where(ok, _forward(np.where(ok, v, lo if lo is not None else 0.0), lo, hi, eps), 0)
+        zm = z.sum(axis=0) / np.maximum(n, 1)
+        zs = np.sqrt(np.where(ok, (z - zm) ** 2, 0).sum(axis=0) / np.maximum(n - 1, 1))
+        tq = stats.t.ppf(0.5 * (1 + level), np.maximum(n - 1, 1))
+        half = tq * zs / np.sqrt(np.maximum(n, 1))
+        lower = np.where(n >= 2, _backward(zm - half, lo, hi), np.nan)
+        upper = np.where(n >= 2, _backward(zm + half, lo, hi), np.nan)
+        # Identical replicas: the interval is their value (not the value moved eps inside a
+        # bound, which would exclude the mean when all sit on the bound).
+        same = (n >= 2) & (zs == 0)
+        lower = np.where(same, mean, lower)
+        upper = np.where(same, mean, upper)
+    out = dict(mean=mean, lower=lower, upper=upper, n=n)
+    if np.ndim(mean) == 0:
+        out = {k: (int(x) if k == "n" else float(x)) for k, x in out.items()}
+    out.update(lo=lo, hi=hi)
+    return out
+
+
+def fmt_num(x, digits=3):
+    return f"{x:.{digits}g}" if np.isfinite(x) else "–"
+
+
+def _round_out(x, digits, up):
+    """x to `digits` significant figures, rounded away from the interval's inside."""
+    if not np.isfinite(x) or x == 0:
+        return x
+    e = math.floor(math.log10(abs(x))) - digits + 1
+    f = 10.0 ** e
+    return (math.ceil(x / f) if up else math.floor(x / f)) * f
+
+
+def interval_bounds_text(b, digits=2):
+    """(lower, upper) as printed: rounded outwards to `digits` significant figures, then kept
+    within the quantity's bounds (the rounding must neither narrow the interval nor leave them)."""
+    lo = b.get("lo")
+    hi = b.get("hi")
+    lower, upper = _round_out(b["lower"], digits, False), _round_out(b["upper"], digits, True)
+    if lo is not None:
+        lower = max(lower, lo)
+    if hi is not None and np.isfinite(hi):
+        upper = min(upper, hi)
+    return f"{lower:.{digits + 1}g}", f"{upper:.{digits + 1}g}"
+
+
+def fmt_interval(b, digits=3, n=True):
+    """'m [lower, upper] (N = n)' for a bounded_interval result; '–' without a mean."""
+    if not np.isfinite(b["mean"]):
+        return "–"
+    s = fmt_num(b["mean"], digits)
+    if np.isfinite(b["lower"]):
+        lower, upper = interval_bounds_text(b)
+        s += f" [{lower}, {upper}]"
+    if n:
+        s += f" (N = {b['n']})"
+    return s
+
+
+# --- differences of two ensemble means --------------------------------------------------------
+
+def _welch_se_nu(var_a, n_a, var_b, n_b):
     va, vb = np.asarray(var_a, float), np.asarray(var_b, float)
     na, nb = np.asarray(n_a, float), np.asarray(n_b, float)
-    out = np.full(np.broadcast(va, vb, na, nb).shape, np.nan)
-    ok = (na >= 2) & (nb >= 2) & np.isfinite(va) & np.isfinite(vb)
     with np.errstate(divide="ignore", invalid="ignore"):
         sa, sb = va / na, vb / nb
         se2 = sa + sb
         nu = se2 ** 2 / (sa ** 2 / (na - 1) + sb ** 2 / (nb - 1))
-    for idx in zip(*np.nonzero(np.broadcast_to(ok, out.shape))):
-        out[idx] = 0.0 if se2[idx] == 0 else _t975(nu[idx]) * np.sqrt(se2[idx])
-    return out
+    ok = (na >= 2) & (nb >= 2) & np.isfinite(va) & np.isfinite(vb)
+    return se2, nu, ok
+
+
+def welch_half_width(var_a, n_a, var_b, n_b, level=LEVEL):
+    """Half-width of the `level` interval of mean_a − mean_b by Welch's t, per element:
+    t(½(1 + level), ν) sqrt(s_a²/n_a + s_b²/n_b), ν by Welch–Satterthwaite. NaN where either
+    side has fewer than 2 replicas; 0 when both variances are 0."""
+    se2, nu, ok = _welch_se_nu(var_a, n_a, var_b, n_b)
+    with np.errstate(invalid="ignore"):
+        t = stats.t.ppf(0.5 * (1 + level), np.where(ok & (se2 > 0), nu, 1.0))
+        out = np.where(se2 > 0, t * np.sqrt(se2), 0.0)
+    return np.where(ok, out, np.nan)
+
+
+def welch_test(a, b, level=LEVEL):
+    """mean(a) − mean(b) of the finite values, Welch's half-width and two-sided p-value
+    (scipy.stats.ttest_ind, equal_var=False). Half-width and p NaN below 2 values each."""
+    a = np.asarray(a, float)
+    b = np.asarray(b, float)
+    a, b = a[np.isfinite(a)], b[np.isfinite(b)]
+    if len(a) == 0 or len(b) == 0:
+        return dict(diff=math.nan, half=math.nan, p=math.nan, na=len(a), nb=len(b))
+    d = float(a.mean() - b.mean())
+    if len(a) < 2 or len(b) < 2:
+        return dict(diff=d, half=math.nan, p=math.nan, na=len(a), nb=len(b))
+    half = float(welch_half_width([a.var(ddof=1)], [len(a)], [b.var(ddof=1)], [len(b)],
+                                  level)[0])
+    p = float(stats.ttest_ind(a, b, equal_var=False).pvalue) if half > 0 else math.nan
+    return dict(diff=d, half=half, p=p, na=len(a), nb=len(b))
+
+
+def cell_tests(mean_a, var_a, n_a, mean_b, var_b, n_b, empty_a=None, empty_b=None):
+    """Welch's two-sided p-value of mean_a − mean_b per map cell, and why a cell is not tested.
+
+    Returns (p, status): p NaN where untested; status per cell
+      0 tested;
+      1 empty in both (empty_a & empty_b: no particle of the species in any replica of either
+        point; their "difference" is 0 − 0 or NaN − NaN and means nothing);
+      2 fewer than 2 replicas with data on either side;
+      3 no variance on either side (s² = 0 in both: with few replicas a discrete quantity can
+        repeat exactly; Welch's statistic is then undefined, not infinite).
+    Excluded cells count neither as significant nor towards the number of tests."""
+    ma, mb = np.asarray(mean_a, float), np.asarray(mean_b, float)
+    se2, nu, ok = _welch_se_nu(var_a, n_a, var_b, n_b)
+    status = np.zeros(ma.shape, int)
+    empty = np.zeros(ma.shape, bool)
+    if empty_a is not None and empty_b is not None:
+        empty = np.asarray(empty_a, bool) & np.asarray(empty_b, bool)
+    status[~(ok & np.isfinite(ma) & np.isfinite(mb))] = 2
+    status[(status == 0) & ~(se2 > 0)] = 3
+    status[empty] = 1
+    p = np.full(ma.shape, np.nan)
+    t = status == 0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        p[t] = 2 * stats.t.sf(np.abs(ma[t] - mb[t]) / np.sqrt(se2[t]), nu[t])
+    return p, status
+
+
+def bh_reject(p, q=0.05):
+    """Benjamini–Hochberg step-up procedure at false discovery rate q over the finite p-values
+    (NaN: not tested, never rejected, not counted in m). Returns (reject, p_adjusted) of p's
+    shape; p_adjusted = min over j ≥ rank of m p_(j) / j, capped at 1 (NaN where untested), the
+    same numbers as scipy.stats.false_discovery_control (scipy ≥ 1.11)."""
+    p = np.asarray(p, float)
+    flat = p.ravel()
+    idx = np.flatnonzero(np.isfinite(flat))
+    adj = np.full(flat.shape, np.nan)
+    rej = np.zeros(flat.shape, bool)
+    m = len(idx)
+    if m:
+        order = idx[np.argsort(flat[idx], kind="stable")]
+        ranked = flat[order] * m / np.arange(1, m + 1)
+        ranked = np.minimum.accumulate(ranked[::-1])[::-1]
+        adj[order] = np.minimum(ranked, 1.0)
+        rej[order] = adj[order] <= q
+    return rej.reshape(p.shape), adj.reshape(p.shape)

@@ -209,9 +209,27 @@ for name in re.findall(r'<a href="([^"]+)">', page):
     if not os.path.exists(os.path.join(rep, name)):
         fail(f"report links {name}, which was not written")
 for name in ("maps.csv", "series.csv", "case_scalars.csv", "scalar_summary.csv", "cases.csv",
-             "convergence.csv", "provenance.csv", "points.csv"):
+             "convergence.csv", "provenance.csv", "points.csv", "findings.csv",
+             "difference_tests.csv", "mixing_random.csv"):
     if not os.path.exists(os.path.join(rep, name)):
         fail(f"{name} missing")
+# The random-bed reference of the mixing index bins the last snapshot in Python
+# (postproc/report_mixing.py); its index of the unshuffled snapshot must be the C++ series'
+# value where the last series sample is taken at the last snapshot (1e-9).
+mixing = list(csv.DictReader(open(os.path.join(rep, "mixing_random.csv"))))
+if snaps_kept := glob.glob(os.path.join(d, "cases", "*", "snap_*.h5")):
+    if not mixing:
+        fail("mixing_random.csv is empty although cases kept snapshots")
+    same = [r for r in mixing if abs(float(r["index_last_snapshot"])
+                                     - float(r["index_series_last_sample"])) <= 1e-9]
+    print(f"mixing index: {len(same)} of {len(mixing)} cases' last snapshots give the series' "
+          "last value to 1e-9")
+    if not same:
+        fail("no case's mixing index recomputed from its last snapshot equals the series' last "
+             f"value: {mixing}")
+    for r in mixing:
+        if not 0 < float(r["random_bed_mean"]) < 1:
+            fail(f"random-bed mixing index {r['random_bed_mean']} outside (0, 1)")
 failed = []
 if os.path.exists(os.path.join(rep, "failed_cases.csv")):
     failed = list(csv.DictReader(open(os.path.join(rep, "failed_cases.csv"))))

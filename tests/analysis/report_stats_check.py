@@ -1,13 +1,28 @@
-"""The report's statistics (postproc/report_stats.py) against closed forms: Student t quantiles
-and Welch's half-width of a difference of two ensemble means."""
+"""The report's statistics (postproc/report_stats.py) against closed forms and hand-computed
+examples.
+
+  PYTHONPATH=SOURCE_ROOT /usr/bin/python3 report_stats_check.py [stats|bounded|fdr|cells]
+
+  stats    Student t quantiles (scipy) and Welch's half-width of a difference of two means;
+  bounded  intervals of bounded quantities (logit / log scale): closed forms, never outside the
+           bounds where the Student interval is, values on a bound, per-cell form, printing;
+  fdr      Benjamini-Hochberg: a hand-computed example (with the step-up case), NaN not
+           counted, scipy.stats.false_discovery_control where this scipy has it (>= 1.11), and
+           the rate of any false discovery over 144 null cells;
+  cells    the difference maps' per-cell test: Welch's p equal to scipy's ttest_ind on the
+           replicas, and the cells excluded from testing (empty in both, < 2 replicas, no
+           variance) neither significant nor counted in the number of tests.
+No argument: all groups. ctest runs each group as its own test (tests/analysis/CMakeLists.txt).
+"""
 import math
-import os
 import sys
+import warnings
 
 import numpy as np
+from scipy import stats
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "postproc"))
-from report_stats import t_quantile, welch_half_width  # noqa: E402
+from postproc.report_stats import (bh_reject, bounded_interval, cell_tests, interval_bounds_text,
+                                   mean_ci, t_quantile, welch_half_width)
 
 
 def check(name, got, want, tol):
@@ -16,29 +31,216 @@ def check(name, got, want, tol):
     return ok
 
 
-t2 = 0.95 / math.sqrt(2 * 0.975 * 0.025)  # t(0.975, 2), closed form
-t10 = 2.2281388519862747                  # t(0.975, 10)
-good = [
-    check("t(0.975, 1) = tan(0.475 pi)", t_quantile(0.975, 1), math.tan(0.475 * math.pi), 1e-9),
-    check("t(0.975, 2)", t_quantile(0.975, 2), t2, 1e-9),
-    check("t(0.975, 10)", t_quantile(0.975, 10), t10, 1e-9),
-]
-# Equal variances, two replicas each: Welch's nu = (2 s^2/2)^2 / (2 (s^2/2)^2 / 1) = 2.
-h = welch_half_width([0.5], [2], [0.5], [2])[0]
-good.append(check("equal variances, n = 2 + 2: t(0.975, 2) sqrt(0.5)", h, t2 * math.sqrt(0.5), 1e-9))
-# One side exactly reproducible (variance 0): nu = n_a - 1, half-width = Student's of side a.
-h = welch_half_width([0.3], [11], [0.0], [4])[0]
-good.append(check("zero variance on one side: t(0.975, 10) sqrt(0.3/11)", h,
-                  t10 * math.sqrt(0.3 / 11), 1e-9))
-# Unequal: nu = (0.04/5 + 0.01/4)^2 / ((0.04/5)^2/4 + (0.01/4)^2/3), checked against the quantile.
-sa, sb = 0.04 / 5, 0.01 / 4
-nu = (sa + sb) ** 2 / (sa ** 2 / 4 + sb ** 2 / 3)
-h = welch_half_width([0.04], [5], [0.01], [4])[0]
-good.append(check(f"unequal (nu = {nu:.4f})", h, t_quantile(0.975, nu) * math.sqrt(sa + sb), 1e-6))
-# Undefined with fewer than two replicas on either side; zero when both sides are exact.
-good.append(check("one replica: NaN", welch_half_width([0.1], [1], [0.1], [3])[0], math.nan, 0))
-good.append(check("both exact: 0", welch_half_width([0.0], [3], [0.0], [3])[0], 0.0, 0))
-# Per cell, vectorised.
-v = welch_half_width(np.array([0.5, 0.3]), np.array([2, 11]), np.array([0.5, 0.0]), np.array([2, 4]))
-good.append(check("vectorised, cell 1", v[1], t10 * math.sqrt(0.3 / 11), 1e-9))
-sys.exit(0 if all(good) else 1)
+def truth(name, cond, detail=""):
+    print(f"{'ok  ' if cond else 'FAIL'} {name}{': ' + detail if detail else ''}")
+    return bool(cond)
+
+
+T1 = math.tan(0.475 * math.pi)              # t(0.975, 1), closed form
+T2 = 0.95 / math.sqrt(2 * 0.975 * 0.025)    # t(0.975, 2), closed form
+T10 = 2.2281388519862747                    # t(0.975, 10)
+
+
+def group_stats():
+    good = [
+        check("t(0.975, 1) = tan(0.475 pi)", t_quantile(0.975, 1), T1, 1e-9),
+        check("t(0.975, 2)", t_quantile(0.975, 2), T2, 1e-9),
+        check("t(0.975, 10)", t_quantile(0.975, 10), T10, 1e-9),
+    ]
+    m, ci, n = mean_ci([1.0, 2.0, 3.0])
+    good.append(check("mean_ci of 1, 2, 3: t(0.975, 2) / sqrt(3)", ci, T2 / math.sqrt(3), 1e-9))
+    # Equal variances, two replicas each: Welch's nu = (2 s^2/2)^2 / (2 (s^2/2)^2 / 1) = 2.
+    h = welch_half_width([0.5], [2], [0.5], [2])[0]
+    good.append(check("equal variances, n = 2 + 2: t(0.975, 2) sqrt(0.5)", h,
+                      T2 * math.sqrt(0.5), 1e-9))
+    # One side exactly reproducible (variance 0): nu = n_a - 1, half-width = Student's of side a.
+    h = welch_half_width([0.3], [11], [0.0], [4])[0]
+    good.append(check("zero variance on one side: t(0.975, 10) sqrt(0.3/11)", h,
+                      T10 * math.sqrt(0.3 / 11), 1e-9))
+    # Unequal: nu = (0.04/5 + 0.01/4)^2 / ((0.04/5)^2/4 + (0.01/4)^2/3).
+    sa, sb = 0.04 / 5, 0.01 / 4
+    nu = (sa + sb) ** 2 / (sa ** 2 / 4 + sb ** 2 / 3)
+    h = welch_half_width([0.04], [5], [0.01], [4])[0]
+    good.append(check(f"unequal (nu = {nu:.4f})", h,
+                      stats.t.ppf(0.975, nu) * math.sqrt(sa + sb), 1e-9))
+    good.append(check("one replica: NaN", welch_half_width([0.1], [1], [0.1], [3])[0], math.nan,
+                      0))
+    good.append(check("both exact: 0", welch_half_width([0.0], [3], [0.0], [3])[0], 0.0, 0))
+    v = welch_half_width(np.array([0.5, 0.3]), np.array([2, 11]), np.array([0.5, 0.0]),
+                         np.array([2, 4]))
+    good.append(check("vectorised, cell 1", v[1], T10 * math.sqrt(0.3 / 11), 1e-9))
+    return good
+
+
+def expit(z):
+    return 1.0 / (1.0 + math.exp(-z))
+
+
+def group_bounded():
+    # Tolerances: scipy's t quantile is accurate to ~1e-10 relative (t(0.975, 1) = 12.7 and
+    # t(0.975, 2) = 4.30 against their closed forms above), which the exp / expit carry.
+    good = []
+    # Logit scale, N = 2, by hand: z = logit(v), interval expit(mean z -+ t(0.975,1) s_z/sqrt 2).
+    v = [0.1, 0.3]
+    z = [math.log(x / (1 - x)) for x in v]
+    zm, sz = sum(z) / 2, abs(z[0] - z[1]) / math.sqrt(2)
+    b = bounded_interval(v, 0.0, 1.0)
+    good.append(check("logit, N = 2: lower", b["lower"], expit(zm - T1 * sz / math.sqrt(2)), 1e-12))
+    good.append(check("logit, N = 2: upper", b["upper"], expit(zm + T1 * sz / math.sqrt(2)), 1e-12))
+    good.append(check("the mean is the arithmetic mean", b["mean"], 0.2, 1e-15))
+    # A range [lo, hi]: the same on (v - lo) / (hi - lo); Δψ in [0, 180].
+    b = bounded_interval([30.0, 90.0, 60.0], 0.0, 180.0)
+    z = [math.log(x / (180 - x)) for x in (30.0, 90.0, 60.0)]
+    zm = sum(z) / 3
+    sz = math.sqrt(sum((x - zm) ** 2 for x in z) / 2)
+    good.append(check("logit on [0, 180], N = 3: upper", b["upper"],
+                      180 * expit(zm + T2 * sz / math.sqrt(3)), 1e-7))
+    # Log scale for a positive ratio: exp(mean log -+ t s/sqrt n).
+    v = [1.0, 1.3]
+    z = [math.log(x) for x in v]
+    zm, sz = sum(z) / 2, abs(z[0] - z[1]) / math.sqrt(2)
+    b = bounded_interval(v, 0.0, np.inf)
+    good.append(check("log, N = 2: lower", b["lower"], math.exp(zm - T1 * sz / math.sqrt(2)), 1e-9))
+    good.append(check("log, N = 2: upper", b["upper"], math.exp(zm + T1 * sz / math.sqrt(2)), 1e-9))
+    # Where Student's interval leaves the bounds, this one does not (the issue's c_L ± 5.6).
+    v = [0.05, 0.95]
+    m, ci, _ = mean_ci(v)
+    b = bounded_interval(v, 0.0, 1.0)
+    good.append(truth("Student's interval of {0.05, 0.95} leaves [0, 1]", m - ci < 0 < 1 < m + ci,
+                      f"{m - ci:.3g} .. {m + ci:.3g}"))
+    good.append(truth("the logit interval stays inside", 0 <= b["lower"] < b["upper"] <= 1,
+                      f"{b['lower']:.3g} .. {b['upper']:.3g}"))
+    # Values on a bound: moved eps inside, the interval finite and within the bounds.
+    b = bounded_interval([0.0, 0.2], 0.0, 1.0)
+    good.append(truth("a value on the bound: finite, within [0, 1]",
+                      np.isfinite(b["lower"]) and 0 <= b["lower"] < 0.2 < b["upper"] <= 1,
+                      f"{b['lower']:.3g} .. {b['upper']:.3g}"))
+    b = bounded_interval([2.0, 0.0], 0.0, 45.0, eps=0.5)  # a Fig. 8 count of 45 large
+    good.append(truth("counts 2 and 0 of 45: within [0, 45] (Student: 1 ± 12.7)",
+                      0 <= b["lower"] < 1 < b["upper"] <= 45,
+                      f"{b['lower']:.3g} .. {b['upper']:.3g}"))
+    # No spread: the interval is the value; one replica: none.
+    b = bounded_interval([0.4, 0.4, 0.4], 0.0, 1.0)
+    good.append(check("equal replicas: lower = value", b["lower"], 0.4, 1e-12))
+    good.append(check("equal replicas: upper = value", b["upper"], 0.4, 1e-12))
+    b = bounded_interval([0.0, 0.0], 0.0, 45.0, eps=0.5)
+    good.append(truth("identical replicas on a bound (two counts of 0): [0, 0]",
+                      b["lower"] == 0 and b["upper"] == 0 and b["mean"] == 0,
+                      f"{b['lower']} .. {b['upper']}"))
+    b = bounded_interval([0.4, np.nan], 0.0, 1.0)
+    good.append(check("one finite replica: no interval", b["lower"], math.nan, 0))
+    # Per cell (replicas along axis 0), NaN cells left out: the same as cell by cell.
+    maps = np.array([[0.1, 0.5, np.nan, 0.0], [0.3, 0.6, 0.2, 0.0], [0.2, 0.9, 0.4, 0.1]])
+    b = bounded_interval(maps, 0.0, 1.0)
+    same = True
+    for c in range(maps.shape[1]):
+        col = maps[:, c]
+        s = bounded_interval(col[np.isfinite(col)], 0.0, 1.0)
+        same &= all(abs(s[k] - b[k][c]) <= 1e-12 for k in ("mean", "lower", "upper"))
+        same &= int(b["n"][c]) == int(np.isfinite(col).sum())
+    good.append(truth("per-cell form = cell by cell", same))
+    good.append(truth("every cell's interval within [0, 1]",
+                      np.all((b["lower"] >= 0) & (b["upper"] <= 1))))
+    # Printing: rounded outwards, never past a bound.
+    lo_s, hi_s = interval_bounds_text(dict(lower=0.0123, upper=0.99996, lo=0.0, hi=1.0))
+    good.append(truth("printed upper of 0.99996 in [0, 1] is at most 1", float(hi_s) <= 1.0,
+                      hi_s))
+    lo_s, hi_s = interval_bounds_text(dict(lower=3.14, upper=145.8, lo=0.0, hi=146.0))
+    good.append(truth("printed upper of 145.8 in [0, 146] is at most 146 and covers it",
+                      145.8 <= float(hi_s) <= 146.0, hi_s))
+    good.append(truth("printed lower rounded down", float(lo_s) <= 3.14, lo_s))
+    return good
+
+
+def group_fdr():
+    good = []
+    # Hand-computed: sorted 0.005 0.01 0.03 0.04 0.2 0.5, thresholds i 0.05/6 = .0083 .0167 .025
+    # .0333 .0417 .05: the largest i with p_(i) <= i q/m is 2.
+    p = np.array([0.01, 0.04, 0.03, 0.005, 0.20, 0.50])
+    rej, adj = bh_reject(p, 0.05)
+    good.append(truth("example 1: rejects 0.005 and 0.01 only",
+                      list(rej) == [True, False, False, True, False, False], str(rej)))
+    want = [0.03, 0.06, 0.06, 0.03, 0.24, 0.5]  # m p / rank, then min over larger ranks
+    good.append(truth("example 1: adjusted p", np.allclose(adj, want, rtol=0, atol=1e-15),
+                      str(adj)))
+    # Step-up: p_(3) = 0.039 > 3 q/4 = 0.0375, yet rejected because p_(4) = 0.045 <= 0.05.
+    p = np.array([0.045, 0.012, 0.039, 0.02])
+    rej, adj = bh_reject(p, 0.05)
+    good.append(truth("example 2 (step-up): all four rejected", rej.all(), str(rej)))
+    good.append(truth("example 2: adjusted p = 0.045 0.04 0.045 0.04",
+                      np.allclose(adj, [0.045, 0.04, 0.045, 0.04], rtol=0, atol=1e-15), str(adj)))
+    # NaN (untested cells) are not counted in m: the same answer with NaN mixed in.
+    p2 = np.array([np.nan, 0.045, 0.012, np.nan, 0.039, 0.02])
+    rej2, adj2 = bh_reject(p2, 0.05)
+    good.append(truth("NaN neither rejected nor counted",
+                      list(rej2) == [False, True, True, False, True, True]
+                      and np.isnan(adj2[[0, 3]]).all()
+                      and np.allclose(adj2[[1, 2, 4, 5]], adj), str(adj2)))
+    rng = np.random.default_rng(18)
+    if hasattr(stats, "false_discovery_control"):
+        q = rng.uniform(size=500) ** 3
+        good.append(truth("= scipy.stats.false_discovery_control (500 p-values)",
+                          np.allclose(bh_reject(q)[1], stats.false_discovery_control(q),
+                                      rtol=1e-12, atol=0)))
+    else:
+        print(f"     (scipy {__import__('scipy').__version__} has no false_discovery_control: "
+              "checked against the hand-computed examples above)")
+    # Under the global null (144 independent uniform p, as a 12 x 12 map with no effect) BH at
+    # q = 0.05 makes any rejection with probability exactly q; uncorrected 5% tests flag 7.2
+    # cells on average and almost always some.
+    trials = 4000
+    any_bh = sum(bh_reject(rng.uniform(size=144), 0.05)[0].any() for _ in range(trials)) / trials
+    se = math.sqrt(0.05 * 0.95 / trials)
+    good.append(truth("null map: P(any BH rejection) = 0.05 within 4 standard errors",
+                      abs(any_bh - 0.05) <= 4 * se, f"{any_bh:.4f} (se {se:.4f})"))
+    return good
+
+
+def group_cells():
+    good = []
+    # Six cells; the replicas behind each are given, the function gets mean, variance, count.
+    a = [np.array([0.50, 0.55, 0.52]),   # 0: a clear difference, variance on both sides
+         np.array([0.0, 0.0]),           # 1: empty in both points (no particle in any replica)
+         np.array([0.4]),                # 2: one replica on a side
+         np.array([0.2, 0.2]),           # 3: no variance on either side, different means
+         np.array([0.25, 0.25, 0.25]),   # 4: no variance on one side only: Welch is defined
+         np.array([0.1, 0.2, 0.15])]     # 5: empty only in the baseline point
+    b = [np.array([0.30, 0.28, 0.33]), np.array([0.0, 0.0]), np.array([0.1, 0.2, 0.3]),
+         np.array([0.5, 0.5]), np.array([0.1, 0.2, 0.15]), np.array([0.0, 0.0, 0.0])]
+    stat = lambda xs, f: np.array([f(x) for x in xs], float)  # noqa: E731
+    var = lambda x: x.var(ddof=1) if len(x) > 1 else np.nan   # noqa: E731
+    ea = np.array([False, True, False, False, False, False])
+    eb = np.array([False, True, False, False, False, True])
+    p, status = cell_tests(stat(a, np.mean), stat(a, var), stat(a, len), stat(b, np.mean),
+                           stat(b, var), stat(b, len), ea, eb)
+    good.append(truth("status: tested, empty in both, < 2 replicas, no variance, tested, tested",
+                      list(status) == [0, 1, 2, 3, 0, 0], str(list(status))))
+    for c in (0, 4, 5):
+        with warnings.catch_warnings():  # scipy warns that one side is constant (cells 4, 5)
+            warnings.simplefilter("ignore", RuntimeWarning)
+            want = float(stats.ttest_ind(a[c], b[c], equal_var=False).pvalue)
+        good.append(check(f"cell {c}: p = scipy ttest_ind(equal_var=False)", p[c], want, 1e-12))
+    good.append(truth("excluded cells have no p-value", np.isnan(p[[1, 2, 3]]).all()))
+    # The old rule flagged cell 3: half-width 0, |difference| 0.3 > 0. It is excluded now.
+    h = welch_half_width(stat(a, var), stat(a, len), stat(b, var), stat(b, len))
+    good.append(truth("old rule would flag the zero-variance cell 3 (half-width 0)",
+                      h[3] == 0 and abs(a[3].mean() - b[3].mean()) > h[3]))
+    rej, adj = bh_reject(p, 0.05)
+    good.append(truth("BH over the map: excluded cells never rejected",
+                      not rej[[1, 2, 3]].any(), str(rej)))
+    m = int(np.isfinite(p).sum())
+    alone = bh_reject(p[[0, 4, 5]], 0.05)[1]
+    good.append(truth("BH counts only the tested cells: m = 3, adjusted p as for those alone",
+                      m == 3 and np.allclose(adj[[0, 4, 5]], alone, rtol=0, atol=1e-15),
+                      f"m = {m}, {adj[[0, 4, 5]]} vs {alone}"))
+    return good
+
+
+GROUPS = dict(stats=group_stats, bounded=group_bounded, fdr=group_fdr, cells=group_cells)
+which = sys.argv[1:] or list(GROUPS)
+results = []
+for g in which:
+    print(f"--- {g}")
+    results += GROUPS[g]()
+print(f"{sum(results)} of {len(results)} checks passed")
+sys.exit(0 if all(results) else 1)
