@@ -155,21 +155,13 @@ void Domain::refresh_ghosts(Particles& p, std::size_t n_local) {
   for (int r = 0; r < size_; ++r) {
     if (send_[r].empty()) continue;
     double* begin = o;
-    for (std::uint32_t i : send_[r]) {
-      put(o, p.x[i]);
-      put(o, p.v[i]);
-      put(o, p.w[i]);
-    }
+    for (std::uint32_t i : send_[r]) put_row<field::kGhostRefresh>(o, p, i);
     req.emplace_back();
     MPI_Isend(begin, static_cast<int>(o - begin), MPI_DOUBLE, r, 7, comm_, &req.back());
   }
   MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
   const double* in = buf_in_.data();
-  for (std::size_t g = n_local; g < p.size(); ++g) {
-    p.x[g] = take(in);
-    p.v[g] = take(in);
-    p.w[g] = take(in);
-  }
+  for (std::size_t g = n_local; g < p.size(); ++g) take_row<field::kGhostRefresh>(in, p, g);
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 
