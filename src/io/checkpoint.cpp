@@ -61,11 +61,11 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   for (const auto& r : h.records()) {
     pairs.push_back(r.lo);
     pairs.push_back(r.hi);
-    for (int d = 0; d < 3; ++d) springs.push_back(r.spring[d]);
+    for (int d = 0; d < neighbor::kHistoryDoubles; ++d) springs.push_back(r.spring[d]);
     for (int d = 0; d < 3; ++d) anchors.push_back(r.anchor[d]);
   }
   f.write_rows("contacts/pair_ids", pairs, 2);
-  f.write_rows("contacts/spring", springs, 3);
+  f.write_rows("contacts/spring", springs, neighbor::kHistoryDoubles);
   f.write_rows("contacts/anchor", anchors, 3);
   write_series(f, series);
   f.set_attr("/", "time", sim.time());
@@ -104,11 +104,12 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
   const auto springs = f.read_rows_double("contacts/spring", c0, c1 - c0);
   const auto anchors = anchored ? f.read_rows_double("contacts/anchor", c0, c1 - c0)
                                 : std::vector<double>(springs.size(), 0.0);
+  constexpr int h = neighbor::kHistoryDoubles;
   std::vector<neighbor::SavedSpring> recs(pairs.size() / 2);
   for (std::size_t k = 0; k < recs.size(); ++k)
     recs[k] = {pairs[2 * k],
                pairs[2 * k + 1],
-               {springs[3 * k], springs[3 * k + 1], springs[3 * k + 2]},
+               {springs[h * k], springs[h * k + 1], springs[h * k + 2]},
                {anchors[3 * k], anchors[3 * k + 1], anchors[3 * k + 2]}};
   c.history.set_records(std::move(recs));
   read_series(f, c.series);

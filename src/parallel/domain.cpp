@@ -95,18 +95,13 @@ void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& record
     tree_.ranks_near(s.anchor, reach, period_z_, near);
     for (int r : near) {
       if (r == rank_) continue;
-      auto& o = out[r];
-      o.insert(o.end(), {static_cast<double>(s.lo), static_cast<double>(s.hi), s.spring.x,
-                         s.spring.y, s.spring.z, s.anchor.x, s.anchor.y, s.anchor.z});
+      neighbor::append_record(s, out[r]);
     }
   }
   std::vector<int> from;
   const std::vector<double> in = exchange(comm_, out, from);
-  for (std::size_t k = 0; k + 8 <= in.size(); k += 8)
-    records.push_back({static_cast<std::int64_t>(in[k]),
-                       static_cast<std::int64_t>(in[k + 1]),
-                       {in[k + 2], in[k + 3], in[k + 4]},
-                       {in[k + 5], in[k + 6], in[k + 7]}});
+  for (std::size_t k = 0; k + neighbor::kRecordDoubles <= in.size(); k += neighbor::kRecordDoubles)
+    records.push_back(neighbor::record_from(in.data() + k));
   rebuild_seconds_ += MPI_Wtime() - t0;
 }
 
