@@ -27,6 +27,8 @@ constexpr unsigned kGhostRefresh = 1u << 1;
 // restart. Everything a bitwise restart needs must have it.
 constexpr unsigned kCheckpoint = 1u << 2;
 
+constexpr unsigned kAny = 0;  // as a mask (base/particles.hpp): every field
+
 constexpr unsigned kState = kMigrate | kCheckpoint;   // the usual per-particle state
 constexpr unsigned kMotion = kState | kGhostRefresh;  // ... that neighbours read every step
 

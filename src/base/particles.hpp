@@ -36,8 +36,8 @@ struct Particles {
 };
 
 // Calls fn(name, column) for every field of `p` (Particles, const or not) whose flags contain all
-// bits of `Mask` (0: every field), in list order. The flags are tested at compile time: the loop
-// a caller writes over one particle's fields unrolls into plain code.
+// bits of `Mask` (field::kAny: every field), in list order. The flags are tested at compile time:
+// the loop a caller writes over one particle's fields unrolls into plain code.
 template <unsigned Mask, class P, class Fn>
 inline void for_each_field(P& p, Fn&& fn) {
 #define TUMBLE_VISIT_FIELD(type, name, flags) \
@@ -68,11 +68,11 @@ inline void apply_permutation(std::vector<T>& a, const std::vector<std::uint32_t
 }
 
 inline void Particles::resize(std::size_t n) {
-  for_each_field<0>(*this, [n](const char*, auto& column) { column.resize(n); });
+  for_each_field<field::kAny>(*this, [n](const char*, auto& column) { column.resize(n); });
 }
 
 inline void Particles::permute(const std::vector<std::uint32_t>& perm) {
-  for_each_field<0>(*this, [&perm](const char*, auto& column) {
+  for_each_field<field::kAny>(*this, [&perm](const char*, auto& column) {
     std::remove_reference_t<decltype(column)> scratch;
     apply_permutation(column, perm, scratch);
   });
