@@ -1,45 +1,63 @@
 #pragma once
 // Particle state as a structure of arrays: each field is one contiguous array, so the force and
-// integration loops stream through exactly the data they use.
+// integration loops stream through exactly the data they use. The fields are declared in one list,
+// base/particle_fields.hpp; this file turns it into the struct and the operations on every field.
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
+#include "base/particle_fields.hpp"
 #include "base/vec3.hpp"
 
+// A build with extra fields has a different Particles: it lives in its own inline namespace, so
+// that an object file compiled without the extra fields cannot link against one compiled with them
+// (for every function that takes or returns Particles) instead of silently disagreeing on the
+// layout.
+#ifdef TUMBLE_EXTRA_PARTICLE_FIELDS_HEADER
+#define TUMBLE_PARTICLES_NAMESPACE_BEGIN inline namespace with_extra_fields {
+#define TUMBLE_PARTICLES_NAMESPACE_END }
+#else
+#define TUMBLE_PARTICLES_NAMESPACE_BEGIN
+#define TUMBLE_PARTICLES_NAMESPACE_END
+#endif
+
 namespace tumble {
+TUMBLE_PARTICLES_NAMESPACE_BEGIN
 
 struct Particles {
-  std::vector<Vec3> x;  // position (lab frame)
-  std::vector<Vec3> v;  // velocity
-  std::vector<Vec3> w;  // angular velocity
-  std::vector<Vec3> f;  // force accumulator
-  std::vector<Vec3> t;  // torque accumulator
-  std::vector<double> radius;
-  std::vector<double> inv_mass;
-  std::vector<double> inv_inertia;  // 1 / (2/5 m r^2)
-  std::vector<std::int32_t> species;
-  std::vector<std::int64_t> id;  // global id, stable for the whole run
-  // Tangential spring of the (single) wall contact of each particle; zero when not touching.
-  std::vector<Vec3> wall_spring;
+#define TUMBLE_DECLARE_FIELD(type, name, flags) std::vector<type> name;
+  TUMBLE_ALL_PARTICLE_FIELDS(TUMBLE_DECLARE_FIELD)
+#undef TUMBLE_DECLARE_FIELD
 
   std::size_t size() const { return x.size(); }
-  void resize(std::size_t n) {
-    x.resize(n);
-    v.resize(n);
-    w.resize(n);
-    f.resize(n);
-    t.resize(n);
-    radius.resize(n);
-    inv_mass.resize(n);
-    inv_inertia.resize(n);
-    species.resize(n);
-    id.resize(n);
-    wall_spring.resize(n);
-  }
-  // Applies a permutation: new[k] = old[perm[k]] for every per-particle field. New per-particle
-  // fields must be added here (and in io/checkpoint.cpp) - that is the one place to touch.
+  void resize(std::size_t n);
+  // Applies a permutation: new[k] = old[perm[k]] for every field (the size stays).
   void permute(const std::vector<std::uint32_t>& perm);
 };
+
+// Calls fn(name, column) for every field of `p` (Particles, const or not) whose flags contain all
+// bits of `Mask` (field::kAny: every field), in list order. The flags are tested at compile time:
+// the loop a caller writes over one particle's fields unrolls into plain code.
+template <unsigned Mask, class P, class Fn>
+inline void for_each_field(P& p, Fn&& fn) {
+#define TUMBLE_VISIT_FIELD(type, name, flags) \
+  if constexpr (((flags)&Mask) == Mask) fn(#name, p.name);
+  TUMBLE_ALL_PARTICLE_FIELDS(TUMBLE_VISIT_FIELD)
+#undef TUMBLE_VISIT_FIELD
+}
+
+// The same, by type only (for sizes known at compile time): fn(name, FieldType<T>{}).
+template <class T>
+struct FieldType {
+  using type = T;
+};
+template <unsigned Mask, class Fn>
+constexpr void for_each_field_type(Fn&& fn) {
+#define TUMBLE_VISIT_FIELD_TYPE(type, name, flags) \
+  if constexpr (((flags)&Mask) == Mask) fn(#name, FieldType<type>{});
+  TUMBLE_ALL_PARTICLE_FIELDS(TUMBLE_VISIT_FIELD_TYPE)
+#undef TUMBLE_VISIT_FIELD_TYPE
+}
 
 template <class T>
 inline void apply_permutation(std::vector<T>& a, const std::vector<std::uint32_t>& perm,
@@ -49,22 +67,16 @@ inline void apply_permutation(std::vector<T>& a, const std::vector<std::uint32_t
   a.swap(scratch);
 }
 
-inline void Particles::permute(const std::vector<std::uint32_t>& perm) {
-  std::vector<Vec3> s3;
-  std::vector<double> sd;
-  std::vector<std::int32_t> si;
-  std::vector<std::int64_t> sl;
-  apply_permutation(x, perm, s3);
-  apply_permutation(v, perm, s3);
-  apply_permutation(w, perm, s3);
-  apply_permutation(f, perm, s3);
-  apply_permutation(t, perm, s3);
-  apply_permutation(wall_spring, perm, s3);
-  apply_permutation(radius, perm, sd);
-  apply_permutation(inv_mass, perm, sd);
-  apply_permutation(inv_inertia, perm, sd);
-  apply_permutation(species, perm, si);
-  apply_permutation(id, perm, sl);
+inline void Particles::resize(std::size_t n) {
+  for_each_field<field::kAny>(*this, [n](const char*, auto& column) { column.resize(n); });
 }
 
+inline void Particles::permute(const std::vector<std::uint32_t>& perm) {
+  for_each_field<field::kAny>(*this, [&perm](const char*, auto& column) {
+    std::remove_reference_t<decltype(column)> scratch;
+    apply_permutation(column, perm, scratch);
+  });
+}
+
+TUMBLE_PARTICLES_NAMESPACE_END
 }  // namespace tumble

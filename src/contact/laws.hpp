@@ -10,6 +10,8 @@ namespace tumble::contact {
 
 struct Yu2022Law {
   using Pair = Yu2022Pair;
+  // Contact history: the tangential spring, one Vec3 per contact (as LAMMPS's `dnum`).
+  static constexpr int kHistoryDoubles = 3;
   // Lever arm of the contact point from the centre of a particle of radius r when the centres are
   // `dist` apart with radii summing to `rsum`: the radius (Yu 2022, as LAMMPS granular).
   static double lever(double r, double /*dist*/, double /*rsum*/) { return r; }
@@ -28,6 +30,8 @@ struct Yu2022Law {
 
 struct Rapaport2007Law {
   using Pair = Rapaport2007Pair;
+  // Contact history: the tangential displacement u, one Vec3 per contact.
+  static constexpr int kHistoryDoubles = 3;
   // Eq. 4 of Rapaport 2007: the contact point divides the centre line in the ratio of the
   // diameters, so the lever is r dist / rsum.
   static double lever(double r, double dist, double rsum) { return r * dist / rsum; }

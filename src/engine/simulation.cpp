@@ -316,6 +316,9 @@ void Simulation::pair_forces() {
   Vec3* __restrict t = p_.t.data();
   const std::uint32_t* __restrict start = list_.start.data();
   const std::uint32_t* __restrict nbr = list_.nbr.data();
+  // The contact store (list_.spring, the saved records, Particles::wall_spring) holds one Vec3 per
+  // contact: a law needing another width needs a store of that width.
+  static_assert(Law::kHistoryDoubles == neighbor::kHistoryDoubles);
   Vec3* __restrict spring = list_.spring.data();
   const double period = 2 * cylinder_.half_length;
   const typename Law::Pair only = table<Law>(species0_, species0_);  // kOneSpecies: the pair

@@ -7,24 +7,41 @@
 
 namespace tumble::io {
 namespace {
-// The first n vectors as a flat row-major (n, 3) array.
-std::vector<double> flat(const std::vector<Vec3>& a, std::size_t n) {
+// One column of Particles as the dataset `name`: its first n rows (Vec3: an (n, 3) array of
+// doubles; the scalar types as themselves, one row each). Each rank writes its own rows.
+void write_column(H5File& f, const std::string& name, const std::vector<Vec3>& a, std::size_t n) {
   std::vector<double> out(3 * n);
   for (std::size_t i = 0; i < n; ++i)
     for (int d = 0; d < 3; ++d) out[3 * i + d] = a[i][d];
-  return out;
+  f.write_rows(name, out, 3);
 }
-std::vector<Vec3> unflat(const std::vector<double>& a) {
-  std::vector<Vec3> out(a.size() / 3);
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = {a[3 * i], a[3 * i + 1], a[3 * i + 2]};
-  return out;
-}
-}  // namespace
-
 template <class T>
-std::vector<T> head(const std::vector<T>& a, std::size_t n) {
-  return std::vector<T>(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(n));
+void write_column(H5File& f, const std::string& name, const std::vector<T>& a, std::size_t n) {
+  f.write_rows(name, std::vector<T>(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(n)));
 }
+
+// Rows [begin, begin + count) of the dataset `name` into a column (the inverse of write_column).
+void read_column(const H5File& f, const std::string& name, hsize_t begin, hsize_t count,
+                 std::vector<Vec3>& out) {
+  const std::vector<double> a = f.read_rows_double(name, begin, count);
+  out.resize(a.size() / 3);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = {a[3 * i], a[3 * i + 1], a[3 * i + 2]};
+}
+void read_column(const H5File& f, const std::string& name, hsize_t begin, hsize_t count,
+                 std::vector<double>& out) {
+  out = f.read_rows_double(name, begin, count);
+}
+void read_column(const H5File& f, const std::string& name, hsize_t begin, hsize_t count,
+                 std::vector<std::int32_t>& out) {
+  out = f.read_rows_int32(name, begin, count);
+}
+void read_column(const H5File& f, const std::string& name, hsize_t begin, hsize_t count,
+                 std::vector<std::int64_t>& out) {
+  out = f.read_rows_int64(name, begin, count);
+}
+
+std::string dataset_of(const char* field) { return std::string("particles/") + field; }
+}  // namespace
 
 void write_checkpoint(const std::string& path, const Simulation& sim, const Scene& scene,
                       const analysis::Series& series, std::int64_t snapshots_written) {
@@ -33,17 +50,10 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   const std::size_t n = sim.local_count();
   AtomicH5Writer out(path, sim.domain() ? sim.domain()->comm() : MPI_COMM_NULL);
   H5File& f = out.file();
-  f.write_rows("particles/x", flat(p.x, n), 3);
-  f.write_rows("particles/v", flat(p.v, n), 3);
-  f.write_rows("particles/w", flat(p.w, n), 3);
-  f.write_rows("particles/f", flat(p.f, n), 3);
-  f.write_rows("particles/t", flat(p.t, n), 3);
-  f.write_rows("particles/wall_spring", flat(p.wall_spring, n), 3);
-  f.write_rows("particles/radius", head(p.radius, n));
-  f.write_rows("particles/inv_mass", head(p.inv_mass, n));
-  f.write_rows("particles/inv_inertia", head(p.inv_inertia, n));
-  f.write_rows("particles/species", head(p.species, n));
-  f.write_rows("particles/id", head(p.id, n));
+  // Every field the list marks for checkpoints (base/particle_fields.hpp), in list order.
+  for_each_field<field::kCheckpoint>(p, [&](const char* name, const auto& column) {
+    write_column(f, dataset_of(name), column, n);
+  });
   neighbor::ContactHistory h;
   sim.neighbors().save_history(p, h);
   std::vector<std::int64_t> pairs;
@@ -51,11 +61,11 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   for (const auto& r : h.records()) {
     pairs.push_back(r.lo);
     pairs.push_back(r.hi);
-    for (int d = 0; d < 3; ++d) springs.push_back(r.spring[d]);
+    for (int d = 0; d < neighbor::kHistoryDoubles; ++d) springs.push_back(r.spring[d]);
     for (int d = 0; d < 3; ++d) anchors.push_back(r.anchor[d]);
   }
   f.write_rows("contacts/pair_ids", pairs, 2);
-  f.write_rows("contacts/spring", springs, 3);
+  f.write_rows("contacts/spring", springs, neighbor::kHistoryDoubles);
   f.write_rows("contacts/anchor", anchors, 3);
   write_series(f, series);
   f.set_attr("/", "time", sim.time());
@@ -79,20 +89,11 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
   const auto n = static_cast<std::int64_t>(f.shape("particles/id")[0]);
   const auto b0 = static_cast<hsize_t>(n * rank / size),
              b1 = static_cast<hsize_t>(n * (rank + 1) / size);
-  auto rows = [&](const std::string& name) { return f.read_rows_double(name, b0, b1 - b0); };
   Particles& p = c.particles;
-  p.x = unflat(rows("particles/x"));
-  p.resize(p.x.size());
-  p.v = unflat(rows("particles/v"));
-  p.w = unflat(rows("particles/w"));
-  p.f = unflat(rows("particles/f"));
-  p.t = unflat(rows("particles/t"));
-  p.wall_spring = unflat(rows("particles/wall_spring"));
-  p.radius = rows("particles/radius");
-  p.inv_mass = rows("particles/inv_mass");
-  p.inv_inertia = rows("particles/inv_inertia");
-  p.species = f.read_rows_int32("particles/species", b0, b1 - b0);
-  p.id = f.read_rows_int64("particles/id", b0, b1 - b0);
+  p.resize(b1 - b0);  // fields not in checkpoints start value-initialised
+  for_each_field<field::kCheckpoint>(p, [&](const char* name, auto& column) {
+    read_column(f, dataset_of(name), b0, b1 - b0, column);
+  });
   // Contact records: a block each (routed to the pairs' ranks by their anchors). Checkpoints
   // written before anchors existed give every rank every record instead.
   const auto nc = static_cast<std::int64_t>(f.shape("contacts/spring")[0]);
@@ -103,11 +104,12 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
   const auto springs = f.read_rows_double("contacts/spring", c0, c1 - c0);
   const auto anchors = anchored ? f.read_rows_double("contacts/anchor", c0, c1 - c0)
                                 : std::vector<double>(springs.size(), 0.0);
+  constexpr int h = neighbor::kHistoryDoubles;
   std::vector<neighbor::SavedSpring> recs(pairs.size() / 2);
   for (std::size_t k = 0; k < recs.size(); ++k)
     recs[k] = {pairs[2 * k],
                pairs[2 * k + 1],
-               {springs[3 * k], springs[3 * k + 1], springs[3 * k + 2]},
+               {springs[h * k], springs[h * k + 1], springs[h * k + 2]},
                {anchors[3 * k], anchors[3 * k + 1], anchors[3 * k + 2]}};
   c.history.set_records(std::move(recs));
   read_series(f, c.series);

@@ -10,11 +10,31 @@
 
 namespace tumble::neighbor {
 
+// Doubles of history per contact that the store holds: one Vec3 (the tangential spring), in the
+// Verlet list (VerletList::spring), in the saved records below, in migration messages and in
+// checkpoints. Each contact law says how many it needs (kHistoryDoubles in contact/laws.hpp); the
+// engine checks at compile time that they agree.
+constexpr int kHistoryDoubles = 3;
+
 struct SavedSpring {
   std::int64_t lo, hi;  // global ids, lo < hi
   Vec3 spring;          // as seen from particle `lo`
   Vec3 anchor;          // position of one of the pair when saved: routes the record between ranks
 };
+
+// A record as a row of doubles in migration messages: ids (< 2^53, exact), history, anchor.
+constexpr int kRecordDoubles = 2 + kHistoryDoubles + 3;
+inline void append_record(const SavedSpring& s, std::vector<double>& out) {
+  out.insert(out.end(), {static_cast<double>(s.lo), static_cast<double>(s.hi), s.spring.x,
+                         s.spring.y, s.spring.z, s.anchor.x, s.anchor.y, s.anchor.z});
+}
+inline SavedSpring record_from(const double* in) {
+  return {static_cast<std::int64_t>(in[0]),
+          static_cast<std::int64_t>(in[1]),
+          {in[2], in[3], in[4]},
+          {in[5], in[6], in[7]}};
+}
+static_assert(kRecordDoubles == 8, "append_record/record_from spell out one Vec3 of history");
 
 class ContactHistory {
  public:

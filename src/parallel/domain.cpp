@@ -95,18 +95,13 @@ void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& record
     tree_.ranks_near(s.anchor, reach, period_z_, near);
     for (int r : near) {
       if (r == rank_) continue;
-      auto& o = out[r];
-      o.insert(o.end(), {static_cast<double>(s.lo), static_cast<double>(s.hi), s.spring.x,
-                         s.spring.y, s.spring.z, s.anchor.x, s.anchor.y, s.anchor.z});
+      neighbor::append_record(s, out[r]);
     }
   }
   std::vector<int> from;
   const std::vector<double> in = exchange(comm_, out, from);
-  for (std::size_t k = 0; k + 8 <= in.size(); k += 8)
-    records.push_back({static_cast<std::int64_t>(in[k]),
-                       static_cast<std::int64_t>(in[k + 1]),
-                       {in[k + 2], in[k + 3], in[k + 4]},
-                       {in[k + 5], in[k + 6], in[k + 7]}});
+  for (std::size_t k = 0; k + neighbor::kRecordDoubles <= in.size(); k += neighbor::kRecordDoubles)
+    records.push_back(neighbor::record_from(in.data() + k));
   rebuild_seconds_ += MPI_Wtime() - t0;
 }
 
@@ -155,21 +150,13 @@ void Domain::refresh_ghosts(Particles& p, std::size_t n_local) {
   for (int r = 0; r < size_; ++r) {
     if (send_[r].empty()) continue;
     double* begin = o;
-    for (std::uint32_t i : send_[r]) {
-      put(o, p.x[i]);
-      put(o, p.v[i]);
-      put(o, p.w[i]);
-    }
+    for (std::uint32_t i : send_[r]) put_row<field::kGhostRefresh>(o, p, i);
     req.emplace_back();
     MPI_Isend(begin, static_cast<int>(o - begin), MPI_DOUBLE, r, 7, comm_, &req.back());
   }
   MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
   const double* in = buf_in_.data();
-  for (std::size_t g = n_local; g < p.size(); ++g) {
-    p.x[g] = take(in);
-    p.v[g] = take(in);
-    p.w[g] = take(in);
-  }
+  for (std::size_t g = n_local; g < p.size(); ++g) take_row<field::kGhostRefresh>(in, p, g);
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 

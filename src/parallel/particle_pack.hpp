@@ -1,8 +1,8 @@
 #pragma once
-// Particles as flat rows of doubles for MPI messages: the whole state (migration, gathers) or
-// only what changes every step (ghost refresh: x, v, w). Ids (< 2^53) and species travel as
-// doubles exactly. A new per-particle field must be added here, in Particles::permute and in
-// io/checkpoint.cpp.
+// Particles as flat rows of doubles for MPI messages, generated from the field list
+// (base/particle_fields.hpp): the whole state (fields with field::kMigrate: migration, ghost
+// copies, gathers) or only what changes every step (field::kGhostRefresh: x, v, w). Ids (< 2^53)
+// and species travel as doubles exactly.
 #include <cstdint>
 #include <vector>
 
@@ -10,8 +10,32 @@
 
 namespace tumble::parallel {
 
-constexpr int kStateDoubles = 23;  // every field of Particles
-constexpr int kMotionDoubles = 9;  // x, v, w
+// Doubles one value of a field type takes in a row (a type without one cannot be in the list).
+template <class T>
+constexpr int kDoublesOf = 0;
+template <>
+constexpr int kDoublesOf<Vec3> = 3;
+template <>
+constexpr int kDoublesOf<double> = 1;
+template <>
+constexpr int kDoublesOf<std::int32_t> = 1;
+template <>
+constexpr int kDoublesOf<std::int64_t> = 1;
+
+// Width of a row of the fields with all bits of `Mask`, from the list at compile time.
+template <unsigned Mask>
+constexpr int row_doubles() {
+  int n = 0;
+  for_each_field_type<Mask>([&n](const char*, auto type) {
+    using T = typename decltype(type)::type;
+    static_assert(kDoublesOf<T> > 0, "a per-particle field type parallel/ cannot carry yet");
+    n += kDoublesOf<T>;
+  });
+  return n;
+}
+
+constexpr int kStateDoubles = row_doubles<field::kMigrate>();
+constexpr int kMotionDoubles = row_doubles<field::kGhostRefresh>();
 
 inline void put(double*& o, const Vec3& a) {
   o[0] = a.x;
@@ -19,47 +43,41 @@ inline void put(double*& o, const Vec3& a) {
   o[2] = a.z;
   o += 3;
 }
-inline Vec3 take(const double*& in) {
-  const Vec3 a{in[0], in[1], in[2]};
+inline void put(double*& o, double a) { *o++ = a; }
+inline void put(double*& o, std::int32_t a) { *o++ = a; }
+inline void put(double*& o, std::int64_t a) { *o++ = static_cast<double>(a); }
+
+inline void take(const double*& in, Vec3& a) {
+  a = {in[0], in[1], in[2]};
   in += 3;
-  return a;
+}
+inline void take(const double*& in, double& a) { a = *in++; }
+inline void take(const double*& in, std::int32_t& a) { a = static_cast<std::int32_t>(*in++); }
+inline void take(const double*& in, std::int64_t& a) { a = static_cast<std::int64_t>(*in++); }
+
+// Appends row i of the fields with all bits of `Mask` to `o` (which has room for it).
+template <unsigned Mask>
+inline void put_row(double*& o, const Particles& p, std::size_t i) {
+  for_each_field<Mask>(p, [&o, i](const char*, const auto& column) { put(o, column[i]); });
+}
+// Reads one row of the fields with all bits of `Mask` into particle k.
+template <unsigned Mask>
+inline void take_row(const double*& in, Particles& p, std::size_t k) {
+  for_each_field<Mask>(p, [&in, k](const char*, auto& column) { take(in, column[k]); });
 }
 
 inline void pack_state(const Particles& p, std::size_t i, std::vector<double>& out) {
   const std::size_t at = out.size();
   out.resize(at + kStateDoubles);
   double* o = out.data() + at;
-  put(o, p.x[i]);
-  put(o, p.v[i]);
-  put(o, p.w[i]);
-  put(o, p.f[i]);
-  put(o, p.t[i]);
-  put(o, p.wall_spring[i]);
-  o[0] = p.radius[i];
-  o[1] = p.inv_mass[i];
-  o[2] = p.inv_inertia[i];
-  o[3] = p.species[i];
-  o[4] = static_cast<double>(p.id[i]);
+  put_row<field::kMigrate>(o, p, i);
 }
 
 // Appends the particles of `in` (whole rows of kStateDoubles).
 inline void unpack_state(const double* in, std::size_t rows, Particles& p) {
   std::size_t k = p.size();
   p.resize(k + rows);
-  for (std::size_t r = 0; r < rows; ++r, ++k) {
-    p.x[k] = take(in);
-    p.v[k] = take(in);
-    p.w[k] = take(in);
-    p.f[k] = take(in);
-    p.t[k] = take(in);
-    p.wall_spring[k] = take(in);
-    p.radius[k] = in[0];
-    p.inv_mass[k] = in[1];
-    p.inv_inertia[k] = in[2];
-    p.species[k] = static_cast<std::int32_t>(in[3]);
-    p.id[k] = static_cast<std::int64_t>(in[4]);
-    in += 5;
-  }
+  for (std::size_t r = 0; r < rows; ++r, ++k) take_row<field::kMigrate>(in, p, k);
 }
 
 }  // namespace tumble::parallel
