@@ -3,11 +3,12 @@
 // coefficients made from the scene, force kernel, elastic energy, lever arm, time-step bound,
 // static overlap, scene keys and cached-bed key fields); the engine instantiates its pair and wall
 // loops once per law, so no contact ever branches on which law is in use. To add a law, write its
-// file after contact/yu2022.hpp and add it to `Laws` below.
+// file after contact/hertz_mindlin.hpp and add it to `Laws` below.
 #include <string>
 #include <type_traits>
 #include <variant>
 
+#include "contact/hertz_mindlin.hpp"
 #include "contact/rapaport2007.hpp"
 #include "contact/yu2022.hpp"
 #include "scene/law_registry.hpp"
@@ -17,7 +18,7 @@ namespace tumble::contact {
 
 template <class... L>
 struct LawList {};
-using Laws = LawList<Yu2022Law, Rapaport2007Law>;  // <- the registration line
+using Laws = LawList<Yu2022Law, Rapaport2007Law, HertzMindlinLaw>;  // <- the registration line
 
 // The coefficients of one law for every species pair and species-wall pair, made once per scene.
 template <class Law>
