@@ -30,7 +30,7 @@ ALLOWED = {
     "run": {"base", "h5", "scene", "contact", "geometry", "engine", "io", "analysis", "cm"},
     "campaign": {"base", "h5", "projection", "scene", "engine", "io", "analysis", "islands", "cm",
                  "run"},
-    "app": {"base", "h5", "scene", "engine", "io", "analysis", "islands", "cm", "run",
+    "app": {"base", "h5", "scene", "contact", "engine", "io", "analysis", "islands", "cm", "run",
             "campaign"},
 }
 EXTERNAL = {"tumble_deps", "tumble_version"}

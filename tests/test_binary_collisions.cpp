@@ -6,62 +6,10 @@
 
 #include <cmath>
 
-#include "dem_helpers.hpp"
+#include "collision_fixtures.hpp"
 
 using namespace tumble;
 using namespace tumble::testing;
-
-namespace {
-struct Outcome {
-  double restitution = 0, duration = 0;
-};
-
-// Two particles approaching head-on along x with relative speed u.
-Outcome pair_collision(int sa, int sb, double u, const Scene& s) {
-  const double ra = 0.5 * (sa ? s.d_large : s.d_small), rb = 0.5 * (sb ? s.d_large : s.d_small);
-  const double gap = 0.1 * s.d_small;
-  Simulation sim(s,
-                 make_particles(s, {{{-ra - gap / 2, 0, 0}, {u / 2, 0, 0}, {}, sa},
-                                    {{rb + gap / 2, 0, 0}, {-u / 2, 0, 0}, {}, sb}}),
-                 geometry::Protocol::at_rest());
-  sim.compute_forces();
-  auto overlap = [&]() {
-    const auto& p = sim.particles();
-    return p.radius[0] + p.radius[1] - norm(p.x[0] - p.x[1]);
-  };
-  double prev = overlap(), t_start = -1, t_end = -1;
-  for (int k = 0; k < 100000 && t_end < 0; ++k) {
-    sim.step();
-    const double ov = overlap();
-    if (t_start < 0 && prev <= 0 && ov > 0) t_start = sim.time() - sim.dt() * ov / (ov - prev);
-    if (t_start >= 0 && prev > 0 && ov <= 0) t_end = sim.time() - sim.dt() * ov / (ov - prev);
-    prev = ov;
-  }
-  const auto& p = sim.particles();
-  const std::size_t a = index_of(sim, 0), b = index_of(sim, 1);
-  const double v_after = p.v[b].x - p.v[a].x;  // separating: b moves +x relative to a
-  return {v_after / u, t_end - t_start};
-}
-
-// A particle moving radially onto the (resting) tumbler wall with speed u.
-Outcome wall_collision(int sp, double u, const Scene& s) {
-  const double r = 0.5 * (sp ? s.d_large : s.d_small);
-  const double y0 = -(s.radius - r - 0.05 * s.d_small);
-  Simulation sim(s, make_particles(s, {{{0, y0, 0}, {0, -u, 0}, {}, sp}}),
-                 geometry::Protocol::at_rest());
-  sim.compute_forces();
-  auto overlap = [&]() { return norm(sim.particles().x[0]) + r - s.radius; };
-  double prev = overlap(), t_start = -1, t_end = -1;
-  for (int k = 0; k < 100000 && t_end < 0; ++k) {
-    sim.step();
-    const double ov = overlap();
-    if (t_start < 0 && prev <= 0 && ov > 0) t_start = sim.time() - sim.dt() * ov / (ov - prev);
-    if (t_start >= 0 && prev > 0 && ov <= 0) t_end = sim.time() - sim.dt() * ov / (ov - prev);
-    prev = ov;
-  }
-  return {sim.particles().v[0].y / u, t_end - t_start};
-}
-}  // namespace
 
 class BinaryCollision : public ::testing::TestWithParam<std::pair<int, int>> {};
 

@@ -7,12 +7,14 @@
 #include "app/commands.hpp"
 #include "base/error.hpp"
 #include "base/version.hpp"
+#include "contact/laws.hpp"
 
 int main(int argc, char** argv) {
   // FUNNELED: `tumble campaign` runs rank 0's own cases in a thread that makes no MPI calls.
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
   std::cout.setf(std::ios::unitbuf);  // progress lines reach logs and pipes at once
+  tumble::contact::register_laws();   // before any scene is read (scene/law_registry.hpp)
   CLI::App app{"Tumble: DEM campaigns of granular segregation in tumblers"};
   app.set_version_flag("--version", std::string(tumble::kVersion) + " (" + tumble::kGitHash + ")");
   app.require_subcommand(1);

@@ -14,6 +14,8 @@
 #include <cmath>
 
 #include "base/vec3.hpp"
+#include "scene/law_registry.hpp"
+#include "scene/scene.hpp"
 
 namespace tumble::contact {
 
@@ -72,5 +74,86 @@ inline Vec3 yu2022_force(const Yu2022Pair& p, const Vec3& n, double overlap, con
   }
   return force;
 }
+
+// The law as the engine and the scene layer see it (contact/laws.hpp lists the laws). Its
+// parameters are the scene's contact.restitution, collision_time, friction, wall_friction and
+// tangential_damping; it owns no key of its own.
+struct Yu2022Law {
+  static constexpr const char* kName = "yu2022";
+  using Pair = Yu2022Pair;
+  static constexpr int kHistoryDoubles = 3;  // the tangential spring β, one Vec3
+
+  // Coefficients of species a against species b (0 small, 1 large): m_eff = m_a m_b / (m_a + m_b).
+  static Pair make_pair(const Scene& s, int a, int b) {
+    const double m[2] = {s.mass_small(), s.mass_large()};
+    return yu2022_pair(s.restitution, s.collision_time, s.tangential_damping, s.friction,
+                       m[a] * m[b] / (m[a] + m[b]));
+  }
+  // Species a against the wall: m_eff = m_a.
+  static Pair make_wall(const Scene& s, int a) {
+    const double m[2] = {s.mass_small(), s.mass_large()};
+    return yu2022_pair(s.restitution, s.collision_time, s.tangential_damping, s.wall_friction,
+                       m[a]);
+  }
+  // Whether the pair and the wall contacts have any tangential force (friction kernels).
+  static bool pair_friction(const Scene& s) { return s.friction > 0; }
+  static bool wall_friction(const Scene& s) { return s.wall_friction > 0; }
+
+  // Lever arm of the contact point from the centre of a particle of radius r when the centres are
+  // `dist` apart with radii summing to `rsum`: the radius (Yu 2022, as LAMMPS granular).
+  static double lever(double r, double /*dist*/, double /*rsum*/) { return r; }
+  template <bool kFriction>
+  static Vec3 force(const Pair& p, const Vec3& n, double overlap, const Vec3& vrel, Vec3& history,
+                    double dt, Vec3& ft) {
+    return yu2022_force<kFriction>(p, n, overlap, vrel, history, dt, ft);
+  }
+  static double normal(const Pair& p, double overlap, double vn) {
+    return p.kn * overlap - p.dn * vn;
+  }
+  static double elastic_energy(const Pair& p, double overlap, const Vec3& history) {
+    return 0.5 * p.kn * overlap * overlap + 0.5 * p.kt * norm2(history);
+  }
+
+  // Time-step bound (scene/law_registry.hpp): the wall contact (m_eff = m) is the stiffest,
+  // ω0² = (π/t_c)² + γ_n², γ = γ_n; pairs have k/m (m the lighter) smaller by m_eff / m_lighter.
+  static double time_step_bound(const Scene& s) {
+    const double gamma_n = -std::log(s.restitution) / s.collision_time;
+    const double w2 = (kPi / s.collision_time) * (kPi / s.collision_time) + gamma_n * gamma_n;
+    const double ms = s.mass_small(), ml = s.mass_large();
+    double scale = 1;  // k/m relative to the wall contact's w2 (pairs: m_eff / lighter mass <= 1/2)
+    for (double a : {ms, ml})
+      for (double b : {ms, ml}) scale = std::max(scale, (a * b / (a + b)) / std::min(a, b));
+    return damped_time_step_bound(scale * w2, scale * gamma_n);
+  }
+  // A small-small contact: k_n = [(π/t_c)² + γ_n²] m_s / 2.
+  static double static_overlap(const Scene& s, double force) {
+    const double gamma_n = -std::log(s.restitution) / s.collision_time;
+    const double k = ((kPi / s.collision_time) * (kPi / s.collision_time) + gamma_n * gamma_n) *
+                     0.5 * s.mass_small();
+    return force / k;
+  }
+  // The overlap scales as 1/k ∝ t_c².
+  static StifferHint stiffer(const Scene& s, double overlap) {
+    return {"contact.collision_time",
+            " <= ", s.collision_time * std::sqrt(kMaxWeightOverlap / overlap)};
+  }
+  // Fields of the cached-bed key beyond the common ones (io/bed_io.cpp): none (its parameters
+  // are common keys, already in the key).
+  static std::string bed_key_fields(const Scene&) { return ""; }
+  // Settled beds press into the wall by up to the overlap the validator accepts.
+  static double bed_wall_tolerance(const Scene& s, double r) {
+    return std::max(0.1 * r, kMaxWeightOverlap * s.d_small);
+  }
+
+  static ContactLawSpec spec() {
+    ContactLawSpec l;
+    l.name = kName;
+    l.time_from_collision_time = true;
+    l.time_step_bound = &time_step_bound;
+    l.static_overlap = &static_overlap;
+    l.stiffer = &stiffer;
+    return l;
+  }
+};
 
 }  // namespace tumble::contact

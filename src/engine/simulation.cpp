@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
-#include <type_traits>
 
 #include "base/error.hpp"
 
@@ -21,34 +20,10 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
       step_(step) {
   wall_.radius = s.radius;
   is_cylinder_ = s.cylinder();
-  rapaport_ = s.rapaport();
   leapfrog_ = s.integrator == "leapfrog";
   cylinder_.radius = s.radius;
   cylinder_.half_length = 0.5 * s.length;
   cylinder_.periodic = s.periodic == "on";
-  const double m[2] = {s.mass_small(), s.mass_large()};
-  for (int a = 0; a < 2; ++a) {
-    for (int b = 0; b < 2; ++b)
-      pair_[a][b] = contact::yu2022_pair(s.restitution, s.collision_time, s.tangential_damping,
-                                         s.friction, m[a] * m[b] / (m[a] + m[b]));
-    wall_pair_[a] = contact::yu2022_pair(s.restitution, s.collision_time, s.tangential_damping,
-                                         s.wall_friction, m[a]);
-  }
-  // Rapaport 2007: μ of a species pair is μ_max times its γ_s over the largest γ_s; the walls use
-  // the like-species values ("the particle-wall values are identical").
-  const double gs[2][2] = {{s.gamma_s_ss, s.gamma_s_sl}, {s.gamma_s_sl, s.gamma_s_ll}};
-  const double gs_max = std::max({s.gamma_s_ss, s.gamma_s_sl, s.gamma_s_ll});
-  for (int a = 0; a < 2; ++a)
-    for (int b = 0; b < 2; ++b) {
-      contact::Rapaport2007Pair& c = rpair_[a][b];
-      c.kn = s.kn;
-      c.gn = s.gamma_n;
-      c.gs = gs[a][b];
-      c.mu = gs_max > 0 ? s.mu_max * gs[a][b] / gs_max : s.mu_max;
-      c.kg = s.kg;
-      c.ratchet = s.ratchet;
-    }
-  for (int a = 0; a < 2; ++a) rwall_[a] = rpair_[a][a];
 
   // Chosen once per scene: law, wall and, for frictionless scenes, no tangential history and no
   // rotation; one species present: no species lookups. TUMBLE_GENERAL_KERNELS=1 turns the last two
@@ -73,12 +48,11 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
   const char* general = std::getenv("TUMBLE_GENERAL_KERNELS");
   const bool force_general = general != nullptr && std::string(general) == "1";
   if (force_general) one_species_ = false;
-  if (rapaport_) {
-    const bool friction = s.mu_max > 0 && (gs_max > 0 || s.kg > 0);
-    select_kernels<contact::Rapaport2007Law>(friction, friction, cylinder_.periodic);
-  } else {
-    select_kernels<contact::Yu2022Law>(s.friction > 0, s.wall_friction > 0, cylinder_.periodic);
-  }
+  contact::with_law(s, [&](auto tag) {
+    using Law = typename decltype(tag)::type;
+    tables_ = contact::Tables<Law>::make(s);
+    select_kernels<Law>(Law::pair_friction(s), Law::wall_friction(s), cylinder_.periodic);
+  });
   if (force_general) rotation_ = true;
 
   // Cells cover the tumbler's bounding box; side >= largest cutoff. A periodic cylinder's box is
@@ -163,24 +137,9 @@ void Simulation::select_kernels(bool friction, bool wall_friction, bool periodic
   else
     wall_kernel_ = wall_friction ? &Simulation::sphere_wall_forces<Law, true>
                                  : &Simulation::sphere_wall_forces<Law, false>;
+  elastic_energy_ = &Simulation::elastic_energy<Law>;
   // Without friction nothing exerts a torque: the integrator leaves the spins alone.
   rotation_ = friction || wall_friction;
-}
-
-template <class Law>
-const typename Law::Pair& Simulation::table(int a, int b) const {
-  if constexpr (std::is_same_v<Law, contact::Rapaport2007Law>)
-    return rpair_[a][b];
-  else
-    return pair_[a][b];
-}
-
-template <class Law>
-const typename Law::Pair& Simulation::wall_table(int a) const {
-  if constexpr (std::is_same_v<Law, contact::Rapaport2007Law>)
-    return rwall_[a];
-  else
-    return wall_pair_[a];
 }
 
 void Simulation::rebuild_lists(const neighbor::ContactHistory* history) {
@@ -321,7 +280,8 @@ void Simulation::pair_forces() {
   static_assert(Law::kHistoryDoubles == neighbor::kHistoryDoubles);
   Vec3* __restrict spring = list_.spring.data();
   const double period = 2 * cylinder_.half_length;
-  const typename Law::Pair only = table<Law>(species0_, species0_);  // kOneSpecies: the pair
+  const auto& pairs = tables<Law>().pair;
+  const typename Law::Pair only = pairs[species0_][species0_];  // kOneSpecies: the pair
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 xi = x[i];
     const double ri = rad[i];
@@ -342,8 +302,8 @@ void Simulation::pair_forces() {
       const double li = Law::lever(ri, dist, rsum), lj = Law::lever(rad[j], dist, rsum);
       const Vec3 vrel = v[i] - v[j] - cross(li * w[i] + lj * w[j], nrm);
       Vec3 ft;
-      const Vec3 fc = Law::template force<kFriction>(kOneSpecies ? only : table<Law>(sp[i], sp[j]),
-                                                     nrm, rsum - dist, vrel, spring[k], dt_, ft);
+      const Vec3 fc = Law::template force<kFriction>(kOneSpecies ? only : pairs[sp[i]][sp[j]], nrm,
+                                                     rsum - dist, vrel, spring[k], dt_, ft);
       fi += fc;
       f[j] -= fc;
       if constexpr (kFriction) {
@@ -362,6 +322,7 @@ void Simulation::pair_forces() {
 template <class Law, bool kFriction, class Wall>
 void Simulation::rough_wall_forces(const Wall& wall) {
   const Vec3 omega = protocol_.omega(time_);
+  const auto& walls = tables<Law>().wall;
   for (const std::uint32_t i : wall_candidates_) {
     Vec3 nrm, point;
     const double ri = p_.radius[i];
@@ -373,8 +334,8 @@ void Simulation::rough_wall_forces(const Wall& wall) {
     const double li = Law::lever(ri, ri - overlap, ri);
     const Vec3 vrel = p_.v[i] - cross(li * p_.w[i], nrm) - cross(omega, point);
     Vec3 ft;
-    const Vec3 fc = Law::template force<kFriction>(wall_table<Law>(p_.species[i]), nrm, overlap,
-                                                   vrel, p_.wall_spring[i], dt_, ft);
+    const Vec3 fc = Law::template force<kFriction>(walls[p_.species[i]], nrm, overlap, vrel,
+                                                   p_.wall_spring[i], dt_, ft);
     p_.f[i] += fc;
     if constexpr (kFriction) p_.t[i] += li * cross(ft, nrm);
   }
@@ -390,11 +351,12 @@ void Simulation::sphere_wall_forces() {
 template <class Law, bool kFriction>
 void Simulation::cylinder_wall_forces() {
   rough_wall_forces<Law, kFriction>(cylinder_);
+  const auto& walls = tables<Law>().wall;
   for (const std::uint32_t i : cap_candidates_) {
     double nz;
     const double overlap = cylinder_.cap_overlap(p_.x[i], p_.radius[i], nz);
     if (overlap <= 0) continue;
-    p_.f[i].z += nz * Law::normal(wall_table<Law>(p_.species[i]), overlap, nz * p_.v[i].z);
+    p_.f[i].z += nz * Law::normal(walls[p_.species[i]], overlap, nz * p_.v[i].z);
   }
 }
 
@@ -431,15 +393,16 @@ template <class Law>
 double Simulation::elastic_energy() const {
   double e = 0;
   const double period = 2 * cylinder_.half_length;
+  const auto& tab = tables<Law>();
   for (std::size_t i = 0; i < n_local_; ++i) {
     Vec3 nrm, point;
     const double ov = wall_overlap(p_.x[i], p_.radius[i], nrm, point);
-    if (ov > 0) e += Law::elastic_energy(wall_table<Law>(p_.species[i]), ov, p_.wall_spring[i]);
+    if (ov > 0) e += Law::elastic_energy(tab.wall[p_.species[i]], ov, p_.wall_spring[i]);
     if (is_cylinder_) {
       double nz;
       const double ovc = cylinder_.cap_overlap(p_.x[i], p_.radius[i], nz);
       if (!cylinder_.periodic && ovc > 0)
-        e += Law::elastic_energy(wall_table<Law>(p_.species[i]), ovc, Vec3{});
+        e += Law::elastic_energy(tab.wall[p_.species[i]], ovc, Vec3{});
     }
     for (std::uint32_t k = list_.start[i]; k < list_.start[i + 1]; ++k) {
       const std::uint32_t j = list_.nbr[k];
@@ -450,7 +413,7 @@ double Simulation::elastic_energy() const {
       const double share = j >= n_local_ ? 0.5 : 1.0;
       if (ovp > 0)
         e += share *
-             Law::elastic_energy(table<Law>(p_.species[i], p_.species[j]), ovp, list_.spring[k]);
+             Law::elastic_energy(tab.pair[p_.species[i]][p_.species[j]], ovp, list_.spring[k]);
     }
   }
   return e;
@@ -463,8 +426,7 @@ EnergyBreakdown Simulation::energy() const {
     e.kinetic += 0.5 * m * norm2(p_.v[i]) + 0.5 / p_.inv_inertia[i] * norm2(p_.w[i]);
     e.potential -= m * dot(gravity_, p_.x[i]);
   }
-  e.elastic =
-      rapaport_ ? elastic_energy<contact::Rapaport2007Law>() : elastic_energy<contact::Yu2022Law>();
+  e.elastic = (this->*elastic_energy_)();
   if (dom_) {
     double parts[3] = {e.kinetic, e.potential, e.elastic};
     MPI_Allreduce(MPI_IN_PLACE, parts, 3, MPI_DOUBLE, MPI_SUM, dom_->comm());

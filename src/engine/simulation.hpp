@@ -9,15 +9,16 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <variant>
 
-#include "contact/laws.hpp"
 #include "base/particles.hpp"
-#include "scene/scene.hpp"
+#include "contact/laws.hpp"
 #include "geometry/cylinder_wall.hpp"
 #include "geometry/protocol.hpp"
 #include "geometry/sphere_wall.hpp"
 #include "neighbor/verlet_list.hpp"
 #include "parallel/domain.hpp"
+#include "scene/scene.hpp"
 
 namespace tumble {
 
@@ -79,10 +80,16 @@ class Simulation {
   std::uint64_t rebuilds() const { return list_.builds; }
   // Number of rebuilds that came fewer than 10 steps after the previous one (skin too thin).
   std::uint64_t fast_rebuilds() const { return fast_rebuilds_; }
-  const contact::Yu2022Pair& pair(int a, int b) const { return pair_[a][b]; }
-  const contact::Yu2022Pair& wall_pair(int a) const { return wall_pair_[a]; }
-  const contact::Rapaport2007Pair& rapaport_pair(int a, int b) const { return rpair_[a][b]; }
-  const contact::Rapaport2007Pair& rapaport_wall(int a) const { return rwall_[a]; }
+  // The coefficient tables of the scene's law (throws std::bad_variant_access for another law).
+  template <class Law>
+  const contact::Tables<Law>& tables() const {
+    return std::get<contact::Tables<Law>>(tables_);
+  }
+  // The Yu law's coefficients (yu2022 scenes).
+  const contact::Yu2022Pair& pair(int a, int b) const {
+    return tables<contact::Yu2022Law>().pair[a][b];
+  }
+  const contact::Yu2022Pair& wall_pair(int a) const { return tables<contact::Yu2022Law>().wall[a]; }
 
  private:
   using Kernel = void (Simulation::*)();
@@ -103,10 +110,6 @@ class Simulation {
   template <class Law>
   void select_kernels(bool friction, bool wall_friction, bool periodic);
   template <class Law>
-  const typename Law::Pair& table(int a, int b) const;
-  template <class Law>
-  const typename Law::Pair& wall_table(int a) const;
-  template <class Law>
   double elastic_energy() const;
   // Overlap with the tumbler's wall (curved wall of a cylinder) for diagnostics.
   double wall_overlap(const Vec3& x, double r, Vec3& n, Vec3& point) const;
@@ -124,7 +127,6 @@ class Simulation {
   geometry::SphereWall wall_;
   geometry::CylinderWall cylinder_;
   bool is_cylinder_ = false;
-  bool rapaport_ = false;
   bool leapfrog_ = false;
   bool rotation_ = true;      // false: no friction anywhere, the spins never change
   bool one_species_ = false;  // every particle of species species0_: no pair-table lookups
@@ -133,10 +135,7 @@ class Simulation {
   std::vector<std::uint32_t>
       wall_candidates_;  // particles that may touch the (curved) wall before the next rebuild
   std::vector<std::uint32_t> cap_candidates_;  // cylinder: particles that may touch an end cap
-  contact::Yu2022Pair pair_[2][2];
-  contact::Yu2022Pair wall_pair_[2];
-  contact::Rapaport2007Pair rpair_[2][2];
-  contact::Rapaport2007Pair rwall_[2];
+  contact::AnyTables tables_;  // the coefficients of the scene's law, per species pair and wall
   Vec3 gravity_;
   double dt_;
   double time_;
@@ -146,6 +145,7 @@ class Simulation {
   bool force_rebuild_ = false;
   Kernel pair_kernel_ = nullptr;
   Kernel wall_kernel_ = nullptr;
+  double (Simulation::*elastic_energy_)() const = nullptr;  // of the scene's law
 };
 
 }  // namespace tumble

@@ -8,9 +8,10 @@
 
 #include "base/error.hpp"
 #include "base/hash.hpp"
-#include "scene/fill.hpp"
+#include "contact/laws.hpp"
 #include "h5/hdf5_file.hpp"
 #include "io/snapshot.hpp"
+#include "scene/fill.hpp"
 
 namespace tumble::io {
 
@@ -23,14 +24,11 @@ std::string bed_key(const Scene& s, int code_version) {
      << ";mu=" << s.friction << ";muw=" << s.wall_friction << ";gt=" << s.tangential_damping
      << ";g=" << s.g << ";dt=" << s.time_step() << ";seed=" << s.seed << ";start=" << s.start
      << ";settle=" << s.settle_rms_speed;
-  // Keys added with the cylinder and the Rapaport law; absent for sphere/Yu scenes so their cached
-  // beds keep their names.
+  // Keys added with the cylinder and with each law's own keys (Law::bed_key_fields: none for
+  // yu2022); absent for sphere/Yu scenes so their cached beds keep their names.
   if (s.cylinder())
     os << ";cyl=" << s.length << "," << s.periodic << "," << s.count << "," << s.size_spread;
-  if (s.rapaport())
-    os << ";rap=" << s.kn << "," << s.gamma_n << "," << s.gamma_s_ss << "," << s.gamma_s_sl << ","
-       << s.gamma_s_ll << "," << s.mu_max << "," << s.kg << "," << s.ratchet << "," << s.size_spread
-       << "," << s.integrator;
+  contact::with_law(s, [&](auto tag) { os << decltype(tag)::type::bed_key_fields(s); });
   if (code_version > 1) os << ";code=" << code_version;
   return os.str();
 }
@@ -58,6 +56,9 @@ void write_bed(const std::string& path, const Particles& p, const Scene& scene) 
 
 namespace {
 void check_bed(const Particles& p, const Scene& s, const std::string& path) {
+  double (*wall_tolerance)(const Scene&, double) = nullptr;
+  contact::with_law(s,
+                    [&](auto tag) { wall_tolerance = &decltype(tag)::type::bed_wall_tolerance; });
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double want = 0.5 * (p.species[i] == 1 ? s.d_large : s.d_small);
     const bool size_ok = s.size_spread > 0
@@ -68,14 +69,12 @@ void check_bed(const Particles& p, const Scene& s, const std::string& path) {
       throw InputError("bed '" + path + "': particle " + std::to_string(p.id[i]) + " has radius " +
                        std::to_string(p.radius[i]) + " but the scene's particles.d_" +
                        (p.species[i] == 1 ? "large" : "small") + " gives " + std::to_string(want));
-    // Settled beds press into the wall as far as the scene's contacts let the weight push them:
-    // up to the overlap the validator accepts (kMaxWeightOverlap d_small; soft fidelity tiers get
-    // there), and at least 10% of a radius. The soft particles of the Rapaport law (k_n = 1000)
-    // press in by up to half a radius (measured: 0.52 r in run #E's bed): only the centre must be
-    // in. More than that means a different tumbler.
+    // Settled beds press into the wall as far as the scene's contacts let the weight push them
+    // (Law::bed_wall_tolerance: up to the overlap the validator accepts, kMaxWeightOverlap d_small,
+    // and at least 10% of a radius; the soft Rapaport particles up to the centre). More than that
+    // means a different tumbler.
     const double from_axis = s.cylinder() ? std::hypot(p.x[i].x, p.x[i].y) : norm(p.x[i]);
-    const double tolerance =
-        s.rapaport() ? p.radius[i] : std::max(0.1 * p.radius[i], kMaxWeightOverlap * s.d_small);
+    const double tolerance = wall_tolerance(s, p.radius[i]);
     if (from_axis + p.radius[i] > s.radius + tolerance)
       throw InputError("bed '" + path + "': particle " + std::to_string(p.id[i]) +
                        " lies outside tumbler.radius = " + std::to_string(s.radius));

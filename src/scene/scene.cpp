@@ -5,13 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "base/error.hpp"
-#include "scene/fidelity.hpp"
-#include "scene/fill.hpp"
 #include "base/text_util.hpp"
 #include "base/vec3.hpp"
+#include "scene/fidelity.hpp"
+#include "scene/fill.hpp"
+#include "scene/law_registry.hpp"
 
 namespace tumble {
 
@@ -20,6 +22,12 @@ double Scene::mean_cube(double d) const {
   if (size_spread <= 0) return d * d * d;
   const double a = d - size_spread;  // uniform in [a, d]: E[d^3] = (d^4 - a^4) / (4 (d - a))
   return (d * d * d * d - a * a * a * a) / (4.0 * size_spread);
+}
+double Scene::law_value(const std::string& key) const {
+  const auto it = law_values.find(key);
+  if (it == law_values.end())
+    throw std::logic_error("no registered contact law declares the key '" + key + "'");
+  return it->second;
 }
 double Scene::mass_small() const { return density * kPi / 6.0 * d_small * d_small * d_small; }
 double Scene::mass_large() const {
@@ -52,14 +60,6 @@ const std::map<std::string, double Scene::*>& real_members() {
       {"tumbler.radius", &Scene::radius},
       {"tumbler.length", &Scene::length},
       {"particles.size_spread", &Scene::size_spread},
-      {"contact.kn", &Scene::kn},
-      {"contact.gamma_n", &Scene::gamma_n},
-      {"contact.gamma_s_ss", &Scene::gamma_s_ss},
-      {"contact.gamma_s_sl", &Scene::gamma_s_sl},
-      {"contact.gamma_s_ll", &Scene::gamma_s_ll},
-      {"contact.mu_max", &Scene::mu_max},
-      {"contact.kg", &Scene::kg},
-      {"contact.ratchet", &Scene::ratchet},
       {"protocol.omega", &Scene::omega_set},
       {"protocol.revolutions", &Scene::revolutions},
       {"output.slice_width", &Scene::slice_width},
@@ -116,10 +116,10 @@ const std::map<std::string, std::int64_t Scene::*>& int_members() {
   return m;
 }
 
-const KeySpec* find_spec(const std::string& key) {
+std::optional<KeySpec> find_spec(const std::string& key) {
   for (const auto& s : scene_schema())
-    if (s.key == key) return &s;
-  return nullptr;
+    if (s.key == key) return s;
+  return std::nullopt;
 }
 
 [[noreturn]] void unknown_key(const std::string& key, const std::string& origin) {
@@ -195,8 +195,10 @@ std::string range_text(const KeySpec& s) {
 // Checks every key and value (range, choices) and sets them on a default scene.
 Scene apply_values(const std::map<std::string, Value>& values) {
   Scene s;
+  for (const auto& law : contact_laws())
+    for (const KeySpec& k : law.keys) s.law_values[k.key] = k.def;
   for (const auto& [key, v] : values) {
-    const KeySpec* spec = find_spec(key);
+    const std::optional<KeySpec> spec = find_spec(key);
     if (!spec) unknown_key(key, v.origin);
     const std::string where = "scene error (" + v.origin + "): key '" + key + "'";
     if (spec->type == KeySpec::Text) {
@@ -218,6 +220,8 @@ Scene apply_values(const std::map<std::string, Value>& values) {
         if (v.num != std::floor(v.num))
           throw InputError(where + " = " + v.text + " must be an integer");
         s.*(int_members().at(key)) = static_cast<std::int64_t>(v.num);
+      } else if (!spec->law.empty()) {
+        s.law_values[key] = v.num;
       } else {
         s.*(real_members().at(key)) = v.num;
       }
@@ -282,37 +286,9 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   return parse_scene(ss.str(), overrides, path);
 }
 
-// Velocity Verlet with the dashpot evaluated at the half-step velocity (equivalently leapfrog)
-// integrates x'' = -Ω² x - C x' stably iff Ω² δt² + 2 C δt < 4. The stiffest mode of a packing is
-// estimated by a particle between two of its stiffest contacts (a 1D chain, alternating mode),
-// which doubles both the spring and the damping seen by one contact: Ω² = 4 ω0², C = 4 γ, with ω0²
-// = max k/m over every pair and wall contact (m the lighter partner) and γ = c / 2m the damping
-// rate of that contact. Hence
-//   δt <= (sqrt(4 γ² + ω0²) - 2 γ) / ω0²,
-// which is 1/ω0 without damping (≈ t_c/π for the Yu law) and shrinks as damping grows (e = 0.05:
-// 0.075 t_c). For the Yu law the wall contact (m_eff = m) is the stiffest: ω0² = (π/t_c)² + γ_n²,
-// γ = γ_n. Measured in tests/test_extremes.cpp: the former undamped bound let a bed with e = 0.05
-// gain energy.
-double damped_bound(double w0_squared, double gamma) {
-  return (std::sqrt(4 * gamma * gamma + w0_squared) - 2 * gamma) / w0_squared;
-}
-
-double time_step_bound(const Scene& s) {
-  if (s.rapaport()) {
-    // Rapaport's k_n and γ_n are the same for every pair, so the lightest particle against the
-    // wall (m_eff = m) is the stiffest mode, m the smallest mass of either species.
-    const double ds = s.d_small - s.size_spread, dl = s.d_large - s.size_spread;
-    const double m = s.density * kPi / 6.0 * std::min(ds * ds * ds, s.density_ratio * dl * dl * dl);
-    return damped_bound(s.kn / m, s.gamma_n / (2.0 * m));
-  }
-  const double gamma_n = -std::log(s.restitution) / s.collision_time;
-  const double w2 = (kPi / s.collision_time) * (kPi / s.collision_time) + gamma_n * gamma_n;
-  const double ms = s.mass_small(), ml = s.mass_large();
-  double scale = 1;  // k/m relative to the wall contact's w2 (pairs: m_eff / lighter mass <= 1/2)
-  for (double a : {ms, ml})
-    for (double b : {ms, ml}) scale = std::max(scale, (a * b / (a + b)) / std::min(a, b));
-  return damped_bound(scale * w2, scale * gamma_n);
-}
+// The stability bound of the scene's contact law (damped_time_step_bound in
+// scene/law_registry.hpp; each law's ω0² and γ are derived in its file under src/contact/).
+double time_step_bound(const Scene& s) { return contact_law(s.law).time_step_bound(s); }
 
 // Static overlap under the bed's own weight, as a fraction of d_small: a column of H / d_small
 // small particles of the denser species' density (H = 2R × the bed's volume share of the tumbler)
@@ -329,14 +305,8 @@ double weight_overlap_fraction(const Scene& s) {
   const double column = 2 * s.radius * share / s.d_small;
   const double ms = s.mass_small();
   const double heavy = std::max(1.0, s.density_ratio);  // a column of the denser species
-  double k;
-  if (s.rapaport()) {
-    k = s.kn;
-  } else {
-    const double gamma_n = -std::log(s.restitution) / s.collision_time;
-    k = ((kPi / s.collision_time) * (kPi / s.collision_time) + gamma_n * gamma_n) * 0.5 * ms;
-  }
-  return column * heavy * ms * s.g / k / s.d_small;
+  const double weight = column * heavy * ms * s.g;
+  return contact_law(s.law).static_overlap(s, weight) / s.d_small;
 }
 
 void validate_scene(const Scene& s) {
@@ -348,13 +318,17 @@ void validate_scene(const Scene& s) {
                                   std::to_string(s.d_small) + ")");
   if (s.d_large / s.d_small > 8)
     fail("particles.d_large", "gives a size ratio above the supported maximum 8");
-  if (s.size_spread > 0 && !s.rapaport())
-    fail("particles.size_spread",
-         "> 0 needs contact.law = 'rapaport2007' (the yu2022 law tabulates two particle sizes)");
+  const ContactLawSpec& law = contact_law(s.law);
+  if (s.size_spread > 0 && !law.size_spread) {
+    std::string laws;
+    for (const auto& l : contact_laws())
+      if (l.size_spread) laws += (laws.empty() ? "'" : " or '") + l.name + "'";
+    fail("particles.size_spread", "> 0 needs contact.law = " + laws + " (the " + s.law +
+                                      " law tabulates two particle sizes)");
+  }
   if (s.size_spread >= s.d_small)
     fail("particles.size_spread", "must be below particles.d_small = " + std::to_string(s.d_small));
-  if (s.rapaport() && s.dt <= 0)
-    fail("time.dt", "must be set (> 0) for contact.law = 'rapaport2007' (MD units, e.g. 5e-3)");
+  if (law.check) law.check(s);
   if (s.cylinder()) {
     if (s.length <= 0) fail("tumbler.length", "must be > 0 for tumbler.shape = 'cylinder'");
     const double cell = s.d_large + s.skin * s.d_small;
@@ -405,7 +379,8 @@ void validate_scene(const Scene& s) {
     os << "gives a time step " << s.time_step() << " s above the stability bound " << bound
        << " s = 1/sqrt(max k/m) of the stiffest pair (about t_c/pi); allowed: time.dt <= "
        << down(bound);
-    if (!s.rapaport()) os << " or time.dt_fraction <= " << down(bound / s.collision_time);
+    if (law.time_from_collision_time)
+      os << " or time.dt_fraction <= " << down(bound / s.collision_time);
     fail(s.dt > 0 ? "time.dt" : "time.dt_fraction", os.str());
   }
   if (const double ov = weight_overlap_fraction(s); ov > kMaxWeightOverlap) {
@@ -414,13 +389,9 @@ void validate_scene(const Scene& s) {
     os << "makes the contacts so soft that the bed's weight would press the bottom particles "
           "into each other by about "
        << 100 * ov << "% of d_small (at most " << 100 * kMaxWeightOverlap << "%); ";
-    // The overlap scales as 1/k: k ∝ 1/t_c² (Yu), k = k_n (Rapaport).
-    if (s.rapaport())
-      os << "use contact.kn >= " << s.kn * ov / kMaxWeightOverlap;
-    else
-      os << "use contact.collision_time <= "
-         << s.collision_time * std::sqrt(kMaxWeightOverlap / ov);
-    fail(s.rapaport() ? "contact.kn" : "contact.collision_time", os.str());
+    const StifferHint hint = law.stiffer(s, ov);
+    os << "use " << hint.key << hint.relation << hint.value;
+    fail(hint.key, os.str());
   }
   if (s.mode != "rest" && s.omega() <= 0)
     fail("protocol.rpm", "(or protocol.omega) must be > 0 when protocol.mode is '" + s.mode + "'");
@@ -441,9 +412,13 @@ std::string scene_to_text(const Scene& s) {
   std::ostringstream os;
   os.precision(17);
   for (const auto& spec : scene_schema()) {
+    if (!spec.law.empty() && spec.law != s.law && !contact_law(spec.law).keys_in_every_text)
+      continue;  // another law's key (scene/law_registry.hpp: keys_in_every_text)
     os << spec.key << " = ";
     if (spec.key == "fidelity.tier")  // already applied (fidelity.applied names it)
       os << "\"standard\"";
+    else if (!spec.law.empty())
+      os << s.law_value(spec.key);
     else if (spec.type == KeySpec::Text)
       os << '"' << s.*(text_members().at(spec.key)) << '"';
     else if (spec.type == KeySpec::Integer)

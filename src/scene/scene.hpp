@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace tumble {
@@ -30,10 +31,10 @@ struct Scene {
   std::string law = "yu2022";
   double restitution = 0.87, collision_time = 5e-4, friction = 0.6, wall_friction = 0.6;
   double tangential_damping = 0;  // γ_t [1/s]
-  // Rapaport 2007 law (MD units): k_n, γ_n, γ_s per species pair, μ_max (the largest μ; the
-  // others in the ratio of γ_s), k_g and the ratchet limit of |u|.
-  double kn = 1000, gamma_n = 5, gamma_s_ss = 2, gamma_s_sl = 2, gamma_s_ll = 10;
-  double mu_max = 0.5, kg = 500, ratchet = 0.1;
+  // The keys a contact law owns (src/contact/<law>.hpp declares them: rapaport2007's k_n, γ_n, ...;
+  // hertz_mindlin's Young's modulus, ...), by key; every registered law's keys, defaults included.
+  // The law reads them once per scene (law_value).
+  std::map<std::string, double> law_values;
   // [fill]
   std::int64_t seed = 1;
   std::string start = "mixed";     // mixed | large_top | large_xneg
@@ -84,20 +85,37 @@ struct Scene {
   double mass_large() const;
   double run_time() const;  // simulated seconds the protocol runs (after settling)
   bool cylinder() const { return shape == "cylinder"; }
-  bool rapaport() const { return law == "rapaport2007"; }
+  // The value of a key owned by a contact law (law_values); throws std::logic_error if no
+  // registered law declares `key`.
+  double law_value(const std::string& key) const;
   // Mean of d^3 over the size distribution of a species with nominal (largest) diameter d.
   double mean_cube(double d) const;
 };
 
 // One key of the schema: its type, default, allowed range and a one-line description.
 struct KeySpec {
+  enum Type { Real, Integer, Text };
+  KeySpec(std::string key_, Type type_, double lo_, double hi_, std::vector<std::string> choices_,
+          std::string help_, double def_ = 0, std::string law_ = {})
+      : key(std::move(key_)),
+        type(type_),
+        lo(lo_),
+        hi(hi_),
+        choices(std::move(choices_)),
+        help(std::move(help_)),
+        def(def_),
+        law(std::move(law_)) {}
   std::string key;  // "section.name"
-  enum Type { Real, Integer, Text } type;
+  Type type;
   double lo = 0, hi = 0;             // allowed closed range (numbers)
   std::vector<std::string> choices;  // allowed values (text), empty = any
   std::string help;
+  double def = 0;   // default of a law's key (law_values); the struct holds the others
+  std::string law;  // the contact law that owns this key (scene/law_registry.hpp), or empty
 };
-const std::vector<KeySpec>& scene_schema();
+// Every key in provenance order: the scene's own keys with the registered contact laws' keys
+// after contact.tangential_damping.
+std::vector<KeySpec> scene_schema();
 
 // Reads `path` (TOML), applies `overrides` ("section.key=value"), checks every key and value and
 // the cross-key constraints. Throws InputError naming the key on the first problem.

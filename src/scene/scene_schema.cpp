@@ -1,10 +1,12 @@
 // The list of every scene key. Unknown keys are errors (typos must not silently fall back to
 // defaults); every number has a closed range that the validator enforces.
+#include "scene/law_registry.hpp"
 #include "scene/scene.hpp"
 
 namespace tumble {
 
-const std::vector<KeySpec>& scene_schema() {
+namespace {
+const std::vector<KeySpec>& own_keys() {
   using K = KeySpec;
   static const std::vector<KeySpec> schema = {
       {"scene.name", K::Text, 0, 0, {}, "scene name (used in output file names)"},
@@ -62,25 +64,12 @@ const std::vector<KeySpec>& scene_schema() {
        1e6,
        {},
        "diameters uniform in [d - spread, d] (rapaport2007 law only)"},
-      {"contact.law", K::Text, 0, 0, {"yu2022", "rapaport2007"}, "contact law"},
+      {"contact.law", K::Text, 0, 0, {}, "contact law"},  // choices: the registered laws
       {"contact.restitution", K::Real, 0.05, 1, {}, "normal restitution coefficient e"},
       {"contact.collision_time", K::Real, 1e-9, 1, {}, "binary collision time t_c"},
       {"contact.friction", K::Real, 0, 2, {}, "particle-particle friction coefficient mu"},
       {"contact.wall_friction", K::Real, 0, 2, {}, "particle-wall friction coefficient mu_w"},
       {"contact.tangential_damping", K::Real, 0, 1e9, {}, "tangential damping gamma_t [1/s]"},
-      {"contact.kn", K::Real, 1e-9, 1e12, {}, "rapaport2007: normal stiffness k_n"},
-      {"contact.gamma_n", K::Real, 0, 1e9, {}, "rapaport2007: normal damping gamma_n"},
-      {"contact.gamma_s_ss", K::Real, 0, 1e9, {}, "rapaport2007: gamma_s small-small (and wall)"},
-      {"contact.gamma_s_sl", K::Real, 0, 1e9, {}, "rapaport2007: gamma_s small-large"},
-      {"contact.gamma_s_ll", K::Real, 0, 1e9, {}, "rapaport2007: gamma_s large-large (and wall)"},
-      {"contact.mu_max",
-       K::Real,
-       0,
-       2,
-       {},
-       "rapaport2007: friction of the pair with the largest gamma_s (others scale with gamma_s)"},
-      {"contact.kg", K::Real, 0, 1e12, {}, "rapaport2007: tangential restoring stiffness k_g"},
-      {"contact.ratchet", K::Real, 1e-12, 1e6, {}, "rapaport2007: |u| above which u resets to 0"},
       {"fill.seed", K::Integer, 0, 9.0e15, {}, "random seed of the bed"},
       {"fill.start",
        K::Text,
@@ -183,6 +172,20 @@ const std::vector<KeySpec>& scene_schema() {
        "cylinder: width of axial and radial bins (0 = 2.5 mean small diameters)"},
   };
   return schema;
+}
+}  // namespace
+
+std::vector<KeySpec> scene_schema() {
+  std::vector<KeySpec> keys;
+  for (const KeySpec& k : own_keys()) {
+    keys.push_back(k);
+    if (k.key == "contact.law")
+      for (const auto& law : contact_laws()) keys.back().choices.push_back(law.name);
+    if (k.key == "contact.tangential_damping")
+      for (const auto& law : contact_laws())
+        keys.insert(keys.end(), law.keys.begin(), law.keys.end());
+  }
+  return keys;
 }
 
 }  // namespace tumble
