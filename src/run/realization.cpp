@@ -184,11 +184,11 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
   const std::string ckpt_path = scene.output_dir + "/checkpoint.h5";
 
   geometry::Protocol protocol =
-      scene.mode == "biaxial"
+      scene.mode == Mode::biaxial
           ? geometry::Protocol::biaxial(deg2rad(scene.theta_z), deg2rad(scene.theta_x),
                                         deg2rad(scene.repose), scene.omega())
-          : (scene.mode == "single_axis"
-                 ? geometry::Protocol::single_axis(scene.axis[0], scene.omega())
+          : (scene.mode == Mode::single_axis
+                 ? geometry::Protocol::single_axis(name_of(scene.axis)[0], scene.omega())
                  : geometry::Protocol::at_rest());
   const double dt = scene.time_step();
   const std::int64_t total_steps = std::llround(scene.run_time() / dt);
@@ -259,8 +259,7 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
       scene.slice_width > 0 ? scene.slice_width : 2.5 * (scene.d_small - 0.5 * scene.size_spread);
   frame.b3 = std::pow(scene.d_large / scene.d_small, 3);
   analysis::FlowFrame flow;
-  flow.axis =
-      scene.axis == "x" ? Vec3{1, 0, 0} : (scene.axis == "y" ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+  flow.axis = scene.axis == Axis::x ? Vec3{1, 0, 0} : Vec3{0, 0, 1};
   flow.radius = scene.radius;
   flow.bin = 2 * scene.d_large;
   flow.depth = scene.d_large;
@@ -274,7 +273,7 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
     }
     series.append(sim->time(), sim->protocol().iteration(sim->time()),
                   analysis::radial_segregation(all, scene.radius), kinetic);
-    if (scene.mode == "single_axis") {  // the flowing layer: repose angle and surface speed
+    if (scene.mode == Mode::single_axis) {  // the flowing layer: repose angle and surface speed
       const analysis::FlowProfile fp = analysis::flow_profile(all, all.size(), flow);
       series.repose_angle.push_back(fp.repose_deg);
       series.surface_speed.push_back(fp.surface_speed);
@@ -286,7 +285,7 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
   // flowing layer, every 0.1 s of the "rotate" segments, as Yu 2022 App. A.
   std::unique_ptr<analysis::DriftGridMeter> drift;
   std::int64_t drift_every = 0;
-  if (scene.drift_grid == "on") {
+  if (scene.drift_grid == OnOff::on) {
     drift = std::make_unique<analysis::DriftGridMeter>(30, scene.radius, deg2rad(scene.repose),
                                                        scene.omega(), scene.d_large);
     drift_every = std::max<std::int64_t>(1, std::llround(0.1 / dt));
@@ -333,7 +332,7 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
       const double rate = (s - first_step) * static_cast<double>(res.particles) / el;
       const double eta = el / (s - first_step) * (end_step - s);
       *log << "[run] t = " << std::fixed << std::setprecision(3) << sim->time() << " s  ";
-      if (scene.mode == "single_axis")  // constant rotation: count revolutions
+      if (scene.mode == Mode::single_axis)  // constant rotation: count revolutions
         *log << "rev " << std::setprecision(2) << scene.omega() * sim->time() / (2 * kPi);
       else
         *log << "iter " << std::setprecision(2) << sim->protocol().iteration(sim->time()) << " ("
