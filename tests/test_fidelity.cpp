@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include "base/error.hpp"
+#include "io/bed_io.hpp"
 #include "scene/fill.hpp"
 #include "scene/scene.hpp"
-#include "io/bed_io.hpp"
 
 using namespace tumble;
 
@@ -97,10 +97,10 @@ TEST(Fidelity, TiersAreRefusedForCylindersAndUnknownNames) {
 // re-parse it): the tier is recorded as applied, not applied twice.
 TEST(Fidelity, ResolvedTextReadsBackUnchanged) {
   const Scene s = tier("reference");
-  EXPECT_EQ(s.tier_applied, "reference");
+  EXPECT_EQ(s.tier_applied, Tier::reference);
   const Scene again = parse_scene(scene_to_text(s), {}, "resolved");
   EXPECT_DOUBLE_EQ(again.collision_time, s.collision_time);
-  EXPECT_EQ(again.tier_applied, "reference");
+  EXPECT_EQ(again.tier_applied, Tier::reference);
   EXPECT_EQ(scene_to_text(again), scene_to_text(s));
 }
 

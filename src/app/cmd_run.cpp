@@ -28,17 +28,20 @@ void register_run(CLI::App& app) {
   cmd->add_flag("--resume", opts->resume, "continue from OUTPUT_DIR/checkpoint.h5 if present");
   cmd->add_option("--max-steps", opts->max_steps, "stop after this many protocol steps");
   cmd->add_flag("--check", opts->check, "validate the scene, print it resolved, and exit");
-  cmd->add_flag("--list-keys", opts->list_keys, "list every scene key with its range and exit");
+  cmd->add_flag("--list-keys", opts->list_keys,
+                "list every scene key with its range or choices, default and meaning, and exit");
   cmd->callback([opts]() {
     if (opts->list_keys) {
       for (const auto& k : scene_schema()) {
         std::cout << k.key << "  ";
-        if (k.type == KeySpec::Text)
+        if (k.type == KeySpec::Text && k.choices.empty())
+          std::cout << "text";
+        else if (k.type == KeySpec::Text)
           for (std::size_t i = 0; i < k.choices.size(); ++i)
             std::cout << (i ? "|" : "") << k.choices[i];
         else
           std::cout << "[" << k.lo << ", " << k.hi << "]";
-        std::cout << "  " << k.help << "\n";
+        std::cout << "  (default " << default_text(k) << ")  " << k.help << "\n";
       }
       return;
     }

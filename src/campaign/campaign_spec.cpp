@@ -403,17 +403,18 @@ CampaignSpec parse_campaign(const std::string& toml_text, const std::string& ori
   std::stringstream ss;
   ss << in.rdbuf();
   s.scene_text = ss.str();
-  // The template's shape (or its override) decides what a case collects.
-  std::string shape = "sphere";
+  // The template's shape (or its override) decides what a case collects. (A name that is no
+  // shape is reported by the scene loader when the cases are expanded.)
+  Shape shape = Shape::sphere;
   try {
     const toml::table scene = toml::parse(s.scene_text, s.scene_path);
-    if (auto v = scene["tumbler"]["shape"].value<std::string>()) shape = *v;
+    if (auto v = scene["tumbler"]["shape"].value<std::string>()) enum_from_name(*v, shape);
   } catch (const toml::parse_error&) {
     // Reported with its line by the scene loader when the cases are expanded.
   }
   for (const auto& o : s.overrides)
-    if (o.rfind("tumbler.shape=", 0) == 0) shape = o.substr(14);
-  if (shape == "cylinder") {
+    if (o.rfind("tumbler.shape=", 0) == 0) enum_from_name(o.substr(14), shape);
+  if (shape == Shape::cylinder) {
     if (collect_keys_given(s.collect))
       c.fail("collect",
              "is for the sphere's maps; a cylinder campaign collects S_a, S_r and the "

@@ -21,11 +21,11 @@ CollectPlan make_collect_plan(const CollectSpec& spec, const Scene& scene) {
     p.total_steps = std::llround(scene.run_time() / scene.time_step());
     return p;
   }
-  if (scene.mode != "biaxial")
+  if (scene.mode != Mode::biaxial)
     fail("collect.fields",
          "needs protocol.mode = 'biaxial' (samples are placed by protocol "
          "iteration), not '" +
-             scene.mode + "'");
+             std::string(name_of(scene.mode)) + "'");
   const double dt = scene.time_step();
   const double period = scene.iterations > 0 ? scene.run_time() / scene.iterations : 0;
   if (!(period > 0)) fail("protocol.iterations", "must be > 0 for a campaign case");

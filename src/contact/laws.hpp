@@ -3,7 +3,7 @@
 // coefficients made from the scene, force kernel, elastic energy, lever arm, time-step bound,
 // static overlap, scene keys and cached-bed key fields); the engine instantiates its pair and wall
 // loops once per law, so no contact ever branches on which law is in use. To add a law, write its
-// file after contact/hertz_mindlin.hpp and add it to `Laws` below.
+// file after contact/hertz_mindlin.hpp, include it here and add it to `Laws` below.
 #include <string>
 #include <type_traits>
 #include <variant>

@@ -20,10 +20,10 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
       step_(step) {
   wall_.radius = s.radius;
   is_cylinder_ = s.cylinder();
-  leapfrog_ = s.integrator == "leapfrog";
+  leapfrog_ = s.integrator == Integrator::leapfrog;
   cylinder_.radius = s.radius;
   cylinder_.half_length = 0.5 * s.length;
-  cylinder_.periodic = s.periodic == "on";
+  cylinder_.periodic = s.periodic == OnOff::on;
 
   // Chosen once per scene: law, wall and, for frictionless scenes, no tangential history and no
   // rotation; one species present: no species lookups. TUMBLE_GENERAL_KERNELS=1 turns the last two

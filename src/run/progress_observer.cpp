@@ -26,7 +26,7 @@ void ProgressObserver::after_step(RunState& s) {
   const double rate = (step - s.first_step) * static_cast<double>(s.particles) / el;
   const double eta = el / (step - s.first_step) * (s.end_step - step);
   log << "[run] t = " << std::fixed << std::setprecision(3) << sim.time() << " s  ";
-  if (s.scene.mode == "single_axis")  // constant rotation: count revolutions
+  if (s.scene.mode == Mode::single_axis)  // constant rotation: count revolutions
     log << "rev " << std::setprecision(2) << s.scene.omega() * sim.time() / (2 * kPi);
   else
     log << "iter " << std::setprecision(2) << sim.protocol().iteration(sim.time()) << " ("

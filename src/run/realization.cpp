@@ -38,11 +38,11 @@ int size_of(MPI_Comm comm) {
 }
 
 geometry::Protocol protocol_of(const Scene& scene) {
-  if (scene.mode == "biaxial")
+  if (scene.mode == Mode::biaxial)
     return geometry::Protocol::biaxial(deg2rad(scene.theta_z), deg2rad(scene.theta_x),
                                        deg2rad(scene.repose), scene.omega());
-  if (scene.mode == "single_axis")
-    return geometry::Protocol::single_axis(scene.axis[0], scene.omega());
+  if (scene.mode == Mode::single_axis)
+    return geometry::Protocol::single_axis(name_of(scene.axis)[0], scene.omega());
   return geometry::Protocol::at_rest();
 }
 
@@ -202,7 +202,7 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
   if (scene.analysis_interval > 0)
     add(std::make_unique<SeriesObserver>(scene, steps_for(scene.analysis_interval, dt, period)));
   for (Observer* o : opt.observers) observers.push_back(o);
-  if (scene.drift_grid == "on") add(std::make_unique<DriftObserver>(scene));
+  if (scene.drift_grid == OnOff::on) add(std::make_unique<DriftObserver>(scene));
   add(std::make_unique<HealthObserver>());
   if (opt.write_snapshots) add(std::make_unique<SnapshotObserver>(snap_every));
   add(std::make_unique<CheckpointObserver>(ckpt_path,

@@ -13,8 +13,7 @@ SeriesObserver::SeriesObserver(const Scene& scene, std::int64_t every_steps) : e
   cylinder_.slice =
       scene.slice_width > 0 ? scene.slice_width : 2.5 * (scene.d_small - 0.5 * scene.size_spread);
   cylinder_.b3 = std::pow(scene.d_large / scene.d_small, 3);
-  flow_.axis =
-      scene.axis == "x" ? Vec3{1, 0, 0} : (scene.axis == "y" ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+  flow_.axis = scene.axis == Axis::x ? Vec3{1, 0, 0} : Vec3{0, 0, 1};  // protocol.axis: x or z
   flow_.radius = scene.radius;
   flow_.bin = 2 * scene.d_large;
   flow_.depth = scene.d_large;
@@ -37,7 +36,7 @@ void SeriesObserver::sample(RunState& s) {
   }
   series.append(sim.time(), sim.protocol().iteration(sim.time()),
                 analysis::radial_segregation(all, scene.radius), kinetic);
-  if (scene.mode == "single_axis") {  // the flowing layer: repose angle and surface speed
+  if (scene.mode == Mode::single_axis) {  // the flowing layer: repose angle and surface speed
     const analysis::FlowProfile fp = analysis::flow_profile(all, all.size(), flow_);
     series.repose_angle.push_back(fp.repose_deg);
     series.surface_speed.push_back(fp.surface_speed);

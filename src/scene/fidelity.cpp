@@ -27,23 +27,27 @@ struct Preset {
 };
 }  // namespace
 
-std::map<std::string, std::string> tier_values(const std::string& tier, const Scene& s) {
+std::map<std::string, std::string> tier_values(Tier tier, const Scene& s) {
   std::map<std::string, std::string> v;
-  if (tier == "standard") return v;
+  if (tier == Tier::standard) return v;
   if (s.cylinder())
-    throw InputError("scene error: key 'fidelity.tier' = '" + tier +
+    throw InputError("scene error: key 'fidelity.tier' = '" + std::string(name_of(tier)) +
                      "': the tiers are defined for sphere scenes (Yu 2022); use 'standard' "
                      "for cylinders");
   Preset p{};
-  if (tier == "reference")
-    p = {0.5, std::min(s.dt_fraction, 0.01), s.skin, 0, 0, 0};
-  else if (tier == "fast")
-    p = {2, 1.0 / 30, 0.2, 8.75, 3e-3, 10};
-  else if (tier == "preview")
-    p = {4, 1.0 / 20, 0.3, 5, 1e-2, 3};
-  else
-    throw InputError("scene error: key 'fidelity.tier' = '" + tier +
-                     "' is not one of: standard, reference, fast, preview");
+  switch (tier) {
+    case Tier::reference:
+      p = {0.5, std::min(s.dt_fraction, 0.01), s.skin, 0, 0, 0};
+      break;
+    case Tier::fast:
+      p = {2, 1.0 / 30, 0.2, 8.75, 3e-3, 10};
+      break;
+    case Tier::preview:
+      p = {4, 1.0 / 20, 0.3, 5, 1e-2, 3};
+      break;
+    case Tier::standard:
+      break;
+  }
   v["contact.collision_time"] = num(p.tc_factor * s.collision_time);
   v["time.dt_fraction"] = num(p.dt_fraction);
   v["time.dt"] = "0";  // δt from the fraction
@@ -57,7 +61,7 @@ std::map<std::string, std::string> tier_values(const std::string& tier, const Sc
     v["particles.d_large"] = num(s.d_large * grow);
     v["particles.d_small"] = num(s.d_small * grow);
   }
-  if (p.min_froude > 0 && s.mode != "rest") {
+  if (p.min_froude > 0 && s.mode != Mode::rest) {
     const double omega_min = std::sqrt(p.min_froude * s.g / s.radius);
     const double rpm_min = omega_min * 60 / (2 * kPi);
     if (s.rpm < rpm_min) v["protocol.rpm"] = num(rpm_min);

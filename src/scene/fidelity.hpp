@@ -28,6 +28,6 @@ const std::vector<std::string>& fidelity_tiers();  // standard first
 
 // The scene keys a tier sets for `scene` (the scene at its standard values), as text values.
 // Empty for `standard`. Throws InputError for a tier that does not apply (cylinder scenes).
-std::map<std::string, std::string> tier_values(const std::string& tier, const Scene& scene);
+std::map<std::string, std::string> tier_values(Tier tier, const Scene& scene);
 
 }  // namespace tumble

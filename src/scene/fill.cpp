@@ -48,7 +48,7 @@ BedPlan plan_bed(const Scene& s) {
   Rng rng(static_cast<std::uint64_t>(s.seed));
   std::int64_t large_left = plan.n_large, small_left = plan.n_small;
   // For the "large_top" start the small particles go first, so the large ones end up on top.
-  const bool small_first = s.start == "large_top";
+  const bool small_first = s.start == Start::large_top;
   const double k3 = static_cast<double>(k) * k * k;
   std::vector<Vec3> smalls;
   for (const Vec3& c : sites) {
@@ -56,9 +56,9 @@ BedPlan plan_bed(const Scene& s) {
     const bool fits_large = norm(c) < reach_large;
     bool put_large = false;
     if (fits_large && large_left > 0) {
-      if (s.start == "mixed")  // chance proportional to the sites each species still needs
+      if (s.start == Start::mixed)  // chance proportional to the sites each species still needs
         put_large = rng.uniform() * (large_left + small_left / k3) < large_left;
-      else if (s.start == "large_xneg")
+      else if (s.start == Start::large_xneg)
         put_large = c.x < 0 || small_left == 0;
       else
         put_large = small_left == 0;

@@ -76,7 +76,7 @@ bool place(const Scene& s, const std::vector<double>& rad, const std::vector<std
   std::vector<char> used(sites.size(), 0);
   std::size_t first_free[2] = {0, 0};  // per species: sites below are used or rejected for it
   pos.assign(rad.size(), Vec3{});
-  const bool split = s.start == "large_zneg";
+  const bool split = s.start == Start::large_zneg;
   for (std::size_t p = 0; p < rad.size(); ++p) {
     const double r = rad[p];
     const int q = sp[p];
@@ -139,7 +139,7 @@ CylinderBed make_cylinder_bed(const Scene& s) {
   Rng rng(static_cast<std::uint64_t>(s.seed));
   std::vector<std::int32_t> sp(n, 0);
   for (std::int64_t i = 0; i < n_large; ++i) sp[i] = 1;
-  if (s.start == "mixed") rng.shuffle(sp);
+  if (s.start == Start::mixed) rng.shuffle(sp);
   std::vector<double> rad(n);
   for (std::int64_t i = 0; i < n; ++i) {
     const double d = sp[i] == 1 ? s.d_large : s.d_small;
@@ -157,7 +157,7 @@ CylinderBed make_cylinder_bed(const Scene& s) {
   CylinderBed bed;
   std::vector<Vec3> pos;
   bool ok = false;
-  if (s.start == "mixed") {
+  if (s.start == Start::mixed) {
     ok = place_mixed(s, n, pos, bed.shrink) && bed.shrink >= 0.6;
   } else {
     // Presegregated: each species packed bottom first into its own axial part of the cylinder.

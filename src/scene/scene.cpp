@@ -14,6 +14,7 @@
 #include "scene/fidelity.hpp"
 #include "scene/fill.hpp"
 #include "scene/law_registry.hpp"
+#include "scene/scene_schema.hpp"
 
 namespace tumble {
 
@@ -34,13 +35,13 @@ double Scene::mass_large() const {
   return density * density_ratio * kPi / 6.0 * d_large * d_large * d_large;
 }
 double Scene::run_time() const {
-  if (mode == "biaxial") {
+  if (mode == Mode::biaxial) {
     const double w = omega();
     if (w <= 0) return 0;
     const double period = (deg2rad(theta_z) + deg2rad(theta_x) + 4.0 * deg2rad(repose)) / w;
     return iterations * period;
   }
-  if (mode == "single_axis" && revolutions > 0 && omega() > 0)
+  if (mode == Mode::single_axis && revolutions > 0 && omega() > 0)
     return revolutions * 2.0 * kPi / omega();
   return duration;
 }
@@ -53,68 +54,6 @@ struct Value {
   std::string text;
   std::string origin;  // where it came from, for messages
 };
-
-// Member pointers for every key: one table, so adding a key is one line here + one in the schema.
-const std::map<std::string, double Scene::*>& real_members() {
-  static const std::map<std::string, double Scene::*> m = {
-      {"tumbler.radius", &Scene::radius},
-      {"tumbler.length", &Scene::length},
-      {"particles.size_spread", &Scene::size_spread},
-      {"protocol.omega", &Scene::omega_set},
-      {"protocol.revolutions", &Scene::revolutions},
-      {"output.slice_width", &Scene::slice_width},
-      {"particles.d_small", &Scene::d_small},
-      {"particles.d_large", &Scene::d_large},
-      {"particles.density", &Scene::density},
-      {"particles.density_ratio", &Scene::density_ratio},
-      {"particles.large_fraction", &Scene::large_fraction},
-      {"particles.fill_level", &Scene::fill_level},
-      {"particles.packing_fraction", &Scene::packing_fraction},
-      {"contact.restitution", &Scene::restitution},
-      {"contact.collision_time", &Scene::collision_time},
-      {"contact.friction", &Scene::friction},
-      {"contact.wall_friction", &Scene::wall_friction},
-      {"contact.tangential_damping", &Scene::tangential_damping},
-      {"fill.settle_rms_speed", &Scene::settle_rms_speed},
-      {"fill.settle_max_time", &Scene::settle_max_time},
-      {"protocol.theta_z", &Scene::theta_z},
-      {"protocol.theta_x", &Scene::theta_x},
-      {"protocol.repose", &Scene::repose},
-      {"protocol.rpm", &Scene::rpm},
-      {"protocol.iterations", &Scene::iterations},
-      {"protocol.duration", &Scene::duration},
-      {"gravity.g", &Scene::g},
-      {"time.dt", &Scene::dt},
-      {"time.dt_fraction", &Scene::dt_fraction},
-      {"neighbor.skin", &Scene::skin},
-      {"parallel.rebalance_threshold", &Scene::rebalance_threshold},
-      {"output.snapshot_interval", &Scene::snapshot_interval},
-      {"output.checkpoint_interval", &Scene::checkpoint_interval},
-      {"output.progress_interval", &Scene::progress_interval},
-      {"output.analysis_interval", &Scene::analysis_interval},
-  };
-  return m;
-}
-const std::map<std::string, std::string Scene::*>& text_members() {
-  static const std::map<std::string, std::string Scene::*> m = {
-      {"scene.name", &Scene::name},           {"scene.output_dir", &Scene::output_dir},
-      {"tumbler.shape", &Scene::shape},       {"contact.law", &Scene::law},
-      {"fill.start", &Scene::start},          {"fill.bed_file", &Scene::bed_file},
-      {"fill.bed_cache", &Scene::bed_cache},  {"protocol.mode", &Scene::mode},
-      {"protocol.axis", &Scene::axis},        {"output.drift_grid", &Scene::drift_grid},
-      {"tumbler.periodic", &Scene::periodic}, {"time.integrator", &Scene::integrator},
-      {"fidelity.tier", &Scene::tier},        {"fidelity.applied", &Scene::tier_applied},
-  };
-  return m;
-}
-
-const std::map<std::string, std::int64_t Scene::*>& int_members() {
-  static const std::map<std::string, std::int64_t Scene::*> m = {
-      {"fill.seed", &Scene::seed},
-      {"particles.count", &Scene::count},
-  };
-  return m;
-}
 
 std::optional<KeySpec> find_spec(const std::string& key) {
   for (const auto& s : scene_schema())
@@ -208,7 +147,7 @@ Scene apply_values(const std::map<std::string, Value>& values) {
         for (const auto& c : spec->choices) allowed += (allowed.empty() ? "" : ", ") + c;
         throw InputError(where + " = '" + v.text + "' is not one of: " + allowed);
       }
-      s.*(text_members().at(key)) = v.text;
+      set_key(s, *spec, v.text, 0);
     } else {
       if (!v.numeric || !std::isfinite(v.num))
         throw InputError(where + " = '" + v.text + "' must be a number in " + range_text(*spec) +
@@ -219,12 +158,8 @@ Scene apply_values(const std::map<std::string, Value>& values) {
       if (spec->type == KeySpec::Integer) {
         if (v.num != std::floor(v.num))
           throw InputError(where + " = " + v.text + " must be an integer");
-        s.*(int_members().at(key)) = static_cast<std::int64_t>(v.num);
-      } else if (!spec->law.empty()) {
-        s.law_values[key] = v.num;
-      } else {
-        s.*(real_members().at(key)) = v.num;
       }
+      set_key(s, *spec, v.text, v.num);
     }
   }
   return s;
@@ -254,17 +189,17 @@ Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& 
   }
   // A fidelity tier rewrites keys of the scene as written (scene/fidelity.hpp).
   Scene s = apply_values(values);
-  if (s.tier != "standard") {
+  if (s.tier != Tier::standard) {
     for (const auto& [key, text] : tier_values(s.tier, s)) {
       if (given.count(key)) continue;
       Value v;
-      v.origin = "fidelity.tier = " + s.tier;
+      v.origin = std::string("fidelity.tier = ") + name_of(s.tier);
       v.text = text;
       v.numeric = true;
       v.num = std::strtod(text.c_str(), nullptr);
       values[key] = v;
     }
-    const std::string applied = s.tier;
+    const Tier applied = s.tier;
     s = apply_values(values);
     s.tier_applied = applied;
   }
@@ -337,14 +272,14 @@ void validate_scene(const Scene& s) {
            "must be at least 3 neighbour cells (" + std::to_string(3 * cell) + ") long");
     if (s.count <= 0)
       fail("particles.count", "must be > 0 for tumbler.shape = 'cylinder' (the particle number)");
-    if (s.mode == "biaxial")
+    if (s.mode == Mode::biaxial)
       fail("protocol.mode",
            "= 'biaxial' is for the sphere; a cylinder turns about its axis: "
            "use 'single_axis' with protocol.axis = 'z', or 'rest'");
-    if (s.mode == "single_axis" && s.axis != "z")
+    if (s.mode == Mode::single_axis && s.axis != Axis::z)
       fail("protocol.axis", "must be 'z' for a cylinder (its axis)");
-    if (s.start == "large_top" || s.start == "large_xneg")
-      fail("fill.start", "= '" + s.start +
+    if (s.start == Start::large_top || s.start == Start::large_xneg)
+      fail("fill.start", "= '" + std::string(name_of(s.start)) +
                              "' is for the sphere; a cylinder starts 'mixed' or "
                              "'large_zneg' (presegregated in two axial halves)");
     // Cheap fit check (the placement itself is in fill_cylinder.cpp): solids must not exceed 60%
@@ -360,8 +295,9 @@ void validate_scene(const Scene& s) {
   } else {
     if (s.count > 0)
       fail("particles.count", "is for cylinders; a sphere is filled by particles.fill_level");
-    if (s.periodic == "on") fail("tumbler.periodic", "= 'on' needs tumbler.shape = 'cylinder'");
-    if (s.start == "large_zneg")
+    if (s.periodic == OnOff::on)
+      fail("tumbler.periodic", "= 'on' needs tumbler.shape = 'cylinder'");
+    if (s.start == Start::large_zneg)
       fail("fill.start", "= 'large_zneg' is for the cylinder (axial halves)");
   }
   if (s.d_large * 4 > s.radius)
@@ -393,9 +329,10 @@ void validate_scene(const Scene& s) {
     os << "use " << hint.key << hint.relation << hint.value;
     fail(hint.key, os.str());
   }
-  if (s.mode != "rest" && s.omega() <= 0)
-    fail("protocol.rpm", "(or protocol.omega) must be > 0 when protocol.mode is '" + s.mode + "'");
-  if (s.mode == "biaxial" && s.theta_z + s.theta_x <= 0 && s.iterations > 0)
+  if (s.mode != Mode::rest && s.omega() <= 0)
+    fail("protocol.rpm", "(or protocol.omega) must be > 0 when protocol.mode is '" +
+                             std::string(name_of(s.mode)) + "'");
+  if (s.mode == Mode::biaxial && s.theta_z + s.theta_x <= 0 && s.iterations > 0)
     fail("protocol.theta_z",
          "and protocol.theta_x are both 0: the biaxial protocol would not move");
   if (!s.bed_file.empty()) {
@@ -405,29 +342,6 @@ void validate_scene(const Scene& s) {
     // Raises InputError if the requested bed does not fit in the tumbler.
     (void)plan_bed(s);
   }
-}
-
-std::string scene_to_text(const Scene& s) {
-  // Dotted keys at top level: valid TOML that parse_scene reads back to the same scene.
-  std::ostringstream os;
-  os.precision(17);
-  for (const auto& spec : scene_schema()) {
-    if (!spec.law.empty() && spec.law != s.law && !contact_law(spec.law).keys_in_every_text)
-      continue;  // another law's key (scene/law_registry.hpp: keys_in_every_text)
-    os << spec.key << " = ";
-    if (spec.key == "fidelity.tier")  // already applied (fidelity.applied names it)
-      os << "\"standard\"";
-    else if (!spec.law.empty())
-      os << s.law_value(spec.key);
-    else if (spec.type == KeySpec::Text)
-      os << '"' << s.*(text_members().at(spec.key)) << '"';
-    else if (spec.type == KeySpec::Integer)
-      os << s.*(int_members().at(spec.key));
-    else
-      os << s.*(real_members().at(spec.key));
-    os << "\n";
-  }
-  return os.str();
 }
 
 }  // namespace tumble

@@ -1,191 +1,131 @@
-// The list of every scene key. Unknown keys are errors (typos must not silently fall back to
+// The key table, derived from the one list of keys (scene/scene_keys.hpp) and the registered
+// contact laws' keys: the schema the parser checks values against, setting a checked value on the
+// struct, and the provenance text. Unknown keys are errors (typos must not silently fall back to
 // defaults); every number has a closed range that the validator enforces.
+#include "scene/scene_schema.hpp"
+
+#include <sstream>
+#include <type_traits>
+
 #include "scene/law_registry.hpp"
-#include "scene/scene.hpp"
 
 namespace tumble {
 
 namespace {
-const std::vector<KeySpec>& own_keys() {
-  using K = KeySpec;
-  static const std::vector<KeySpec> schema = {
-      {"scene.name", K::Text, 0, 0, {}, "scene name (used in output file names)"},
-      {"scene.output_dir", K::Text, 0, 0, {}, "directory for snapshots, checkpoints and results"},
-      {"tumbler.shape",
-       K::Text,
-       0,
-       0,
-       {"sphere", "cylinder"},
-       "tumbler geometry (cylinder: horizontal, axis along z)"},
-      {"tumbler.radius", K::Real, 1e-6, 1e6, {}, "tumbler radius R (cylinder: D/2)"},
-      {"tumbler.length", K::Real, 0, 1e6, {}, "cylinder length L"},
-      {"tumbler.periodic",
-       K::Text,
-       0,
-       0,
-       {"off", "on"},
-       "cylinder: axially periodic (no end caps)"},
-      {"particles.d_small", K::Real, 1e-9, 1e6, {}, "small-particle diameter"},
-      {"particles.d_large",
-       K::Real,
-       1e-9,
-       1e6,
-       {},
-       "large-particle diameter (= d_small for density-bidisperse beds)"},
-      {"particles.density", K::Real, 1e-9, 1e9, {}, "small-particle density"},
-      {"particles.density_ratio", K::Real, 0.1, 10, {}, "R_rho = rho_large / rho_small"},
-      {"particles.large_fraction",
-       K::Real,
-       0,
-       1,
-       {},
-       "f, large-particle volume fraction of the solids"},
-      {"particles.fill_level",
-       K::Real,
-       0.05,
-       0.95,
-       {},
-       "fraction of the tumbler volume occupied by the bed"},
-      {"particles.packing_fraction",
-       K::Real,
-       0.3,
-       0.74,
-       {},
-       "solid fraction of the settled bed (sets the particle count)"},
-      {"particles.count",
-       K::Integer,
-       0,
-       1e8,
-       {},
-       "cylinder: number of particles (spheres are filled by particles.fill_level)"},
-      {"particles.size_spread",
-       K::Real,
-       0,
-       1e6,
-       {},
-       "diameters uniform in [d - spread, d] (rapaport2007 law only)"},
-      {"contact.law", K::Text, 0, 0, {}, "contact law"},  // choices: the registered laws
-      {"contact.restitution", K::Real, 0.05, 1, {}, "normal restitution coefficient e"},
-      {"contact.collision_time", K::Real, 1e-9, 1, {}, "binary collision time t_c"},
-      {"contact.friction", K::Real, 0, 2, {}, "particle-particle friction coefficient mu"},
-      {"contact.wall_friction", K::Real, 0, 2, {}, "particle-wall friction coefficient mu_w"},
-      {"contact.tangential_damping", K::Real, 0, 1e9, {}, "tangential damping gamma_t [1/s]"},
-      {"fill.seed", K::Integer, 0, 9.0e15, {}, "random seed of the bed"},
-      {"fill.start",
-       K::Text,
-       0,
-       0,
-       {"mixed", "large_top", "large_xneg", "large_zneg"},
-       "initial arrangement (large_zneg: cylinder presegregated in two axial halves)"},
-      {"fill.settle_rms_speed",
-       K::Real,
-       1e-12,
-       1e3,
-       {},
-       "settling ends when the rms speed falls below this"},
-      {"fill.settle_max_time",
-       K::Real,
-       0,
-       1e6,
-       {},
-       "settling gives up (error) after this simulated time"},
-      {"fill.bed_file", K::Text, 0, 0, {}, "start from this settled bed (HDF5) instead of filling"},
-      {"fill.bed_cache", K::Text, 0, 0, {}, "directory where settled beds are saved and reused"},
-      {"protocol.mode", K::Text, 0, 0, {"biaxial", "single_axis", "rest"}, "rotation protocol"},
-      {"protocol.theta_z", K::Real, 0, 360, {}, "rotation angle about z per iteration [deg]"},
-      {"protocol.theta_x", K::Real, 0, 360, {}, "rotation angle about x per iteration [deg]"},
-      {"protocol.repose", K::Real, 0, 89, {}, "repose tilt beta before/after each rotation [deg]"},
-      {"protocol.rpm", K::Real, 0, 1e4, {}, "angular speed [rev/min]"},
-      {"protocol.axis", K::Text, 0, 0, {"x", "z"}, "axis of single_axis mode"},
-      {"protocol.omega",
-       K::Real,
-       0,
-       1e6,
-       {},
-       "angular speed [rad per time unit], overrides protocol.rpm when > 0"},
-      {"protocol.revolutions",
-       K::Real,
-       0,
-       1e9,
-       {},
-       "single_axis: run length in revolutions (0 = protocol.duration)"},
-      {"protocol.iterations", K::Real, 0, 1e6, {}, "biaxial: protocol iterations to run"},
-      {"protocol.duration", K::Real, 0, 1e9, {}, "single_axis/rest: simulated time to run"},
-      {"gravity.g", K::Real, 0, 1e4, {}, "gravitational acceleration (along -y)"},
-      {"time.dt", K::Real, 0, 1, {}, "time step (0 = dt_fraction * collision_time)"},
-      {"time.dt_fraction", K::Real, 1e-6, 1, {}, "time step as a fraction of t_c"},
-      {"time.integrator",
-       K::Text,
-       0,
-       0,
-       {"velocity_verlet", "leapfrog"},
-       "velocity_verlet, or leapfrog (one kick per step; velocities reported at half steps)"},
-      {"neighbor.skin", K::Real, 0.01, 2, {}, "Verlet skin as a fraction of d_small"},
-      {"fidelity.tier",
-       K::Text,
-       0,
-       0,
-       {"standard", "reference", "fast", "preview"},
-       "speed/accuracy preset derived from the scene (docs/accuracy.md); standard = as written"},
-      {"fidelity.applied",
-       K::Text,
-       0,
-       0,
-       {"standard", "reference", "fast", "preview"},
-       "written by Tumble: the tier already applied to a resolved scene's values"},
-      {"parallel.rebalance_threshold",
-       K::Real,
-       1,
-       100,
-       {},
-       "domain-decomposed runs: re-bisect when max/mean particles per rank exceeds this"},
-      {"output.snapshot_interval",
-       K::Real,
-       0,
-       1e9,
-       {},
-       "simulated time between snapshots (0 = once per iteration)"},
-      {"output.checkpoint_interval",
-       K::Real,
-       0,
-       1e9,
-       {},
-       "simulated time between checkpoints (0 = once per iteration)"},
-      {"output.progress_interval", K::Real, 0, 1e6, {}, "wall seconds between progress lines"},
-      {"output.analysis_interval",
-       K::Real,
-       0,
-       1e9,
-       {},
-       "simulated time between segregation samples (0 = off)"},
-      {"output.drift_grid",
-       K::Text,
-       0,
-       0,
-       {"off", "on"},
-       "measure the MCM axial drift grid (Yu 2022 App. A) into drift_grid.h5"},
-      {"output.slice_width",
-       K::Real,
-       0,
-       1e6,
-       {},
-       "cylinder: width of axial and radial bins (0 = 2.5 mean small diameters)"},
-  };
-  return schema;
+
+// How a member's C++ type reads and writes: numbers, free text, or an enum's names.
+template <class T, class = void>
+struct KeyKind {  // the enums
+  static constexpr KeySpec::Type type = KeySpec::Text;
+  static std::vector<std::string> choices() { return enum_names<T>(); }
+};
+template <>
+struct KeyKind<double> {
+  static constexpr KeySpec::Type type = KeySpec::Real;
+  static std::vector<std::string> choices() { return {}; }
+};
+template <>
+struct KeyKind<std::int64_t> {
+  static constexpr KeySpec::Type type = KeySpec::Integer;
+  static std::vector<std::string> choices() { return {}; }
+};
+template <>
+struct KeyKind<std::string> {
+  static constexpr KeySpec::Type type = KeySpec::Text;
+  static std::vector<std::string> choices() { return {}; }
+};
+
+// `num` for numbers, `text` otherwise; both already checked against the key's spec.
+template <class T, T Scene::*M>
+void set_member(Scene& s, const std::string& text, double num) {
+  if constexpr (std::is_same_v<T, double>)
+    s.*M = num;
+  else if constexpr (std::is_same_v<T, std::int64_t>)
+    s.*M = static_cast<std::int64_t>(num);
+  else if constexpr (std::is_same_v<T, std::string>)
+    s.*M = text;
+  else
+    enum_from_name(text, s.*M);
 }
+
+// Numbers as the stream writes them (precision 17), text and enum names quoted.
+template <class T, T Scene::*M>
+void write_member(std::ostream& os, const Scene& s) {
+  if constexpr (std::is_same_v<T, double> || std::is_same_v<T, std::int64_t>)
+    os << s.*M;
+  else
+    os << '"' << s.*M << '"';
+}
+
+struct OwnKey {
+  KeySpec spec;
+  void (*set)(Scene&, const std::string&, double);
+  void (*write)(std::ostream&, const Scene&);
+};
+
+const std::vector<OwnKey>& own_keys() {
+#define TUMBLE_SCENE_KEY_ROW(T, MEMBER, KEY, DEFAULT, LO, HI, HELP)           \
+  OwnKey{KeySpec(KEY, KeyKind<T>::type, LO, HI, KeyKind<T>::choices(), HELP), \
+         &set_member<T, &Scene::MEMBER>, &write_member<T, &Scene::MEMBER>},
+  static const std::vector<OwnKey> keys = {TUMBLE_SCENE_KEYS(TUMBLE_SCENE_KEY_ROW)};
+#undef TUMBLE_SCENE_KEY_ROW
+  return keys;
+}
+
+const OwnKey* own_key(const std::string& key) {
+  for (const OwnKey& k : own_keys())
+    if (k.spec.key == key) return &k;
+  return nullptr;
+}
+
 }  // namespace
 
 std::vector<KeySpec> scene_schema() {
   std::vector<KeySpec> keys;
-  for (const KeySpec& k : own_keys()) {
-    keys.push_back(k);
-    if (k.key == "contact.law")
+  for (const OwnKey& k : own_keys()) {
+    keys.push_back(k.spec);
+    if (k.spec.key == "contact.law")
       for (const auto& law : contact_laws()) keys.back().choices.push_back(law.name);
-    if (k.key == "contact.tangential_damping")
+    if (k.spec.key == "contact.tangential_damping")
       for (const auto& law : contact_laws())
         keys.insert(keys.end(), law.keys.begin(), law.keys.end());
   }
   return keys;
+}
+
+std::string default_text(const KeySpec& spec) {
+  std::ostringstream os;  // the stream's default precision: for reading, not for round trips
+  if (!spec.law.empty())
+    os << spec.def;
+  else
+    own_key(spec.key)->write(os, Scene{});
+  return os.str();
+}
+
+void set_key(Scene& s, const KeySpec& spec, const std::string& text, double num) {
+  if (!spec.law.empty())
+    s.law_values[spec.key] = num;
+  else
+    own_key(spec.key)->set(s, text, num);
+}
+
+std::string scene_to_text(const Scene& s) {
+  // Dotted keys at top level: valid TOML that parse_scene reads back to the same scene.
+  std::ostringstream os;
+  os.precision(17);
+  for (const auto& spec : scene_schema()) {
+    if (!spec.law.empty() && spec.law != s.law && !contact_law(spec.law).keys_in_every_text)
+      continue;  // another law's key (scene/law_registry.hpp: keys_in_every_text)
+    os << spec.key << " = ";
+    if (spec.key == "fidelity.tier")  // already applied (fidelity.applied names it)
+      os << "\"standard\"";
+    else if (!spec.law.empty())
+      os << s.law_value(spec.key);
+    else
+      own_key(spec.key)->write(os, s);
+    os << "\n";
+  }
+  return os.str();
 }
 
 }  // namespace tumble

@@ -206,7 +206,7 @@ TEST(CampaignSpec, TierAppliesToEveryCase) {
     const Scene a = case_scene(fast, ef.cases[k], "/tmp/x", "/tmp/beds", 1);
     const Scene b = case_scene(standard, es.cases[k], "/tmp/x", "/tmp/beds", 1);
     EXPECT_DOUBLE_EQ(a.collision_time, 2 * b.collision_time);
-    EXPECT_EQ(a.tier_applied, "fast");
+    EXPECT_EQ(a.tier_applied, Tier::fast);
     EXPECT_DOUBLE_EQ(a.large_fraction, b.large_fraction);  // the sweep's value kept
     EXPECT_NE(ef.cases[k].id, es.cases[k].id);
   }

@@ -12,12 +12,12 @@
 #include <set>
 
 #include "analysis/radial_segregation.hpp"
-#include "scene/fill.hpp"
-#include "scene/fill_cylinder.hpp"
-#include "run/realization.hpp"
 #include "engine/simulation.hpp"
 #include "parallel/domain.hpp"
 #include "parallel_helpers.hpp"
+#include "run/realization.hpp"
+#include "scene/fill.hpp"
+#include "scene/fill_cylinder.hpp"
 
 using namespace tumble;
 using namespace tumble::testing;
@@ -174,7 +174,7 @@ TEST(Domain, CylinderScenesMatchSerial) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(-2, 2);
     for (Vec3& v : cb.particles.v) v = {u(rng), u(rng), u(rng)};
-    const auto proto = geometry::Protocol::single_axis(s.axis[0], s.omega());
+    const auto proto = geometry::Protocol::single_axis(name_of(s.axis)[0], s.omega());
     Simulation serial(s, cb.particles, proto);
     Simulation par(s, share_of(cb.particles, MPI_COMM_WORLD), proto, 0, 0, MPI_COMM_WORLD);
     serial.compute_forces();
@@ -196,7 +196,7 @@ TEST(Domain, CylinderScenesMatchSerial) {
     MPI_Allreduce(&border, &all_border, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
     EXPECT_GT(all_border, 10) << "periodic " << periodic;
     EXPECT_EQ(par.global_count(), static_cast<std::int64_t>(cb.particles.size()));
-    const double period = s.periodic == "on" ? s.length : 0.0;
+    const double period = s.periodic == OnOff::on ? s.length : 0.0;
     EXPECT_LT(max_deviation(serial.particles(), par.gather_all(), period), 1e-9 * s.d_small)
         << "periodic " << periodic;
   }

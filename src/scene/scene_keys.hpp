@@ -1,0 +1,126 @@
+#pragma once
+// The one list of the scene's own keys (the contact laws add theirs: scene/law_registry.hpp). Each
+// line defines a key completely:
+//
+//   X(C++ type, Scene member, "section.key", default, lowest, highest, "meaning")
+//
+// and from it come the Scene struct's members and defaults (scene.hpp), the parser's type, range
+// and choice checks, `tumble run --list-keys`, and the provenance text scene_to_text (in this
+// order: the order of the lines is part of every stored scene text, so a new key goes where its
+// section is and existing lines never move). Numbers are double (Real) or std::int64_t (Integer)
+// with a closed range; std::string is free text; an enum (scene/scene_enums.hpp) is one of its
+// names. To add a key: one line here, and the code that uses it.
+#include <cstdint>
+#include <string>
+
+#include "scene/scene_enums.hpp"
+
+// clang-format off
+#define TUMBLE_SCENE_KEYS(X) \
+  X(std::string, name, "scene.name", "scene", 0, 0, \
+    "scene name (used in output file names)") \
+  X(std::string, output_dir, "scene.output_dir", "results/scene", 0, 0, \
+    "directory for snapshots, checkpoints and results") \
+  X(Shape, shape, "tumbler.shape", Shape::sphere, 0, 0, \
+    "tumbler geometry (cylinder: horizontal, axis along z)") \
+  X(double, radius, "tumbler.radius", 0.035, 1e-6, 1e6, \
+    "tumbler radius R (cylinder: D/2)") \
+  X(double, length, "tumbler.length", 0, 0, 1e6, \
+    "cylinder length L") /* axis z, from -L/2 to L/2 */ \
+  X(OnOff, periodic, "tumbler.periodic", OnOff::off, 0, 0, \
+    "cylinder: axially periodic (no end caps)") \
+  X(double, d_small, "particles.d_small", 0.002, 1e-9, 1e6, \
+    "small-particle diameter") \
+  X(double, d_large, "particles.d_large", 0.004, 1e-9, 1e6, \
+    "large-particle diameter (= d_small for density-bidisperse beds)") \
+  X(double, density, "particles.density", 2500, 1e-9, 1e9, \
+    "small-particle density") /* [kg/m^3] */ \
+  X(double, density_ratio, "particles.density_ratio", 1, 0.1, 10, \
+    "R_rho = rho_large / rho_small") \
+  X(double, large_fraction, "particles.large_fraction", 0.15, 0, 1, \
+    "f, large-particle volume fraction of the solids") \
+  X(double, fill_level, "particles.fill_level", 0.5, 0.05, 0.95, \
+    "fraction of the tumbler volume occupied by the bed") \
+  X(double, packing_fraction, "particles.packing_fraction", 0.6, 0.3, 0.74, \
+    "solid fraction of the settled bed (sets the particle count)") \
+  X(std::int64_t, count, "particles.count", 0, 0, 1e8, \
+    "cylinder: number of particles (spheres are filled by particles.fill_level)") \
+  X(double, size_spread, "particles.size_spread", 0, 0, 1e6, \
+    "diameters uniform in [d - spread, d] (rapaport2007 law only)") /* Rapaport 2007: 0.2 */ \
+  X(std::string, law, "contact.law", "yu2022", 0, 0, \
+    "contact law") /* choices: the registered laws (contact/laws.hpp) */ \
+  X(double, restitution, "contact.restitution", 0.87, 0.05, 1, \
+    "normal restitution coefficient e") \
+  X(double, collision_time, "contact.collision_time", 5e-4, 1e-9, 1, \
+    "binary collision time t_c") \
+  X(double, friction, "contact.friction", 0.6, 0, 2, \
+    "particle-particle friction coefficient mu") \
+  X(double, wall_friction, "contact.wall_friction", 0.6, 0, 2, \
+    "particle-wall friction coefficient mu_w") \
+  X(double, tangential_damping, "contact.tangential_damping", 0, 0, 1e9, \
+    "tangential damping gamma_t [1/s]") \
+  /* the contact laws' own keys are written here (scene_schema) */ \
+  X(std::int64_t, seed, "fill.seed", 1, 0, 9.0e15, \
+    "random seed of the bed") \
+  X(Start, start, "fill.start", Start::mixed, 0, 0, \
+    "initial arrangement (large_zneg: cylinder presegregated in two axial halves)") \
+  X(double, settle_rms_speed, "fill.settle_rms_speed", 1e-3, 1e-12, 1e3, \
+    "settling ends when the rms speed falls below this") /* [m/s] */ \
+  X(double, settle_max_time, "fill.settle_max_time", 2.0, 0, 1e6, \
+    "settling gives up (error) after this simulated time") /* [s] */ \
+  X(std::string, bed_file, "fill.bed_file", "", 0, 0, \
+    "start from this settled bed (HDF5) instead of filling") \
+  X(std::string, bed_cache, "fill.bed_cache", "beds", 0, 0, \
+    "directory where settled beds are saved and reused") \
+  X(Mode, mode, "protocol.mode", Mode::biaxial, 0, 0, \
+    "rotation protocol") \
+  X(double, theta_z, "protocol.theta_z", 57, 0, 360, \
+    "rotation angle about z per iteration [deg]") \
+  X(double, theta_x, "protocol.theta_x", 57, 0, 360, \
+    "rotation angle about x per iteration [deg]") \
+  X(double, repose, "protocol.repose", 27, 0, 89, \
+    "repose tilt beta before/after each rotation [deg]") \
+  X(double, rpm, "protocol.rpm", 3, 0, 1e4, \
+    "angular speed [rev/min]") \
+  X(Axis, axis, "protocol.axis", Axis::x, 0, 0, \
+    "axis of single_axis mode") \
+  X(double, omega_set, "protocol.omega", 0, 0, 1e6, \
+    "angular speed [rad per time unit], overrides protocol.rpm when > 0") \
+  X(double, revolutions, "protocol.revolutions", 0, 0, 1e9, \
+    "single_axis: run length in revolutions (0 = protocol.duration)") \
+  X(double, iterations, "protocol.iterations", 1, 0, 1e6, \
+    "biaxial: protocol iterations to run") \
+  X(double, duration, "protocol.duration", 0, 0, 1e9, \
+    "single_axis/rest: simulated time to run") \
+  X(double, g, "gravity.g", 9.81, 0, 1e4, \
+    "gravitational acceleration (along -y)") \
+  X(double, dt, "time.dt", 0, 0, 1, \
+    "time step (0 = dt_fraction * collision_time)") \
+  X(double, dt_fraction, "time.dt_fraction", 0.02, 1e-6, 1, \
+    "time step as a fraction of t_c") /* t_c/50 by default */ \
+  X(Integrator, integrator, "time.integrator", Integrator::velocity_verlet, 0, 0, \
+    "velocity_verlet, or leapfrog (one kick per step; velocities reported at half steps)") \
+  X(double, skin, "neighbor.skin", 0.1, 0.01, 2, \
+    "Verlet skin as a fraction of d_small") /* fastest measured, docs/performance.md */ \
+  X(Tier, tier, "fidelity.tier", Tier::standard, 0, 0, \
+    "speed/accuracy preset derived from the scene (docs/accuracy.md); standard = as written") \
+  /* The tier whose values this scene already holds. The resolved text (provenance, checkpoints) \
+     records it here and writes fidelity.tier = "standard", so reading it back does not apply \
+     the tier twice. */ \
+  X(Tier, tier_applied, "fidelity.applied", Tier::standard, 0, 0, \
+    "written by Tumble: the tier already applied to a resolved scene's values") \
+  X(double, rebalance_threshold, "parallel.rebalance_threshold", 1.1, 1, 100, \
+    "domain-decomposed runs: re-bisect when max/mean particles per rank exceeds this") \
+  X(double, snapshot_interval, "output.snapshot_interval", 0, 0, 1e9, \
+    "simulated time between snapshots (0 = once per iteration)") \
+  X(double, checkpoint_interval, "output.checkpoint_interval", 0, 0, 1e9, \
+    "simulated time between checkpoints (0 = once per iteration)") \
+  X(double, progress_interval, "output.progress_interval", 10, 0, 1e6, \
+    "wall seconds between progress lines") \
+  X(double, analysis_interval, "output.analysis_interval", 0.5, 0, 1e9, \
+    "simulated time between segregation samples (0 = off)") \
+  X(OnOff, drift_grid, "output.drift_grid", OnOff::off, 0, 0, \
+    "measure the MCM axial drift grid (Yu 2022 App. A) into drift_grid.h5") \
+  X(double, slice_width, "output.slice_width", 0, 0, 1e6, \
+    "cylinder: width of axial and radial bins (0 = 2.5 mean small diameters)")
+// clang-format on

@@ -1,0 +1,13 @@
+#pragma once
+// The key table's internals shared by the parser (scene.cpp) and the table (scene_schema.cpp).
+#include <string>
+
+#include "scene/scene.hpp"
+
+namespace tumble {
+
+// Sets key `spec`'s value, already checked against the spec (range, integer, choices): `num` for
+// numbers, `text` for text and enum names.
+void set_key(Scene& s, const KeySpec& spec, const std::string& text, double num);
+
+}  // namespace tumble
