@@ -3,9 +3,9 @@
 #include <string>
 #include <vector>
 
+#include "engine/simulation.hpp"
 #include "scene/fill.hpp"
 #include "scene/scene.hpp"
-#include "engine/simulation.hpp"
 
 namespace tumble::testing {
 

@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "base/error.hpp"
-#include "scene/fill_cylinder.hpp"
 #include "dem_helpers.hpp"
+#include "scene/fill_cylinder.hpp"
 
 namespace tumble {
 namespace {

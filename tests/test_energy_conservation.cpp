@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "bed_fixture.hpp"
-#include "scene/fill.hpp"
 #include "engine/simulation.hpp"
+#include "scene/fill.hpp"
 
 using namespace tumble;
 using namespace tumble::testing;

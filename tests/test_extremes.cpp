@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "base/error.hpp"
-#include "scene/fill.hpp"
 #include "dem_helpers.hpp"
+#include "scene/fill.hpp"
 
 using namespace tumble;
 using namespace tumble::testing;

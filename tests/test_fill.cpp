@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include "base/error.hpp"
+#include "io/bed_io.hpp"
 #include "scene/fill.hpp"
 #include "scene/scene.hpp"
-#include "io/bed_io.hpp"
 
 using namespace tumble;
 

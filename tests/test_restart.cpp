@@ -3,10 +3,10 @@
 
 #include <filesystem>
 
-#include "bed_fixture.hpp"
 #include "base/error.hpp"
-#include "run/realization.hpp"
+#include "bed_fixture.hpp"
 #include "io/checkpoint.hpp"
+#include "run/realization.hpp"
 
 using namespace tumble;
 using namespace tumble::testing;

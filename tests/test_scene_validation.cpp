@@ -6,8 +6,8 @@
 #include <filesystem>
 
 #include "base/error.hpp"
-#include "scene/scene.hpp"
 #include "base/vec3.hpp"
+#include "scene/scene.hpp"
 
 using namespace tumble;
 

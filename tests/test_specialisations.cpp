@@ -5,8 +5,8 @@
 
 #include <cstdlib>
 
-#include "scene/fill.hpp"
 #include "dem_helpers.hpp"
+#include "scene/fill.hpp"
 
 using namespace tumble;
 using namespace tumble::testing;

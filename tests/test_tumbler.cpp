@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "bed_fixture.hpp"
-#include "engine/simulation.hpp"
 #include "dem_helpers.hpp"
+#include "engine/simulation.hpp"
 
 using namespace tumble;
 using namespace tumble::testing;

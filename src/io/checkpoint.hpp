@@ -15,8 +15,8 @@
 #include <string>
 
 #include "analysis/radial_segregation.hpp"
-#include "scene/scene.hpp"
 #include "engine/simulation.hpp"
+#include "scene/scene.hpp"
 
 namespace tumble::io {
 

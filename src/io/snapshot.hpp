@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "scene/scene.hpp"
 #include "engine/simulation.hpp"
+#include "scene/scene.hpp"
 
 namespace tumble::io {
 

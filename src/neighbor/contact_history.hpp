@@ -12,8 +12,8 @@ namespace tumble::neighbor {
 
 // Doubles of history per contact that the store holds: one Vec3 (the tangential spring), in the
 // Verlet list (VerletList::spring), in the saved records below, in migration messages and in
-// checkpoints. Each contact law says how many it needs (kHistoryDoubles in its file in contact/); the
-// engine checks at compile time that they agree.
+// checkpoints. Each contact law says how many it needs (kHistoryDoubles in its file in contact/);
+// the engine checks at compile time that they agree.
 constexpr int kHistoryDoubles = 3;
 
 struct SavedSpring {

@@ -3,8 +3,9 @@
 // owned particles and of their contact history when they cross a border, and the ghost (halo)
 // particles every rank needs from its neighbours: sent in full at each neighbour rebuild, their
 // positions and velocities refreshed every step. Pairs across a rank border are computed on both
-// sides (Newton off, docs/architecture.md, "Parallel"); each side keeps its own copy of the pair's spring, and the two
-// copies stay equal because the pair force is evaluated with the same operations on both sides.
+// sides (Newton off, docs/architecture.md, "Parallel"); each side keeps its own copy of the pair's
+// spring, and the two copies stay equal because the pair force is evaluated with the same
+// operations on both sides.
 //
 // Works on any communicator it is handed (a campaign's rank group as well as MPI_COMM_WORLD); it
 // duplicates it so that its messages never meet anyone else's.

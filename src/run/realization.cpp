@@ -7,6 +7,7 @@
 #include <memory>
 #include <ostream>
 
+#include "base/comm.hpp"
 #include "base/error.hpp"
 #include "engine/simulation.hpp"
 #include "h5/hdf5_file.hpp"
@@ -26,16 +27,6 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-int rank_in(MPI_Comm comm) {
-  int r = 0;
-  if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &r);
-  return r;
-}
-int size_of(MPI_Comm comm) {
-  int n = 1;
-  if (comm != MPI_COMM_NULL) MPI_Comm_size(comm, &n);
-  return n;
-}
 
 geometry::Protocol protocol_of(const Scene& scene) {
   if (scene.mode == Mode::biaxial)

@@ -1,12 +1,10 @@
 #include "run/run_state.hpp"
 
+#include "base/comm.hpp"
+
 namespace tumble {
 
-bool RunState::lead() const {
-  int r = 0;
-  if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &r);
-  return r == 0;
-}
+bool RunState::lead() const { return rank_in(comm) == 0; }
 
 const Particles& RunState::whole_bed() {
   if (comm == MPI_COMM_NULL) return sim.particles();

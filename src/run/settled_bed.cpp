@@ -7,6 +7,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "base/comm.hpp"
 #include "base/error.hpp"
 #include "base/text_util.hpp"
 #include "engine/simulation.hpp"
@@ -21,16 +22,6 @@ using Clock = std::chrono::steady_clock;
 namespace {
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-int rank_in(MPI_Comm comm) {
-  int r = 0;
-  if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &r);
-  return r;
-}
-int size_of(MPI_Comm comm) {
-  int n = 1;
-  if (comm != MPI_COMM_NULL) MPI_Comm_size(comm, &n);
-  return n;
 }
 }  // namespace
 

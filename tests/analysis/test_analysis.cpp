@@ -6,12 +6,12 @@
 #include <cmath>
 #include <limits>
 
-#include "islands/cross_section.hpp"
 #include "analysis/displacement.hpp"
+#include "analysis/light_concentration.hpp"
+#include "islands/cross_section.hpp"
 #include "islands/enrichment.hpp"
 #include "islands/fates.hpp"
 #include "islands/island_mask.hpp"
-#include "analysis/light_concentration.hpp"
 #include "islands/replica_stats.hpp"
 
 namespace ta = tumble::analysis;

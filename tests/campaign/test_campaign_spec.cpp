@@ -6,9 +6,9 @@
 #include <fstream>
 #include <set>
 
+#include "base/error.hpp"
 #include "campaign/campaign_spec.hpp"
 #include "campaign/expand.hpp"
-#include "base/error.hpp"
 
 namespace tumble::campaign {
 namespace {

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "base/error.hpp"
 #include "campaign/json_line.hpp"
 #include "campaign/manifest.hpp"
-#include "base/error.hpp"
 
 namespace tumble::campaign {
 namespace {

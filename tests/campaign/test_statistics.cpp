@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <random>
 
-#include "campaign/ensemble.hpp"
-#include "base/student_t.hpp"
 #include "base/error.hpp"
+#include "base/student_t.hpp"
+#include "campaign/ensemble.hpp"
 #include "h5/hdf5_file.hpp"
 
 namespace tumble::campaign {

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "geometry/protocol.hpp"
 #include "run/realization.hpp"
 #include "scene/scene.hpp"
-#include "geometry/protocol.hpp"
 
 namespace tumble::testing {
 

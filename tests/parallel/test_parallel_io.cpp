@@ -8,13 +8,13 @@
 #include <cmath>
 #include <filesystem>
 
-#include "scene/fill.hpp"
-#include "run/realization.hpp"
 #include "engine/simulation.hpp"
-#include "io/checkpoint.hpp"
 #include "h5/hdf5_file.hpp"
+#include "io/checkpoint.hpp"
 #include "io/snapshot.hpp"
 #include "parallel_helpers.hpp"
+#include "run/realization.hpp"
+#include "scene/fill.hpp"
 
 using namespace tumble;
 using namespace tumble::testing;
