@@ -3,6 +3,7 @@
 // global id (the path restarts and migration use).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 #include "bed_fixture.hpp"
@@ -63,10 +64,85 @@ TEST(VerletList, SpringsCarriedByIndexEqualSpringsMatchedById) {
   std::size_t checked = 0;
   for (std::size_t i = 0; i + 1 < local.start.size(); ++i)
     for (std::uint32_t k = local.start[i]; k < local.start[i + 1]; ++k) {
-      const Vec3 want = by_id.lookup(copy.id[i], copy.id[local.nbr[k]]);
-      const Vec3 got = local.spring[k];
-      ASSERT_TRUE(want.x == got.x && want.y == got.y && want.z == got.z) << "pair " << i;
-      checked += want.x != 0 || want.y != 0 || want.z != 0;
+      const neighbor::HistoryValues want = by_id.lookup(copy.id[i], copy.id[local.nbr[k]]);
+      const double* got = local.history.data() + 3 * k;
+      ASSERT_TRUE(want[0] == got[0] && want[1] == got[1] && want[2] == got[2]) << "pair " << i;
+      checked += want[0] != 0 || want[1] != 0 || want[2] != 0;
     }
   EXPECT_EQ(checked, by_id.records().size());
+}
+
+// The store is as wide as the law says, with the law's sign pattern: a history of 6 doubles of
+// which components 0, 2 and 4 change sign seen from the other particle (a test layout, no law)
+// survives a rebuild that re-sorts the particles and turns pairs around (carried by old index),
+// the saved records, their packing into migration rows, and a rebuild matched by global id.
+TEST(VerletList, HistoryOfAnotherWidthAndSignPatternSurvivesRebuildsAndRecords) {
+  const neighbor::HistoryLayout layout{6, 0x15};
+  const int w = layout.width;
+  Particles p;
+  p.resize(27);
+  for (int i = 0; i < 27; ++i) {  // a 3 x 3 x 3 lattice of touching spheres
+    p.x[i] = {0.9 * (i % 3 - 1), 0.9 * (i / 3 % 3 - 1), 0.9 * (i / 9 - 1)};
+    p.radius[i] = 0.5;
+    p.id[i] = i;
+  }
+  const neighbor::CellGrid grid({-3, -3, -3}, {3, 3, 3}, 1.2);
+  neighbor::VerletList list(grid, 0.1, layout);
+  list.rebuild(p);
+  // The history of pair (a, b) as seen from a: distinct for every pair and component, nonzero.
+  const auto value = [&](std::int64_t a, std::int64_t b, int d) {
+    const double seen_from_lo = 1000.0 * std::min(a, b) + 10.0 * std::max(a, b) + d + 1;
+    return a < b ? seen_from_lo : layout.other_side(d, seen_from_lo);
+  };
+  const auto check = [&](const neighbor::VerletList& l, const Particles& q) {
+    std::size_t pairs = 0, turned = 0;
+    for (std::size_t i = 0; i + 1 < l.start.size(); ++i)
+      for (std::uint32_t k = l.start[i]; k < l.start[i + 1]; ++k) {
+        const std::int64_t a = q.id[i], b = q.id[l.nbr[k]];
+        for (int d = 0; d < w; ++d)
+          EXPECT_EQ(l.history[static_cast<std::size_t>(w) * k + d], value(a, b, d))
+              << a << "-" << b << " component " << d;
+        ++pairs;
+        turned += a > b;
+      }
+    EXPECT_GT(turned, 0u);  // some rows hold their pair from the other side
+    return pairs;
+  };
+  ASSERT_EQ(list.history.size(), static_cast<std::size_t>(w) * list.nbr.size());
+  for (std::size_t i = 0; i + 1 < list.start.size(); ++i)
+    for (std::uint32_t k = list.start[i]; k < list.start[i + 1]; ++k)
+      for (int d = 0; d < w; ++d)
+        list.history[static_cast<std::size_t>(w) * k + d] = value(p.id[i], p.id[list.nbr[k]], d);
+  // Mirror the lattice: the same pairs, in another cell order (ids change places).
+  for (auto& x : p.x) x = -x;
+  list.rebuild(p);  // carried by old index
+  const std::size_t pairs = check(list, p);
+  EXPECT_GE(pairs, 54u);  // at least the 54 lattice edges
+
+  neighbor::ContactHistory saved;
+  list.save_history(p, saved);
+  ASSERT_EQ(saved.width(), w);
+  ASSERT_EQ(saved.records().size(), pairs);
+  // Migration rows: 2 ids, 6 doubles of history, the anchor; read back unchanged.
+  std::vector<double> rows;
+  for (const auto& r : saved.records()) neighbor::append_record(r, w, rows);
+  ASSERT_EQ(rows.size(), pairs * static_cast<std::size_t>(neighbor::record_doubles(w)));
+  std::vector<neighbor::SavedSpring> back;
+  for (std::size_t k = 0; k < rows.size();
+       k += static_cast<std::size_t>(neighbor::record_doubles(w)))
+    back.push_back(neighbor::record_from(rows.data() + k, w));
+  for (std::size_t k = 0; k < back.size(); ++k) {
+    const auto& r = saved.records()[k];
+    EXPECT_TRUE(back[k].lo == r.lo && back[k].hi == r.hi && back[k].history == r.history &&
+                back[k].anchor.x == r.anchor.x && back[k].anchor.y == r.anchor.y &&
+                back[k].anchor.z == r.anchor.z);
+  }
+  neighbor::ContactHistory received(layout);
+  received.set_records(std::move(back));
+  // A fresh list on rotated particles (another order again), histories matched by global id.
+  Particles q = p;
+  for (auto& x : q.x) x = Vec3{x.y, x.z, x.x};
+  neighbor::VerletList fresh(grid, 0.1, layout);
+  fresh.rebuild(q, &received);
+  EXPECT_EQ(check(fresh, q), pairs);
 }

@@ -107,7 +107,9 @@ inline Vec3 hertz_mindlin_force(const HertzMindlinPair& p, const Vec3& n, double
 struct HertzMindlinLaw {
   static constexpr const char* kName = "hertz_mindlin";
   using Pair = HertzMindlinPair;
-  static constexpr int kHistoryDoubles = 3;  // the tangential displacement ξ, one Vec3
+  static constexpr int kHistoryDoubles = 3;      // the tangential displacement ξ, one Vec3
+  using History = Vec3;                          // what force() takes, kHistoryDoubles doubles
+  static constexpr unsigned kHistoryFlip = 0x7;  // seen from the other particle: all three negated
 
   static constexpr const char* kYoungsKey = "contact.youngs_modulus";
   static constexpr const char* kPoissonKey = "contact.poisson_ratio";

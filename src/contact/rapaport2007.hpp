@@ -82,7 +82,9 @@ inline Vec3 rapaport2007_force(const Rapaport2007Pair& p, const Vec3& n, double 
 struct Rapaport2007Law {
   static constexpr const char* kName = "rapaport2007";
   using Pair = Rapaport2007Pair;
-  static constexpr int kHistoryDoubles = 3;  // the accumulated displacement u, one Vec3
+  static constexpr int kHistoryDoubles = 3;      // the accumulated displacement u, one Vec3
+  using History = Vec3;                          // what force() takes, kHistoryDoubles doubles
+  static constexpr unsigned kHistoryFlip = 0x7;  // seen from the other particle: all three negated
 
   static double kn(const Scene& s) { return s.law_value("contact.kn"); }
   static double gamma_n(const Scene& s) { return s.law_value("contact.gamma_n"); }

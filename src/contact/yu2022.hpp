@@ -81,7 +81,9 @@ inline Vec3 yu2022_force(const Yu2022Pair& p, const Vec3& n, double overlap, con
 struct Yu2022Law {
   static constexpr const char* kName = "yu2022";
   using Pair = Yu2022Pair;
-  static constexpr int kHistoryDoubles = 3;  // the tangential spring β, one Vec3
+  static constexpr int kHistoryDoubles = 3;      // the tangential spring β, one Vec3
+  using History = Vec3;                          // what force() takes, kHistoryDoubles doubles
+  static constexpr unsigned kHistoryFlip = 0x7;  // seen from the other particle: all three negated
 
   // Coefficients of species a against species b (0 small, 1 large): m_eff = m_a m_b / (m_a + m_b).
   static Pair make_pair(const Scene& s, int a, int b) {

@@ -3,11 +3,39 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <sstream>
+#include <type_traits>
 
 #include "base/error.hpp"
 
 namespace tumble {
+namespace {
+// The per-contact history of a law, as the neighbour layer stores it (width and sign pattern).
+template <class Law>
+neighbor::HistoryLayout history_layout_of() {
+  using History = typename Law::History;
+  static_assert(Law::kHistoryDoubles >= 1 && Law::kHistoryDoubles <= neighbor::kMaxHistoryDoubles);
+  static_assert(sizeof(History) == Law::kHistoryDoubles * sizeof(double) &&
+                    std::is_trivially_copyable_v<History>,
+                "a law's History is kHistoryDoubles doubles, copied to and from the store");
+  return {Law::kHistoryDoubles, Law::kHistoryFlip};
+}
+// The history of contact k in a store of stride sizeof(History) / sizeof(double), into a value
+// of the law's own type and back (fixed-size copies: plain loads and stores).
+template <class History>
+History load_history(const double* store, std::size_t k) {
+  History h;
+  std::memcpy(static_cast<void*>(&h), store + k * (sizeof(History) / sizeof(double)),
+              sizeof(History));
+  return h;
+}
+template <class History>
+void store_history(double* store, std::size_t k, const History& h) {
+  std::memcpy(store + k * (sizeof(History) / sizeof(double)), static_cast<const void*>(&h),
+              sizeof(History));
+}
+}  // namespace
 
 Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol protocol,
                        double time, std::int64_t step, MPI_Comm comm)
@@ -48,8 +76,10 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
   const char* general = std::getenv("TUMBLE_GENERAL_KERNELS");
   const bool force_general = general != nullptr && std::string(general) == "1";
   if (force_general) one_species_ = false;
+  neighbor::HistoryLayout history;  // the law's, for the list's per-contact store
   contact::with_law(s, [&](auto tag) {
     using Law = typename decltype(tag)::type;
+    history = history_layout_of<Law>();
     tables_ = contact::Tables<Law>::make(s);
     select_kernels<Law>(Law::pair_friction(s), Law::wall_friction(s), cylinder_.periodic);
   });
@@ -61,12 +91,12 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
   const double R = s.radius + skin;
   if (is_cylinder_) {
     const double hz = cylinder_.periodic ? 0.5 * s.length : 0.5 * s.length + skin;
-    list_ =
-        neighbor::VerletList(neighbor::CellGrid({-R, -R, -hz}, {R, R, hz}, 2 * rmax + skin), skin);
+    list_ = neighbor::VerletList(neighbor::CellGrid({-R, -R, -hz}, {R, R, hz}, 2 * rmax + skin),
+                                 skin, history);
     if (cylinder_.periodic) list_.set_period_z(s.length);
   } else {
-    list_ =
-        neighbor::VerletList(neighbor::CellGrid({-R, -R, -R}, {R, R, R}, 2 * rmax + skin), skin);
+    list_ = neighbor::VerletList(neighbor::CellGrid({-R, -R, -R}, {R, R, R}, 2 * rmax + skin), skin,
+                                 history);
   }
   // More than one rank: the parallel layer bisects the tumbler's box among them. Ghosts are the
   // particles within one list cutoff (2 r_max + skin) of a rank's domain.
@@ -97,7 +127,7 @@ Particles Simulation::gather_all() const {
 
 void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
   // (rebuild_lists has brought the centres back into the period: owners come from positions.)
-  // The live springs leave with the pair's particles: saved by id with the position of the pair,
+  // The live histories leave with the pair's particles: saved by id with the position of the pair,
   // routed to every rank near that position, matched by id after the move.
   std::vector<neighbor::SavedSpring> records;
   if (history) {
@@ -108,11 +138,11 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
     records = h.records();
   }
   p_.resize(n_local_);  // drop the ghosts
-  dom_->distribute(p_, records, halo_reach_);
+  dom_->distribute(p_, records, halo_reach_, list_.history_layout().width);
   n_local_ = p_.size();
   list_.sort(p_);
   dom_->exchange_ghosts(p_, n_local_, halo_reach_);
-  neighbor::ContactHistory h;
+  neighbor::ContactHistory h(list_.history_layout());
   h.set_records(std::move(records));
   list_.build_with_ghosts(p_, n_local_, h);
 }
@@ -177,7 +207,16 @@ void Simulation::compute_forces() {
 }
 
 void Simulation::restore(const neighbor::ContactHistory& history) {
-  rebuild_lists(&history);
+  // The records as the law reads them: its width (a checkpoint of another law's width cannot be
+  // matched) and its sign pattern.
+  const neighbor::HistoryLayout& layout = list_.history_layout();
+  if (!history.records().empty() && history.width() != layout.width)
+    throw InputError("the contact history has " + std::to_string(history.width()) +
+                     " doubles per contact; this scene's contact law keeps " +
+                     std::to_string(layout.width));
+  neighbor::ContactHistory h(layout);
+  h.set_records(history.records());
+  rebuild_lists(&h);
   last_build_step_ = step_;
 }
 
@@ -275,10 +314,12 @@ void Simulation::pair_forces() {
   Vec3* __restrict t = p_.t.data();
   const std::uint32_t* __restrict start = list_.start.data();
   const std::uint32_t* __restrict nbr = list_.nbr.data();
-  // The contact store (list_.spring, the saved records, Particles::wall_spring) holds one Vec3 per
-  // contact: a law needing another width needs a store of that width.
-  static_assert(Law::kHistoryDoubles == neighbor::kHistoryDoubles);
-  Vec3* __restrict spring = list_.spring.data();
+  // The list's history: kHistoryDoubles doubles per pair (the width is a constant here), loaded
+  // into the law's History for its kernel and stored back.
+  using History = typename Law::History;
+  constexpr int kWidth = Law::kHistoryDoubles;
+  static_assert(sizeof(History) == kWidth * sizeof(double));
+  double* __restrict hist = list_.history.data();
   const double period = 2 * cylinder_.half_length;
   const auto& pairs = tables<Law>().pair;
   const typename Law::Pair only = pairs[species0_][species0_];  // kOneSpecies: the pair
@@ -293,8 +334,13 @@ void Simulation::pair_forces() {
       const double rsum = ri + rad[j];
       const double d2 = norm2(d);
       if (d2 >= rsum * rsum) {
-        if constexpr (kFriction)  // contact over: the history starts afresh
-          if (spring[k].x != 0.0 || spring[k].y != 0.0 || spring[k].z != 0.0) spring[k] = Vec3{};
+        if constexpr (kFriction) {  // contact over: the history starts afresh
+          double* h = hist + std::size_t{k} * kWidth;
+          bool live = false;
+          for (int c = 0; c < kWidth; ++c) live = live || h[c] != 0.0;
+          if (live)
+            for (int c = 0; c < kWidth; ++c) h[c] = 0.0;
+        }
         continue;
       }
       const double dist = std::sqrt(d2);
@@ -302,8 +348,11 @@ void Simulation::pair_forces() {
       const double li = Law::lever(ri, dist, rsum), lj = Law::lever(rad[j], dist, rsum);
       const Vec3 vrel = v[i] - v[j] - cross(li * w[i] + lj * w[j], nrm);
       Vec3 ft;
+      History h{};  // without friction the kernels neither read nor write it
+      if constexpr (kFriction) h = load_history<History>(hist, k);
       const Vec3 fc = Law::template force<kFriction>(kOneSpecies ? only : pairs[sp[i]][sp[j]], nrm,
-                                                     rsum - dist, vrel, spring[k], dt_, ft);
+                                                     rsum - dist, vrel, h, dt_, ft);
+      if constexpr (kFriction) store_history(hist, k, h);
       fi += fc;
       f[j] -= fc;
       if constexpr (kFriction) {
@@ -321,6 +370,9 @@ void Simulation::pair_forces() {
 // of the law, the wall surface moving with Ω × r.
 template <class Law, bool kFriction, class Wall>
 void Simulation::rough_wall_forces(const Wall& wall) {
+  // The wall's history is the per-particle field wall_spring, one Vec3: a law of another width
+  // needs a wall field of its own width first.
+  static_assert(std::is_same_v<typename Law::History, Vec3>);
   const Vec3 omega = protocol_.omega(time_);
   const auto& walls = tables<Law>().wall;
   for (const std::uint32_t i : wall_candidates_) {
@@ -413,7 +465,8 @@ double Simulation::elastic_energy() const {
       const double share = j >= n_local_ ? 0.5 : 1.0;
       if (ovp > 0)
         e += share *
-             Law::elastic_energy(tab.pair[p_.species[i]][p_.species[j]], ovp, list_.spring[k]);
+             Law::elastic_energy(tab.pair[p_.species[i]][p_.species[j]], ovp,
+                                 load_history<typename Law::History>(list_.history.data(), k));
     }
   }
   return e;

@@ -58,14 +58,15 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   sim.neighbors().save_history(p, h);
   std::vector<std::int64_t> pairs;
   std::vector<double> springs, anchors;
+  const int width = h.width();  // the law's doubles of history per contact: the columns
   for (const auto& r : h.records()) {
     pairs.push_back(r.lo);
     pairs.push_back(r.hi);
-    for (int d = 0; d < neighbor::kHistoryDoubles; ++d) springs.push_back(r.spring[d]);
+    for (int d = 0; d < width; ++d) springs.push_back(r.history[d]);
     for (int d = 0; d < 3; ++d) anchors.push_back(r.anchor[d]);
   }
   f.write_rows("contacts/pair_ids", pairs, 2);
-  f.write_rows("contacts/spring", springs, neighbor::kHistoryDoubles);
+  f.write_rows("contacts/spring", springs, static_cast<hsize_t>(width));
   f.write_rows("contacts/anchor", anchors, 3);
   write_series(f, series);
   f.set_attr("/", "time", sim.time());
@@ -96,21 +97,30 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
   });
   // Contact records: a block each (routed to the pairs' ranks by their anchors). Checkpoints
   // written before anchors existed give every rank every record instead.
-  const auto nc = static_cast<std::int64_t>(f.shape("contacts/spring")[0]);
+  const std::vector<hsize_t> shape = f.shape("contacts/spring");
+  const auto nc = static_cast<std::int64_t>(shape[0]);
+  // Its columns: the doubles of history per contact of the law that wrote it (Simulation::restore
+  // checks them against the scene's law and applies that law's sign pattern).
+  const int h = shape.size() > 1 ? static_cast<int>(shape[1]) : 1;
+  if (h < 1 || h > neighbor::kMaxHistoryDoubles)
+    throw InputError("'" + path + "': contacts/spring has " + std::to_string(h) +
+                     " columns (at most " + std::to_string(neighbor::kMaxHistoryDoubles) + ")");
   const bool anchored = f.exists("contacts/anchor");
   const auto c0 = anchored ? static_cast<hsize_t>(nc * rank / size) : 0;
   const auto c1 = anchored ? static_cast<hsize_t>(nc * (rank + 1) / size) : nc;
   const auto pairs = f.read_rows_int64("contacts/pair_ids", c0, c1 - c0);
   const auto springs = f.read_rows_double("contacts/spring", c0, c1 - c0);
   const auto anchors = anchored ? f.read_rows_double("contacts/anchor", c0, c1 - c0)
-                                : std::vector<double>(springs.size(), 0.0);
-  constexpr int h = neighbor::kHistoryDoubles;
+                                : std::vector<double>(3 * (pairs.size() / 2), 0.0);
   std::vector<neighbor::SavedSpring> recs(pairs.size() / 2);
-  for (std::size_t k = 0; k < recs.size(); ++k)
-    recs[k] = {pairs[2 * k],
-               pairs[2 * k + 1],
-               {springs[h * k], springs[h * k + 1], springs[h * k + 2]},
-               {anchors[3 * k], anchors[3 * k + 1], anchors[3 * k + 2]}};
+  for (std::size_t k = 0; k < recs.size(); ++k) {
+    neighbor::SavedSpring& r = recs[k];
+    r.lo = pairs[2 * k];
+    r.hi = pairs[2 * k + 1];
+    for (int d = 0; d < h; ++d) r.history[d] = springs[static_cast<std::size_t>(h) * k + d];
+    r.anchor = {anchors[3 * k], anchors[3 * k + 1], anchors[3 * k + 2]};
+  }
+  c.history = neighbor::ContactHistory({h, (1u << h) - 1});
   c.history.set_records(std::move(recs));
   read_series(f, c.series);
   c.time = f.attr_double("/", "time");

@@ -1,8 +1,9 @@
 #pragma once
 // Contact history that survives neighbour-list rebuilds and migration between ranks:
-// before a rebuild every live tangential spring is saved with the global ids of its pair; after
-// the rebuild the springs are matched back by ids. One mechanism, two phases (save / restore),
-// as LAMMPS fix neigh/history does.
+// before a rebuild every live contact's history is saved with the global ids of its pair; after
+// the rebuild it is matched back by ids. One mechanism, two phases (save / restore), as LAMMPS
+// fix neigh/history does.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -10,42 +11,67 @@
 
 namespace tumble::neighbor {
 
-// Doubles of history per contact that the store holds: one Vec3 (the tangential spring), in the
-// Verlet list (VerletList::spring), in the saved records below, in migration messages and in
-// checkpoints. Each contact law says how many it needs (kHistoryDoubles in its file in contact/);
-// the engine checks at compile time that they agree.
-constexpr int kHistoryDoubles = 3;
+// The per-contact history of a law (LAMMPS's `dnum`): `width` doubles per contact, and a sign
+// pattern for the pair seen from its other particle (bit d of `flip` set: component d changes
+// sign; a tangential displacement flips all of its components). Chosen once per scene from the
+// law (Law::kHistoryDoubles, Law::kHistoryFlip, in its file in contact/): the Verlet list
+// (VerletList::history), the saved records below, migration messages and the checkpoint's
+// `contacts/spring` (`width` columns) all have that width. The three laws of today keep one Vec3:
+// width 3, all flipping.
+constexpr int kMaxHistoryDoubles = 6;  // the most a law may keep (the capacity of a record)
+struct HistoryLayout {
+  int width = 3;
+  std::uint32_t flip = 0x7;
+  // Component d of a history, given as seen from one particle, as seen from the other.
+  double other_side(int d, double value) const { return (flip >> d) & 1u ? -value : value; }
+};
+using HistoryValues = std::array<double, kMaxHistoryDoubles>;  // the first `width` are used
 
 struct SavedSpring {
-  std::int64_t lo, hi;  // global ids, lo < hi
-  Vec3 spring;          // as seen from particle `lo`
-  Vec3 anchor;          // position of one of the pair when saved: routes the record between ranks
+  std::int64_t lo, hi;    // global ids, lo < hi
+  HistoryValues history;  // as seen from particle `lo` (zero beyond the width)
+  Vec3 anchor;            // position of one of the pair when saved: routes the record between ranks
 };
 
-// A record as a row of doubles in migration messages: ids (< 2^53, exact), history, anchor.
-constexpr int kRecordDoubles = 2 + kHistoryDoubles + 3;
-inline void append_record(const SavedSpring& s, std::vector<double>& out) {
-  out.insert(out.end(), {static_cast<double>(s.lo), static_cast<double>(s.hi), s.spring.x,
-                         s.spring.y, s.spring.z, s.anchor.x, s.anchor.y, s.anchor.z});
+// A record as a row of doubles in migration messages: ids (< 2^53, exact), `width` doubles of
+// history, anchor.
+constexpr int record_doubles(int width) { return 2 + width + 3; }
+inline void append_record(const SavedSpring& s, int width, std::vector<double>& out) {
+  out.push_back(static_cast<double>(s.lo));
+  out.push_back(static_cast<double>(s.hi));
+  out.insert(out.end(), s.history.begin(), s.history.begin() + width);
+  out.insert(out.end(), {s.anchor.x, s.anchor.y, s.anchor.z});
 }
-inline SavedSpring record_from(const double* in) {
-  return {static_cast<std::int64_t>(in[0]),
-          static_cast<std::int64_t>(in[1]),
-          {in[2], in[3], in[4]},
-          {in[5], in[6], in[7]}};
+inline SavedSpring record_from(const double* in, int width) {
+  SavedSpring s{};
+  s.lo = static_cast<std::int64_t>(in[0]);
+  s.hi = static_cast<std::int64_t>(in[1]);
+  for (int d = 0; d < width; ++d) s.history[d] = in[2 + d];
+  s.anchor = {in[2 + width], in[3 + width], in[4 + width]};
+  return s;
 }
-static_assert(kRecordDoubles == 8, "append_record/record_from spell out one Vec3 of history");
 
 class ContactHistory {
  public:
+  explicit ContactHistory(HistoryLayout layout = {}) : layout_(layout) {}
+  const HistoryLayout& layout() const { return layout_; }
+  int width() const { return layout_.width; }
+
   void clear() { saved_.clear(); }
-  // Phase 1: record the spring of pair (id_i, id_j) as seen from i (skips zero springs); `anchor`
-  // is where the pair is (the ranks whose domains lie near it receive the record).
-  void save(std::int64_t id_i, std::int64_t id_j, const Vec3& spring_i, const Vec3& anchor = {});
+  // Phase 1: record the history of pair (id_i, id_j), `width` doubles at `h` as seen from i
+  // (skips all-zero histories); `anchor` is where the pair is (the ranks whose domains lie near
+  // it receive the record).
+  void save(std::int64_t id_i, std::int64_t id_j, const double* h, const Vec3& anchor = {});
   // Sort the saved records for lookup (call between the phases).
   void finalize();
-  // Phase 2: the spring of (id_i, id_j) as seen from i, or zero if the pair had none.
-  Vec3 lookup(std::int64_t id_i, std::int64_t id_j) const;
+  // Phase 2: the history of (id_i, id_j) as seen from i into out[0, width), or zeros if the pair
+  // had none.
+  void lookup(std::int64_t id_i, std::int64_t id_j, double* out) const;
+  HistoryValues lookup(std::int64_t id_i, std::int64_t id_j) const {
+    HistoryValues h{};
+    lookup(id_i, id_j, h.data());
+    return h;
+  }
 
   const std::vector<SavedSpring>& records() const { return saved_; }
   std::vector<SavedSpring>& mutable_records() { return saved_; }
@@ -55,6 +81,7 @@ class ContactHistory {
   }
 
  private:
+  HistoryLayout layout_;
   std::vector<SavedSpring> saved_;
 };
 

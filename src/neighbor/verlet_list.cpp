@@ -7,11 +7,12 @@
 namespace tumble::neighbor {
 
 void VerletList::save_history(const Particles& p, ContactHistory& out) const {
-  out.clear();
+  out = ContactHistory(layout_);
   const std::size_t n = start.empty() ? 0 : start.size() - 1;
+  const std::size_t w = static_cast<std::size_t>(layout_.width);
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
-      out.save(p.id[i], p.id[nbr[k]], spring[k], p.x[i]);
+      out.save(p.id[i], p.id[nbr[k]], history.data() + w * k, p.x[i]);
   out.finalize();
 }
 
@@ -59,7 +60,7 @@ void VerletList::sort(Particles& p) {
 }
 
 void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
-                                   const ContactHistory& history) {
+                                   const ContactHistory& saved) {
   // Bin the ghosts by cell without moving them: their order is the order refresh_ghosts() fills.
   const std::size_t cells = grid_.cell_count();
   ghost_start_.assign(cells + 1, 0);
@@ -81,24 +82,25 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
     add_row(p, i, true);
   }
   start[n_local] = static_cast<std::uint32_t>(nbr.size());
-  spring.assign(nbr.size(), Vec3{});
+  const std::size_t w = static_cast<std::size_t>(layout_.width);
+  history.assign(w * nbr.size(), 0.0);
   for (std::size_t i = 0; i < n_local; ++i)
     for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
-      spring[k] = history.lookup(p.id[i], p.id[nbr[k]]);
+      saved.lookup(p.id[i], p.id[nbr[k]], history.data() + w * k);
   x_ref_.assign(p.x.begin(), p.x.begin() + static_cast<std::ptrdiff_t>(n_local));
   ++builds;
 }
 
-void VerletList::rebuild(Particles& p, const ContactHistory* history) {
+void VerletList::rebuild(Particles& p, const ContactHistory* saved) {
   const std::size_t n = p.size();
-  // Keep the old list: within one process the springs are carried over by old index (a short
+  // Keep the old list: within one process the histories are carried over by old index (a short
   // scan of one old row), which is far cheaper than matching global ids. The id-keyed
   // ContactHistory is used where indices mean nothing: restarts (and, later, rank migration).
-  const bool carry_local = history == nullptr && old_start_capacity_ok(n);
+  const bool carry_local = saved == nullptr && old_start_capacity_ok(n);
   if (carry_local) {
     start.swap(old_start_);
     nbr.swap(old_nbr_);
-    spring.swap(old_spring_);
+    history.swap(old_history_);
   }
   grid_.sort(p.x, perm_, cell_start_);
   p.permute(perm_);
@@ -112,7 +114,8 @@ void VerletList::rebuild(Particles& p, const ContactHistory* history) {
   }
   start[n] = static_cast<std::uint32_t>(nbr.size());
 
-  spring.assign(nbr.size(), Vec3{});
+  const std::size_t w = static_cast<std::size_t>(layout_.width);
+  history.assign(w * nbr.size(), 0.0);
   if (carry_local) {
     for (std::size_t i = 0; i < n; ++i)
       for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
@@ -121,14 +124,20 @@ void VerletList::rebuild(Particles& p, const ContactHistory* history) {
         const std::uint32_t row = a < b ? a : b, partner = a < b ? b : a;
         for (std::uint32_t q = old_start_[row]; q < old_start_[row + 1]; ++q)
           if (old_nbr_[q] == partner) {
-            spring[k] = a < b ? old_spring_[q] : -old_spring_[q];
+            const double* from = old_history_.data() + w * q;
+            double* to = history.data() + w * k;
+            if (a < b)
+              for (std::size_t d = 0; d < w; ++d) to[d] = from[d];
+            else
+              for (std::size_t d = 0; d < w; ++d)
+                to[d] = layout_.other_side(static_cast<int>(d), from[d]);
             break;
           }
       }
-  } else if (history) {  // restart (or, later, migration): match by global id
+  } else if (saved) {  // restart (or, later, migration): match by global id
     for (std::size_t i = 0; i < n; ++i)
       for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
-        spring[k] = history->lookup(p.id[i], p.id[nbr[k]]);
+        saved->lookup(p.id[i], p.id[nbr[k]], history.data() + w * k);
   }  // else: the first build, nothing to carry
   x_ref_ = p.x;
   ++builds;

@@ -1,6 +1,7 @@
 #pragma once
 // Half Verlet list (each pair once, j > i in cell-sorted order) in compressed-row form, with the
-// per-pair tangential spring stored in a parallel array so the force loop touches it directly.
+// per-pair contact history stored in a parallel strided array (the law's width per pair) so the
+// force loop touches it directly.
 // Rebuilt when any particle has moved more than half the skin since the last build.
 #include <cstdint>
 #include <vector>
@@ -14,27 +15,34 @@ namespace tumble::neighbor {
 class VerletList {
  public:
   VerletList() = default;
-  VerletList(const CellGrid& grid, double skin) : grid_(grid), skin_(skin) {}
+  // `layout`: the doubles of history per pair and their sign pattern (the scene's law).
+  VerletList(const CellGrid& grid, double skin, HistoryLayout layout = {})
+      : grid_(grid), skin_(skin), layout_(layout) {}
 
   // Sorts `p` by cell (permuting every per-particle field), rebuilds the list, and carries the
-  // springs over (by old index). `history`, if non-null, supplies them instead, matched by global
-  // id (restart, migration).
+  // histories over (by old index; negated per the layout where the pair is now seen from its
+  // other particle). `history`, if non-null, supplies them instead, matched by global id
+  // (restart, migration).
   void rebuild(Particles& p, const ContactHistory* history = nullptr);
   // Domain-decomposed runs, in two phases around the ghost exchange: sort(p) orders the owned
   // particles by cell; build_with_ghosts() then lists, for each of the first `n_local`
   // particles, its owned partners of higher index and every ghost (index >= n_local) in reach,
-  // with springs from `history` (matched by global id).
+  // with histories from `history` (matched by global id).
   void sort(Particles& p);
   void build_with_ghosts(const Particles& p, std::size_t n_local, const ContactHistory& history);
   // Makes z periodic with this period (the cell grid must span exactly one period in z).
   void set_period_z(double period);
   double period_z() const { return period_z_; }
-  // Saves the live springs of the current list (for a checkpoint).
+  // Saves the live histories of the current list (for a checkpoint, or migration); `out` takes
+  // this list's layout.
   void save_history(const Particles& p, ContactHistory& out) const;
+  const HistoryLayout& history_layout() const { return layout_; }
 
   std::vector<std::uint32_t> start;  // size n+1
   std::vector<std::uint32_t> nbr;    // partner indices
-  std::vector<Vec3> spring;          // tangential spring of pair k, as seen from the row particle
+  // History of pair k, as seen from the row particle: history[w k], ..., history[w k + w - 1],
+  // w = history_layout().width.
+  std::vector<double> history;
   std::uint64_t builds = 0;
   double skin() const { return skin_; }
   // Positions at the last rebuild (the integrator checks displacements while it drifts).
@@ -44,6 +52,7 @@ class VerletList {
   CellGrid grid_;
   double skin_ = 0;
   double period_z_ = 0;  // 0: not periodic
+  HistoryLayout layout_;
   // Appends the partners of row i: owned j > i from the sorted cells, and ghosts if binned.
   void add_row(const Particles& p, std::size_t i, bool with_ghosts);
   // The list is valid for local carry-over when it describes the current particles.
@@ -52,7 +61,7 @@ class VerletList {
   std::vector<std::uint32_t> perm_, cell_start_;
   std::vector<std::uint32_t> ghost_start_, ghost_of_cell_;  // ghosts binned by cell (not moved)
   std::vector<std::uint32_t> old_start_, old_nbr_;          // previous list, reused buffers
-  std::vector<Vec3> old_spring_;
+  std::vector<double> old_history_;
 };
 
 }  // namespace tumble::neighbor

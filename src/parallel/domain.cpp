@@ -72,7 +72,8 @@ void Domain::migrate(Particles& p) {
   unpack_state(in.data(), in.size() / kStateDoubles, p);
 }
 
-void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& records, double reach) {
+void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& records, double reach,
+                        int history_width) {
   const double t0 = MPI_Wtime();
   if (!have_tree_) {
     tree_ = RcbTree::build(comm_, root_, p.x, p.size());
@@ -95,13 +96,14 @@ void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& record
     tree_.ranks_near(s.anchor, reach, period_z_, near);
     for (int r : near) {
       if (r == rank_) continue;
-      neighbor::append_record(s, out[r]);
+      neighbor::append_record(s, history_width, out[r]);
     }
   }
   std::vector<int> from;
   const std::vector<double> in = exchange(comm_, out, from);
-  for (std::size_t k = 0; k + neighbor::kRecordDoubles <= in.size(); k += neighbor::kRecordDoubles)
-    records.push_back(neighbor::record_from(in.data() + k));
+  const auto row = static_cast<std::size_t>(neighbor::record_doubles(history_width));
+  for (std::size_t k = 0; k + row <= in.size(); k += row)
+    records.push_back(neighbor::record_from(in.data() + k, history_width));
   rebuild_seconds_ += MPI_Wtime() - t0;
 }
 

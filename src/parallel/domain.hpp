@@ -32,8 +32,10 @@ class Domain {
   // Collective. `p` holds only owned particles (no ghosts). Sends every particle to the owner of
   // its position (bisecting afresh on the first call and whenever the imbalance exceeds the
   // threshold), and every contact record to each rank whose domain lies within `reach` of its
-  // anchor, so both owners of a pair find it after the move.
-  void distribute(Particles& p, std::vector<neighbor::SavedSpring>& records, double reach);
+  // anchor, so both owners of a pair find it after the move. `history_width`: the doubles of
+  // history in each record (the law's).
+  void distribute(Particles& p, std::vector<neighbor::SavedSpring>& records, double reach,
+                  int history_width);
   // Collective. Appends to `p` (after its `n_local` owned particles) a ghost copy of every other
   // rank's particle that lies within `reach` of this rank's domain; remembers what went where.
   void exchange_ghosts(Particles& p, std::size_t n_local, double reach);

@@ -146,9 +146,10 @@ TEST(Domain, SlidingContactKeepsItsSpringAcrossTheBorder) {
   neighbor::ContactHistory hs, hp;
   serial.neighbors().save_history(serial.particles(), hs);
   par.neighbors().save_history(par.particles(), hp);
-  const Vec3 ref = hs.lookup(0, 1);
+  const auto vec = [](const neighbor::HistoryValues& h) { return Vec3{h[0], h[1], h[2]}; };
+  const Vec3 ref = vec(hs.lookup(0, 1));
   ASSERT_GT(norm(ref), 0.0) << "the serial pair has no spring: the test slides nothing";
-  const Vec3 mine = hp.lookup(0, 1);
+  const Vec3 mine = vec(hp.lookup(0, 1));
   const int holds = norm(mine) > 0 ? 1 : 0;
   int holders = 0;
   MPI_Allreduce(&holds, &holders, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
