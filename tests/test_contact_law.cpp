@@ -10,8 +10,8 @@ using namespace tumble;
 using namespace tumble::contact;
 
 TEST(Yu2022Law, CoefficientsMatchTheBenchmarkParameterFile) {
-  // ../shared/bench/bst_R35_contact_params.txt: small-small m_eff = 5.235988e-06 kg,
-  // kn = 207.114697 N/m, kt = 59.175628 N/m, 2 γ_n = 557.048269 1/s.
+  // the LIGGGHTS reference bed's contact table (docs/performance.md): small-small m_eff
+  // = 5.235988e-06 kg, kn = 207.114697 N/m, kt = 59.175628 N/m, 2 γ_n = 557.048269 1/s.
   const Yu2022Pair p = yu2022_pair(0.87, 5e-4, 0.0, 0.6, 5.235988e-06);
   EXPECT_NEAR(p.kn, 207.114697, 1e-5);
   EXPECT_NEAR(p.kt, 59.175628, 1e-5);

@@ -1,7 +1,7 @@
 #pragma once
 // Settled beds: saved once per (geometry, particles, contact, seed) and reused as the start of any
-// number of runs. HDF5 (Tumble's own) or the text format of ../shared/bench (id type diameter x y
-// z, gravity along -z, which is rotated to Tumble's y-up lab frame).
+// number of runs. HDF5 (Tumble's own) or the text format of the LIGGGHTS reference bed (id type
+// diameter x y z, gravity along -z, which is rotated to Tumble's y-up lab frame).
 #include <string>
 
 #include "base/particles.hpp"
