@@ -15,12 +15,15 @@ void register_campaign(CLI::App& app) {
   struct Opts {
     campaign::CampaignOptions run;
     std::string slice = "1/1";
+    std::string ranks_per_case;
   };
   auto opts = std::make_shared<Opts>();
   cmd->add_option("file", opts->run.file, "campaign file (TOML)")->required();
   cmd->add_option("--slice", opts->slice,
                   "run slice i of n (job arrays): a deterministic, cost-balanced subset");
   cmd->add_option("--output,-o", opts->run.output, "campaign directory (overrides output_dir)");
+  cmd->add_option("--ranks-per-case", opts->ranks_per_case,
+                  "ranks per case (overrides campaign.ranks_per_case; a sweep's own value wins)");
   cmd->add_flag("--list", opts->run.list, "print the expanded cases of the slice and exit");
   cmd->add_flag("--status", opts->run.status,
                 "print what is done/failed/left in the slice; exit 0 if nothing is left to run");
@@ -33,6 +36,8 @@ void register_campaign(CLI::App& app) {
     int rc = 0;
     try {
       campaign::parse_slice(opts->slice, opts->run.slice_i, opts->run.slice_n);
+      if (!opts->ranks_per_case.empty())
+        opts->run.ranks_per_case = campaign::parse_ranks_per_case(opts->ranks_per_case);
       rc = campaign::run_campaign(opts->run, MPI_COMM_WORLD, std::cout);
     } catch (...) {
       // Every rank reads the same file and fails the same way: let only rank 0 say so.

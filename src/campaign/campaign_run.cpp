@@ -38,6 +38,20 @@ void parse_slice(const std::string& text, int& i, int& n) {
     throw InputError("campaign error: --slice " + text + ": need 1 <= i <= n");
 }
 
+int parse_ranks_per_case(const std::string& text) {
+  std::size_t used = 0;
+  long long k = 0;
+  try {
+    k = std::stoll(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || k < 1 || k > 1000000)
+    throw InputError("campaign error: --ranks-per-case '" + text +
+                     "' must be an integer from 1 to 1000000 (ranks per case)");
+  return static_cast<int>(k);
+}
+
 std::string partial_path(const std::string& dir, int i, int n) {
   return dir + "/partials/slice_" + std::to_string(i) + "_of_" + std::to_string(n) + ".h5";
 }
@@ -176,15 +190,56 @@ void fold_statistics(const CampaignSpec& spec, const Expansion& e, const std::st
     fs::copy_file(where, partial, fs::copy_options::overwrite_existing);
   out << "[campaign] finished slice " << slice_text << ": " << ens.member_count() << " done, "
       << ens.failed_count() << " failed (excluded from the ensemble), " << ens.missing_count()
-      << " without result; " << stats.cases_run << " attempts run on " << stats.workers << " worker"
-      << (stats.workers == 1 ? "" : "s") << " in " << std::setprecision(4) << stats.loop_wall
-      << " s; workers idle " << std::setprecision(3) << 100 * stats.overhead()
-      << "% of the time (scheduling, and the tail once fewer cases than workers are left)"
-      << std::endl;
+      << " without result; " << stats.cases_run << " attempts run on " << stats.ranks << " rank"
+      << (stats.ranks == 1 ? "" : "s") << " in " << std::setprecision(4) << stats.loop_wall
+      << " s; ranks idle " << std::setprecision(3) << 100 * stats.overhead()
+      << "% of the time (scheduling, ranks no group fits, and the tail once fewer cases than "
+         "groups are left)";
+  if (stats.local_seconds > 0)
+    out << "; rank 0 dispatched for " << std::setprecision(3) << 100 * stats.dispatch_share()
+        << "% of its own cases' time (" << stats.polls << " polls between steps)";
+  out << std::endl;
   for (const auto& [id, p] : ens.points)
     for (const auto& f : p.failed) out << "[campaign]   excluded " << f << "\n";
   out << "[campaign] statistics: " << where
       << (opt.slice_n > 1 ? " (fold all slices with: tumble merge " + dir + ")" : "") << std::endl;
+}
+
+// Refuses a case whose group is larger than the world, naming the key that asked for it.
+void check_groups_fit(const CampaignSpec& spec, const Expansion& e,
+                      const std::vector<std::size_t>& slice, int world, bool from_cli) {
+  for (std::size_t idx : slice) {
+    const Case& c = e.cases[idx];
+    if (c.ranks <= world) continue;
+    const bool cli = from_cli && c.ranks_key == "campaign.ranks_per_case";
+    throw InputError("campaign error (" + spec.file +
+                     "): " + (cli ? "--ranks-per-case " : "key '" + c.ranks_key + "' = ") +
+                     std::to_string(c.ranks) + ": a case needs more ranks than this run has (" +
+                     std::to_string(world) + "); launch at least " + std::to_string(c.ranks) +
+                     " ranks (mpirun -n) or lower it to at most " + std::to_string(world));
+  }
+}
+
+// "groups of 2: 2 groups" / "groups of 4: 1 group, rank 4 idle" / "groups of 1 to 4 ranks, by
+// point": how the world is used, for the start line.
+std::string group_layout(const Expansion& e, const std::vector<std::size_t>& slice, int world) {
+  int lo = 1 << 30, hi = 0;
+  for (std::size_t idx : slice) {
+    lo = std::min(lo, e.cases[idx].ranks);
+    hi = std::max(hi, e.cases[idx].ranks);
+  }
+  if (hi == 0) return "no cases";
+  if (lo != hi)
+    return "groups of " + std::to_string(lo) + " to " + std::to_string(hi) +
+           " ranks, by point, placed on free consecutive ranks";
+  const int groups = world / hi, idle = world % hi;
+  std::string s = "groups of " + std::to_string(hi) + ": " + std::to_string(groups) + " group" +
+                  (groups == 1 ? "" : "s");
+  if (idle > 0)
+    s += ", rank" + std::string(idle > 1 ? "s " : " ") + std::to_string(world - idle) +
+         (idle > 1 ? "-" + std::to_string(world - 1) : "") + " idle (" + std::to_string(world) +
+         " is not a multiple of " + std::to_string(hi) + ")";
+  return s;
 }
 
 }  // namespace
@@ -195,6 +250,7 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   MPI_Comm_size(world, &size);
   CampaignSpec spec = load_campaign(opt.file);
   if (!opt.output.empty()) spec.output_dir = opt.output;
+  if (opt.ranks_per_case > 0) spec.ranks_per_case = opt.ranks_per_case;
   const std::string dir = spec.output_dir;
   const std::string bed_cache = spec.bed_cache.empty() ? dir + "/beds" : spec.bed_cache;
   const Expansion e = expand(spec);
@@ -215,6 +271,10 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
     }
     return 0;
   }
+
+  // Every case's group must fit in this run's world (checked on every rank alike, before any
+  // work); a world that is not a multiple of the group size leaves its last ranks idle.
+  if (!opt.status) check_groups_fit(spec, e, slice, size, opt.ranks_per_case > 0);
 
   // Rank 0 decides what is left and takes the slice's manifest lock; the others wait for its word
   // so that a refusal (e.g. the slice is already running) ends every rank the same way.
@@ -264,8 +324,8 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
         out << "[campaign] " << spec.name << ": " << e.cases.size() << " cases in "
             << e.points.size() << " points; slice " << slice_text << ": " << slice.size()
             << " cases, " << done << " done before, " << failed << " failed before, "
-            << in.tasks.size() << " to run on " << size << " rank" << (size > 1 ? "s" : "")
-            << " (groups of " << spec.ranks_per_case << "); output in " << dir << std::endl;
+            << in.tasks.size() << " to run on " << size << " rank" << (size > 1 ? "s" : "") << " ("
+            << group_layout(e, slice, size) << "); output in " << dir << std::endl;
         if (torn > 0)
           out << "[campaign] ignored " << torn << " torn manifest line(s) (a crash mid-write)\n";
       }
@@ -284,7 +344,7 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   in.slice = slice_text;
   in.out = &out;
   in.quiet = opt.quiet;
-  CaseContext ctx{&spec, &e, dir, bed_cache, MPI_COMM_SELF};
+  CaseContext ctx{&spec, &e, dir, bed_cache, MPI_COMM_NULL, nullptr};
   const ScheduleStats stats = schedule(ctx, world, in);
 
   // Rank 0 folds the statistics while the others wait (sleeping); an error here must not leave

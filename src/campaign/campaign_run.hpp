@@ -16,7 +16,11 @@ struct CampaignOptions {
   bool status = false;           // print the slice's state; exit 0 if nothing is left to run
   bool retry_failed = false;     // run failed cases again (attempts continue counting)
   bool quiet = false;            // progress lines only every progress_interval
+  int ranks_per_case = 0;        // --ranks-per-case: overrides campaign.ranks_per_case (0: keep)
 };
+
+// Parses --ranks-per-case's value (an integer >= 1); throws InputError.
+int parse_ranks_per_case(const std::string& text);
 
 // Parses "i/n" (1 <= i <= n); throws InputError.
 void parse_slice(const std::string& text, int& i, int& n);

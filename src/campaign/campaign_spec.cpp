@@ -191,12 +191,6 @@ void parse_campaign_table(const Ctx& c, const toml::table& t, CampaignSpec& s,
       s.replicas = static_cast<int>(integer(c, key, node, 1, 1e6));
     } else if (name == "ranks_per_case") {
       s.ranks_per_case = static_cast<int>(integer(c, key, node, 1, 1e6));
-      if (s.ranks_per_case > 1)
-        c.fail(key, "= " + std::to_string(s.ranks_per_case) +
-                        ": campaign cases run on one rank each for now. The engine runs one "
-                        "realization on many ranks (domain decomposition: mpirun -n N tumble run, "
-                        "docs/parallel.md), but the campaign's in-situ collectors are serial; "
-                        "use 1");
     } else if (name == "tier") {
       s.tier = text(c, key, node, {"standard", "reference", "fast", "preview"});
     } else if (name == "max_attempts") {
@@ -239,7 +233,7 @@ Sweep parse_sweep(const Ctx& c, const toml::table& t, int index) {
   const std::string where = "sweep[" + std::to_string(index) + "]";
   std::vector<std::pair<std::string, const toml::node*>> flat;
   flatten(t, "", flat);
-  std::vector<std::string> known = {"zip", "replicas", "time_limit"};
+  std::vector<std::string> known = {"zip", "replicas", "time_limit", "ranks_per_case"};
   for (const auto& p : named_params()) known.push_back(p.name);
   const auto skeys = scene_keys();
   known.insert(known.end(), skeys.begin(), skeys.end());
@@ -258,12 +252,19 @@ Sweep parse_sweep(const Ctx& c, const toml::table& t, int index) {
       sw.time_limit = real(c, full, *node, 0, 1e9);
       continue;
     }
+    if (key == "ranks_per_case") {
+      sw.ranks_per_case = static_cast<int>(integer(c, full, *node, 1, 1e6));
+      sw.ranks_key = full;
+      continue;
+    }
     const NamedParam* named = nullptr;
     for (const auto& p : named_params())
       if (key == p.name) named = &p;
     if (!named && std::find(skeys.begin(), skeys.end(), key) == skeys.end())
-      c.unknown(full, known,
-                where + " (a parameter name, a scene key, zip, replicas or time_limit)", key);
+      c.unknown(
+          full, known,
+          where + " (a parameter name, a scene key, zip, replicas, time_limit or ranks_per_case)",
+          key);
     if (!named && campaign_controlled_key(key))
       c.fail(full, "is set by the campaign for every case (case directory, seed, bed cache)");
     const std::string skey =

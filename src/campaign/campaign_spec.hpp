@@ -21,8 +21,10 @@ struct ParamValue {
 struct Sweep {
   std::vector<std::pair<std::string, std::vector<ParamValue>>> axes;  // name -> values
   bool zip = false;
-  int replicas = -1;       // -1: campaign.replicas
-  double time_limit = -1;  // -1: campaign.time_limit
+  int replicas = -1;        // -1: campaign.replicas
+  double time_limit = -1;   // -1: campaign.time_limit
+  int ranks_per_case = -1;  // -1: campaign.ranks_per_case (a bigger point may get more ranks)
+  std::string ranks_key;    // "sweep[i].ranks_per_case" when set (error messages)
 };
 
 struct CollectSpec {
@@ -50,7 +52,7 @@ struct CampaignSpec {
   std::string bed_cache;   // "" = OUTPUT/beds
   std::int64_t seed = 1;
   int replicas = 1;
-  int ranks_per_case = 1;
+  int ranks_per_case = 1;  // ranks of the group that runs each case (domain decomposition)
   std::string tier = "standard";
   int max_attempts = 2;
   std::string retry_seed = "same";     // same | new

@@ -3,12 +3,15 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <ostream>
 
+#include "base/comm.hpp"
 #include "base/error.hpp"
 #include "base/hash.hpp"
+#include "campaign/case_collector.hpp"
 #include "campaign/collect_plan.hpp"
-#include "campaign/cylinder_fields.hpp"
-#include "campaign/field_collector.hpp"
+#include "campaign/fault_injection.hpp"
 #include "campaign/json_line.hpp"
 #include "campaign/manifest.hpp"
 #include "engine/simulation.hpp"
@@ -27,13 +30,63 @@ long long checkpoint_step(const std::string& path) {
   return static_cast<long long>(f.attr_int64("/", "step"));
 }
 
-// Settle the case's bed into the shared cache when it is not there yet, so that every attempt of
-// every case, fresh or repeated, starts from the same bytes on disk (the run then reads it back).
-// A bed already cached, or a bed file, is left for the run to read once.
-void ensure_bed_on_disk(const Scene& scene, std::ostream& log) {
-  if (scene.bed_file.empty() && !fs::exists(io::bed_cache_path(scene)))
-    (void)settled_bed(scene, &log);
+// Runs `work` on the group's rank 0 and ends every rank of the group the same way: if it threw,
+// every rank throws an error of the same kind with its message (a rank that went on alone would
+// wait forever in the run's first collective).
+template <class Work>
+void on_leader(MPI_Comm group, Work&& work) {
+  if (size_of(group) == 1) {
+    work();
+    return;
+  }
+  int kind = 0;  // 0: fine, 1: bad input, 2: run-time failure
+  std::string what;
+  if (rank_in(group) == 0) {
+    try {
+      work();
+    } catch (const InputError& e) {
+      kind = 1;
+      what = e.what();
+    } catch (const std::exception& e) {
+      kind = 2;
+      what = e.what();
+    }
+  }
+  int head[2] = {kind, static_cast<int>(what.size())};
+  MPI_Bcast(head, 2, MPI_INT, 0, group);
+  if (head[0] == 0) return;
+  what.resize(static_cast<std::size_t>(head[1]));
+  MPI_Bcast(what.data(), head[1], MPI_CHAR, 0, group);
+  if (head[0] == 1) throw InputError(what);
+  throw RunError(what);
 }
+
+// The step to resume from (0: start afresh). A sphere case resumes only from a checkpoint that
+// its collector's saved state is not behind: the state is written after each sample, before the
+// checkpoint of that step, so this always holds unless files were removed by hand; then the
+// checkpoint goes and the case starts afresh.
+long long resume_point(CaseCollector& collector, const std::string& dir, std::ostream& log) {
+  const std::string ckpt = dir + "/checkpoint.h5";
+  if (!fs::exists(ckpt)) return 0;
+  const long long step = checkpoint_step(ckpt);
+  if (collector.resumable_from(step)) {
+    log << "[case] resuming from " << ckpt << " at step " << step << std::endl;
+    return step;
+  }
+  log << "[case] checkpoint and collector state disagree; starting afresh" << std::endl;
+  fs::remove(ckpt);
+  return 0;
+}
+
+// The dispatcher's poll, called after every step of a case that the dispatching rank computes.
+class PollObserver : public Observer {
+ public:
+  explicit PollObserver(const std::function<void()>& poll) : poll_(poll) {}
+  void after_step(RunState&) override { poll_(); }
+
+ private:
+  const std::function<void()>& poll_;
+};
 }  // namespace
 
 std::string case_output(const std::string& id) { return "cases/" + id; }
@@ -44,96 +97,70 @@ std::string fields_path(const std::string& dir, const std::string& id) {
   return case_dir(dir, id) + "/fields.h5";
 }
 
-// A cylinder case: the run itself samples S_a, S_r and the band count (and keeps them in its
-// checkpoints, so a resumed case ends with the whole series); the fields file is written from
-// the run's result. Failures propagate to run_case's handlers.
-void run_cylinder_case(const CaseContext& ctx, const CaseTask& task, const Case& c,
-                       const Scene& scene, const std::string& dir, std::ofstream& log,
-                       Clock::time_point t0, CaseOutcome& out) {
-  const std::string ckpt = dir + "/checkpoint.h5";
-  if (fs::exists(ckpt)) {
-    out.resumed_from_step = checkpoint_step(ckpt);
-    log << "[case] resuming from " << ckpt << " at step " << out.resumed_from_step << std::endl;
-  } else {
-    ensure_bed_on_disk(scene, log);
-  }
-  RunOptions ro;
-  ro.resume = true;
-  ro.write_snapshots = ctx.spec->snapshots;
-  ro.log = &log;
-  TimeLimitObserver time_limit(t0, c.time_limit);
-  if (c.time_limit > 0) ro.observers.push_back(&time_limit);
-  const RunResult res = run_realization(scene, ro);
-  FieldsMeta meta{c.id,      c.point_id, c.params_text, ctx.spec->tier, scene_to_text(scene),
-                  c.replica, task.seed};
-  const std::string fields = fields_path(ctx.campaign_dir, c.id);
-  write_cylinder_fields(fields, meta, ctx.spec->collect, res.series.cylinder);
-  out.checksum = file_checksum(fields);
-  out.ok = true;
-}
-
 CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
   const CampaignSpec& spec = *ctx.spec;
   const Case& c = ctx.expansion->cases.at(task.case_index);
   const std::string dir = case_dir(ctx.campaign_dir, c.id);
+  const MPI_Comm group = ctx.group;
+  const int ranks = size_of(group);
+  const bool lead = rank_in(group) == 0;
   CaseOutcome out;
   out.start = utc_now();
   const auto t0 = Clock::now();
-  std::ofstream log;
+  std::ofstream log;  // the group's rank 0 only
   try {
-    if (task.fresh) fs::remove_all(dir);
-    fs::create_directories(dir);
-    log.open(dir + "/log.txt", std::ios::app);
-    log << "[case] " << c.id << " (" << c.params_text << ", replica " << c.replica << ") attempt "
-        << task.attempt << ", seed " << task.seed << ", started " << out.start << std::endl;
+    on_leader(group, [&] {
+      if (task.fresh) fs::remove_all(dir);
+      fs::create_directories(dir);
+      log.open(dir + "/log.txt", std::ios::app);
+      log << "[case] " << c.id << " (" << c.params_text << ", replica " << c.replica << ") attempt "
+          << task.attempt << ", seed " << task.seed << ", on " << ranks << " rank"
+          << (ranks > 1 ? "s" : "") << ", started " << out.start << std::endl;
+    });
     if (!c.scene_error.empty()) throw InputError(c.scene_error);
     const Scene scene = case_scene(spec, c, dir, ctx.bed_cache, task.seed);
     const CollectPlan plan = make_collect_plan(spec.collect, scene);
-    if (scene.cylinder()) {
-      run_cylinder_case(ctx, task, c, scene, dir, log, t0, out);
-    } else {
-      FieldCollector collector(plan, dir + "/state.h5");
+    std::unique_ptr<CaseCollector> collector = make_case_collector(plan, scene, dir);
 
-      // Resume only from a checkpoint that the collector's saved state is not behind: the state is
-      // written after each sample, before the checkpoint of that step, so this always holds unless
-      // files were removed by hand; then start the case afresh.
-      const std::string ckpt = dir + "/checkpoint.h5";
-      if (fs::exists(ckpt)) {
-        const long long step = checkpoint_step(ckpt);
-        const bool loaded = collector.load();
-        if (loaded && (collector.finished() || step < collector.next_sample_step())) {
-          out.resumed_from_step = step;
-          log << "[case] resuming from " << ckpt << " at step " << step << "; collector at sample "
-              << collector.next_sample() << std::endl;
-        } else {
-          log << "[case] checkpoint and collector state disagree; starting afresh" << std::endl;
-          fs::remove(ckpt);
-          collector = FieldCollector(plan, dir + "/state.h5");
-        }
+    // Rank 0 decides from the files whether to resume, and whether the bed must be settled (so
+    // that every attempt, fresh or repeated, starts from the same bytes in the bed cache).
+    long long decision[2] = {0, 0};  // resume step, settle
+    on_leader(group, [&] {
+      decision[0] = resume_point(*collector, dir, log);
+      if (decision[0] == 0) {
+        collector->discard_saved();
+        decision[1] = scene.bed_file.empty() && !fs::exists(io::bed_cache_path(scene)) ? 1 : 0;
       }
-      if (out.resumed_from_step == 0) {
-        fs::remove(dir + "/state.h5");
-        ensure_bed_on_disk(scene, log);
-      }
+    });
+    if (ranks > 1) MPI_Bcast(decision, 2, MPI_LONG_LONG, 0, group);
+    out.resumed_from_step = decision[0];
+    collector->share(group);
+    if (decision[1]) (void)settled_bed(scene, lead ? &log : nullptr, nullptr, group, ctx.poll);
 
-      RunOptions ro;
-      ro.resume = true;  // uses DIR/cases/<id>/checkpoint.h5 when it exists
-      ro.write_snapshots = spec.snapshots;
-      ro.log = &log;
-      ro.observers.push_back(&collector);
-      TimeLimitObserver time_limit(t0, c.time_limit);
-      if (c.time_limit > 0) ro.observers.push_back(&time_limit);
-      (void)run_realization(scene, ro);
-      if (!collector.finished())
-        throw RunError("the run ended before the collector's last sample (" +
-                       std::to_string(collector.next_sample()) + ")");
+    RunOptions ro;
+    ro.comm = group;
+    ro.resume = true;  // uses DIR/cases/<id>/checkpoint.h5 when it exists
+    ro.write_snapshots = spec.snapshots;
+    ro.log = lead ? &log : nullptr;
+    ro.observers.push_back(collector.get());
+    TimeLimitObserver time_limit(t0, c.time_limit);
+    if (c.time_limit > 0) ro.observers.push_back(&time_limit);
+    PollObserver poll(ctx.poll);
+    if (ctx.poll) ro.observers.push_back(&poll);
+    const std::unique_ptr<Observer> fault = fault_injection_for(c.id);
+    if (fault) ro.observers.push_back(fault.get());
+    (void)run_realization(scene, ro);
+
+    on_leader(group, [&] {
+      const std::string missing = collector->missing();
+      if (!missing.empty()) throw RunError(missing);
       FieldsMeta meta{c.id,      c.point_id, c.params_text, spec.tier, scene_to_text(scene),
                       c.replica, task.seed};
       const std::string fields = fields_path(ctx.campaign_dir, c.id);
-      collector.write_fields(fields, meta);
+      collector->write_fields(fields, meta);
       out.checksum = file_checksum(fields);
-      out.ok = true;
-    }
+    });
+    out.ok = true;
   } catch (const TimeLimitError& e) {
     out.failure = "time_limit";
     out.diagnostic = e.what();

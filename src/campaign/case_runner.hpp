@@ -1,11 +1,17 @@
 #pragma once
 // One attempt at one case, on the rank group it was handed to: build and validate its scene, run
-// the realization with the field collector (resuming from the case's checkpoint if there is
+// the realization with the case's collector (resuming from the case's checkpoint if there is
 // one), write the per-case fields file atomically, and report. Every failure becomes an outcome
 // (never an exception): the campaign goes on with the other cases.
+//
+// On a group of several ranks every rank calls run_case with the same task; the group's rank 0
+// (its leader) owns the case directory, the log and the fields file, decides whether to resume,
+// and its outcome is the one reported. Every decision that ends an attempt is taken by all ranks
+// of the group together, so a failure seen by one rank never leaves the others waiting.
 #include <mpi.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "campaign/campaign_spec.hpp"
@@ -35,7 +41,12 @@ struct CaseContext {
   const CampaignSpec* spec = nullptr;
   const Expansion* expansion = nullptr;
   std::string campaign_dir, bed_cache;
-  MPI_Comm group = MPI_COMM_SELF;  // the case's ranks (one until domain decomposition lands)
+  // The case's ranks: MPI_COMM_NULL (or one rank) runs it serially, several ranks decompose it
+  // exactly as `mpirun -n k tumble run` does.
+  MPI_Comm group = MPI_COMM_NULL;
+  // Called between time steps (and settling blocks) on the dispatching rank, so that it keeps
+  // handing out cases while its own group computes; empty elsewhere.
+  std::function<void()> poll;
 };
 
 // DIR/cases/<case id>: the case's scene output, checkpoint, collector state, fields and log.

@@ -128,6 +128,8 @@ Expansion expand(const CampaignSpec& spec) {
       c.params_text = shown;
       c.point_id = hex16(mix64(fnv1a64(canon)));
       c.time_limit = sw.time_limit >= 0 ? sw.time_limit : spec.time_limit;
+      c.ranks = sw.ranks_per_case > 0 ? sw.ranks_per_case : spec.ranks_per_case;
+      c.ranks_key = sw.ranks_per_case > 0 ? sw.ranks_key : "campaign.ranks_per_case";
 
       // Cost and validity of the scene, once per point (replicas differ only in the seed).
       double cost = 0;

@@ -27,6 +27,8 @@ struct Case {
   std::string bed_text;                // parameters that shape the bed (seed derivation)
   double cost = 0;                     // particles x protocol steps (scheduling, slicing)
   double time_limit = 0;               // wall seconds per attempt (0 = none)
+  int ranks = 1;                       // ranks of the group that runs it
+  std::string ranks_key;               // the key that set `ranks` (error messages)
   std::string scene_error;  // non-empty: the case's scene is invalid; it fails without running
 };
 

@@ -66,21 +66,49 @@ void FieldCollector::ensure_slots(const Particles& p) {
   }
 }
 
-void FieldCollector::start(RunState& s) { observe(s.sim); }
-void FieldCollector::after_step(RunState& s) { observe(s.sim); }
+void FieldCollector::start(RunState& s) { observe(s); }
+void FieldCollector::after_step(RunState& s) { observe(s); }
 
-void FieldCollector::observe(const Simulation& sim) {
+void FieldCollector::observe(RunState& s) {
+  const Simulation& sim = s.sim;
   const std::int64_t step = sim.step_count();
   while (!finished() && plan_.sample_step(next_j_) <= step) {
     if (plan_.sample_step(next_j_) < step)  // the observer runs every step: cannot happen
       throw RunError("collector missed sample " + std::to_string(next_j_) + " (step " +
                      std::to_string(plan_.sample_step(next_j_)) + ", engine at " +
                      std::to_string(step) + ")");
+    const Particles& bed = s.whole_bed();  // collective on a rank group
+    if (!s.lead()) {
+      next_j_ += 1;
+      continue;
+    }
     const double t = sim.time();
     const Mat3 q = sim.protocol().orientation(t);  // tumbler -> lab
-    sample(sim.particles(), next_j_, t, sim.protocol().iteration(t),
+    sample(bed, next_j_, t, sim.protocol().iteration(t),
            plan_.spec.frame == "tumbler" ? transpose(q) : Mat3::identity());
   }
+}
+
+bool FieldCollector::resumable_from(std::int64_t checkpoint_step) {
+  return load() && (finished() || checkpoint_step < next_sample_step());
+}
+
+void FieldCollector::discard_saved() {
+  fs::remove(state_path_);
+  *this = FieldCollector(plan_, state_path_);
+}
+
+void FieldCollector::share(MPI_Comm group) {
+  if (group == MPI_COMM_NULL) return;
+  long long j = next_j_;
+  MPI_Bcast(&j, 1, MPI_LONG_LONG, 0, group);
+  next_j_ = j;
+}
+
+std::string FieldCollector::missing() const {
+  return finished()
+             ? ""
+             : "the run ended before the collector's last sample (" + std::to_string(next_j_) + ")";
 }
 
 void FieldCollector::sample(const Particles& p, std::int64_t j, double time, double iteration,

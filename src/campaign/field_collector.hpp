@@ -1,7 +1,9 @@
 #pragma once
-// The in-situ collector of one case: an observer of the run (run/observer.hpp) that takes the
-// samples of its CollectPlan (the c_L map, the Δψ map and the segregation/mixing series) and writes
-// the case's fields file.
+// The in-situ collector of one sphere case (campaign/case_collector.hpp): takes the samples of its
+// CollectPlan (the c_L map, the Δψ map and the segregation/mixing series) and writes the case's
+// fields file. On a rank group the samples are taken of the gathered bed (RunState::whole_bed,
+// one gather per sample, not per step) by the group's rank 0, which alone keeps the sums and
+// writes state.h5; the other ranks only follow which samples are still to come.
 //
 // Kill-safety: after every sample the collector's whole state (running sums, series, the ring of
 // start directions that Δψ still needs) is written atomically to state.h5. A resumed case restarts
@@ -15,37 +17,32 @@
 
 #include "analysis/concentration.hpp"
 #include "analysis/displacement.hpp"
+#include "campaign/case_collector.hpp"
 #include "campaign/collect_plan.hpp"
 #include "h5/hdf5_file.hpp"
 #include "projection/lambert.hpp"
-#include "run/observer.hpp"
-
-namespace tumble {
-class Simulation;
-}
 
 namespace tumble::campaign {
 
 // Names of the per-case fields (datasets of the fields file and of the ensemble), by collect spec.
 std::vector<std::string> field_names(const CollectSpec& spec);
 
-struct FieldsMeta {
-  std::string case_id, point_id, params, tier, scene_text;
-  int replica = 0;
-  long long seed = 0;
-};
-
 // The attributes every case fields file carries (sphere and cylinder cases alike): identity,
 // parameters, collection, code version and the resolved scene.
 void write_case_attributes(io::H5File& f, const FieldsMeta& meta, const CollectSpec& spec);
 
-class FieldCollector : public Observer {
+class FieldCollector : public CaseCollector {
  public:
   FieldCollector(const CollectPlan& plan, std::string state_path);
 
   // Restores the state written before a kill. Returns false (and starts empty) if there is none
   // or it belongs to another plan.
   bool load();
+  // CaseCollector: resumable from a checkpoint not later than the last sample saved.
+  bool resumable_from(std::int64_t checkpoint_step) override;
+  void discard_saved() override;
+  void share(MPI_Comm group) override;
+  std::string missing() const override;
   // Index of the next sample to take, and its step: a resumed engine must be behind it.
   std::int64_t next_sample() const { return next_j_; }
   std::int64_t next_sample_step() const { return plan_.sample_step(next_j_); }
@@ -54,13 +51,12 @@ class FieldCollector : public Observer {
   // The observer: acts only at the steps of its samples.
   void start(RunState& s) override;
   void after_step(RunState& s) override;
-  void observe(const Simulation& sim);
   // One sample of a configuration (tests call this directly). `to_frame` maps lab positions to
   // the analysis frame.
   void sample(const Particles& p, std::int64_t j, double time, double iteration,
               const Mat3& to_frame);
 
-  void write_fields(const std::string& path, const FieldsMeta& meta) const;
+  void write_fields(const std::string& path, const FieldsMeta& meta) const override;
 
   const analysis::ConcentrationMap& concentration() const { return conc_; }
   const analysis::DisplacementMap& displacement() const { return disp_; }
@@ -70,6 +66,7 @@ class FieldCollector : public Observer {
   const Series& series() const { return series_; }
 
  private:
+  void observe(RunState& s);
   void persist() const;
   void ensure_slots(const Particles& p);
 

@@ -39,7 +39,8 @@ std::string to_json(const CaseRecord& r) {
   w.add("case", r.case_id).add("point", r.point_id).add("status", r.status);
   w.add("attempt", r.attempt).add("replica", r.replica).add("seed", r.seed);
   w.add("params", r.params).add("tier", r.tier);
-  w.add("group", r.group).add("rank", r.rank).add("host", r.host).add("output", r.output);
+  w.add("group", r.group).add("rank", r.rank).add("ranks", r.ranks).add("host", r.host);
+  w.add("hosts", r.hosts).add("output", r.output);
   w.add("start", r.start);
   if (!r.end.empty()) w.add("end", r.end).add("wall", r.wall);
   if (r.resumed_from_step > 0) w.add("resumed_from_step", r.resumed_from_step);
@@ -67,7 +68,9 @@ bool from_json(const std::string& line, CaseRecord& r) {
   r.seed = static_cast<long long>(num("seed"));
   r.group = static_cast<int>(num("group"));
   r.rank = static_cast<int>(num("rank"));
+  r.ranks = text("ranks");
   r.host = text("host");
+  r.hosts = text("hosts");
   r.output = text("output");
   r.start = text("start");
   r.end = text("end");

@@ -17,11 +17,13 @@ struct CaseRecord {
   std::string tier;
   int replica = 0, attempt = 0;
   long long seed = 0;
-  int group = -1, rank = -1;  // rank group and its world leader
-  std::string host;
-  std::string output;               // case directory, relative to the campaign directory
-  std::string start, end;           // UTC, ISO 8601
-  double wall = 0;                  // seconds of this attempt
+  int group = -1, rank = -1;  // rank group (its leader / its size) and its leader's world rank
+  std::string ranks;          // the group's world ranks: "4-7" (consecutive) or "1,3"
+  std::string host;           // the leader's host
+  std::string hosts;          // every host of the group, in rank order, each once
+  std::string output;         // case directory, relative to the campaign directory
+  std::string start, end;     // UTC, ISO 8601
+  double wall = 0;            // seconds of this attempt
   long long resumed_from_step = 0;  // > 0: continued from a checkpoint at this step
   std::string checksum;             // of the per-case fields file (done)
   std::string failure;              // input | run | time_limit | exception (failed)

@@ -2,28 +2,24 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <deque>
-#include <future>
-#include <iomanip>
+#include <cstdio>
+#include <functional>
 #include <list>
-#include <map>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
 
-#include "base/text_util.hpp"
-#include "campaign/eta.hpp"
-#include "campaign/expand.hpp"
+#include "campaign/dispatcher.hpp"
+#include "campaign/rank_pool.hpp"
 
 namespace tumble::campaign {
 namespace {
 using Clock = std::chrono::steady_clock;
-constexpr int kTagResult = 4101;  // leader -> rank 0: a result (or "" to say hello)
-constexpr int kTagAssign = 4102;  // rank 0 -> leader: "index attempt seed fresh" or "stop"
+constexpr int kTagResult = 4101;  // group leader -> rank 0: the outcome of a case
+constexpr int kTagAssign = 4102;  // rank 0 -> every rank of a group: an Assignment, or "stop"
+constexpr int kTagGroup = 4103;   // MPI_Comm_create_group of a case's ranks
 constexpr auto kPoll = std::chrono::microseconds(200);
-constexpr auto kPollBusy = std::chrono::milliseconds(2);
 
 double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -77,20 +73,30 @@ std::string recv_string_sleeping(int source, int tag, MPI_Comm comm) {
   }
 }
 
-std::string encode_task(const CaseTask& t) {
+// An assignment: the case and the world ranks of its group, leader first.
+struct Assignment {
+  CaseTask task;
+  std::vector<int> ranks;
+};
+
+std::string encode_assignment(const Assignment& a) {
   std::ostringstream os;
+  const CaseTask& t = a.task;
   os << t.case_index << " " << t.attempt << " " << t.seed << " " << (t.fresh ? 1 : 0);
+  for (int r : a.ranks) os << " " << r;
   return os.str();
 }
-CaseTask decode_task(const std::string& s) {
-  CaseTask t;
+Assignment decode_assignment(const std::string& s) {
+  Assignment a;
   int fresh = 0;
-  std::istringstream is(s);
   long long seed = 0;
-  is >> t.case_index >> t.attempt >> seed >> fresh;
-  t.seed = seed;
-  t.fresh = fresh != 0;
-  return t;
+  std::istringstream is(s);
+  is >> a.task.case_index >> a.task.attempt >> seed >> fresh;
+  a.task.seed = seed;
+  a.task.fresh = fresh != 0;
+  for (int r; is >> r;) a.ranks.push_back(r);
+  if (a.ranks.empty()) throw std::runtime_error("campaign: garbled assignment '" + s + "'");
+  return a;
 }
 
 std::string processor_name() {
@@ -100,300 +106,148 @@ std::string processor_name() {
   return std::string(name, static_cast<std::size_t>(len));
 }
 
-// Rank 0's bookkeeping: the queue, who runs what, the manifest and the progress lines.
-class Dispatcher {
+// The communicator of a case's group: MPI_COMM_NULL for one rank (a serial run), else made by
+// the group's ranks alone.
+MPI_Comm make_group(MPI_Comm world, const std::vector<int>& ranks) {
+  if (ranks.size() == 1) return MPI_COMM_NULL;
+  MPI_Group all, mine;
+  MPI_Comm_group(world, &all);
+  MPI_Group_incl(all, static_cast<int>(ranks.size()), ranks.data(), &mine);
+  MPI_Comm comm;
+  MPI_Comm_create_group(world, mine, kTagGroup, &comm);
+  MPI_Group_free(&mine);
+  MPI_Group_free(&all);
+  return comm;
+}
+void free_group(MPI_Comm& comm) {
+  if (comm != MPI_COMM_NULL) MPI_Comm_free(&comm);
+}
+
+// One case on this rank's share of its group.
+CaseOutcome run_assignment(const CaseContext& ctx, MPI_Comm world, const Assignment& a,
+                           std::function<void()> poll) {
+  MPI_Comm group = make_group(world, a.ranks);
+  CaseContext mine = ctx;
+  mine.group = group;
+  mine.poll = std::move(poll);
+  CaseOutcome o = run_case(mine, a.task);
+  free_group(group);
+  return o;
+}
+
+// World rank 0: hands out cases and runs its own group's share of them. pump() is the whole of
+// the dispatching (results in, assignments out, progress); the main loop calls it between cases,
+// and a case that rank 0 computes calls it between its time steps.
+class Coordinator {
  public:
-  Dispatcher(const CaseContext& ctx, const ScheduleInput& in, std::vector<std::string> hosts)
+  Coordinator(const CaseContext& ctx, MPI_Comm world, const ScheduleInput& in,
+              std::vector<std::string> hosts)
       : ctx_(ctx),
-        in_(in),
-        hosts_(std::move(hosts)),
-        queue_(in.tasks.begin(), in.tasks.end()),
-        done_(in.done_before),
-        failed_(in.failed_before) {
-    for (const auto& t : queue_) left_cost_ += cost(t);
+        world_(world),
+        pool_(static_cast<int>(hosts.size())),
+        book_(ctx, in, std::move(hosts), pool_.size()),
+        outbox_(world) {
+    book_.stats().ranks = pool_.size();
   }
 
-  bool next(CaseTask& t) {
-    if (queue_.empty()) return false;
-    t = queue_.front();
-    queue_.pop_front();
-    return true;
-  }
-  bool idle() const { return queue_.empty() && running_.empty(); }
-  std::size_t queued() const { return queue_.size(); }
-
-  void started(const CaseTask& t, int group, int rank) {
-    running_[t.case_index] = {group, rank, Clock::now()};
-    CaseRecord r = record(t, group, rank);
-    r.status = "running";
-    r.start = utc_now();
-    in_.manifest->append(r);
-    if (!in_.quiet)
-      line("start " + case_label(t) + " on group " + std::to_string(group) + " (" + hosts_[rank] +
-           ")");
-  }
-
-  void finished(const CaseTask& t, const CaseOutcome& o) {
-    const auto [group, rank, handed] = running_.at(t.case_index);
-    running_.erase(t.case_index);
-    freed_[rank] = Clock::now();
-    CaseRecord r = record(t, group, rank);
-    r.start = o.start;
-    r.end = o.end;
-    r.wall = o.wall;
-    r.resumed_from_step = o.resumed_from_step;
-    stats_.cases_run += 1;
-    stats_.case_wall += o.wall;
-    left_cost_ -= cost(t);
-    std::string what;
-    if (o.ok) {
-      r.status = "done";
-      r.checksum = o.checksum;
-      done_ += 1;
-      done_cost_ += cost(t);
-      done_wall_ += o.wall;
-      what = "done";
-    } else {
-      r.status = "failed";
-      r.failure = o.failure;
-      r.diagnostic = o.diagnostic;
-      const bool retry = o.retryable && t.attempt < ctx_.spec->max_attempts;
-      r.final_failure = !retry;
-      what = "FAILED (" + o.failure + "): " + o.diagnostic;
-      if (retry) {
-        const Case& c = ctx_.expansion->cases[t.case_index];
-        CaseTask again{t.case_index, t.attempt + 1, case_seed(*ctx_.spec, c, t.attempt + 1),
-                       ctx_.spec->retry_seed == "new"};
-        queue_.push_back(again);
-        left_cost_ += cost(again);
-        what += "; retrying (attempt " + std::to_string(again.attempt) + " of " +
-                std::to_string(ctx_.spec->max_attempts) + ")";
-      } else {
-        failed_ += 1;
+  ScheduleStats run() {
+    while (true) {
+      pump();
+      if (local_pending_) {
+        local_pending_ = false;
+        run_local();
+        continue;
       }
+      if (book_.idle()) break;
+      std::this_thread::sleep_for(kPoll);
     }
-    in_.manifest->append(r);
-    if (!o.ok || !in_.quiet)
-      line(what + ": " + case_label(t) + " in " + format_hms(o.wall) +
-               (o.resumed_from_step > 0
-                    ? " (resumed at step " + std::to_string(o.resumed_from_step) + ")"
-                    : ""),
-           true);
+    for (int r = 1; r < pool_.size(); ++r) outbox_.send("stop", r, kTagAssign);
+    outbox_.drain();
+    ScheduleStats s = book_.stats();
+    s.loop_wall = since(book_.start());
+    return s;
   }
-
-  // A status line now and then, and the manifest flushed to disk.
-  void tick() {
-    if (since(last_tick_) < std::max(1.0, ctx_.spec->progress_interval)) return;
-    in_.manifest->sync();
-    if (in_.quiet || since(last_line_) >= ctx_.spec->progress_interval) line("");
-    last_tick_ = Clock::now();
-  }
-
-  ScheduleStats& stats() { return stats_; }
-  Clock::time_point start() const { return t0_; }
 
  private:
-  double cost(const CaseTask& t) const {
-    return std::max(1.0, ctx_.expansion->cases[t.case_index].cost);
-  }
-  std::string case_label(const CaseTask& t) const {
-    const Case& c = ctx_.expansion->cases[t.case_index];
-    return c.id + " [" + c.params_text + ", replica " + std::to_string(c.replica) + ", attempt " +
-           std::to_string(t.attempt) + "]";
-  }
-  CaseRecord record(const CaseTask& t, int group, int rank) const {
-    const Case& c = ctx_.expansion->cases[t.case_index];
-    CaseRecord r;
-    r.case_id = c.id;
-    r.point_id = c.point_id;
-    r.params = c.params_text;
-    r.tier = ctx_.spec->tier;
-    r.replica = c.replica;
-    r.attempt = t.attempt;
-    r.seed = t.seed;
-    r.group = group;
-    r.rank = rank;
-    r.host = hosts_[rank];
-    r.output = case_output(c.id);
-    r.slice = in_.slice;
-    r.t = unix_now();
-    return r;
-  }
-  // An event, with the counts on the next line when `counts` (or when there is no event).
-  void line(const std::string& event, bool counts = false) {
-    if (!in_.out) return;
-    if (!event.empty() && !counts) {
-      *in_.out << "[campaign] " << event << std::endl;
-      return;
+  void pump() {
+    int flag = 0;
+    MPI_Status st;
+    while (MPI_Iprobe(MPI_ANY_SOURCE, kTagResult, world_, &flag, &st), flag) {
+      int from = -1;
+      const std::string msg = recv_string(st.MPI_SOURCE, kTagResult, world_, &from);
+      CaseTask t;
+      CaseOutcome o;
+      if (!decode(msg, t, o))
+        throw std::runtime_error("campaign: garbled result from rank " + std::to_string(from));
+      pool_.release(book_.finished(t, o));
     }
-    const double el = since(t0_);
-    // ETA from the cost (particles x steps) and wall time of the cases done in this invocation.
-    // A remote leader holds up to two cases: the one handed out first runs, since it was handed
-    // out or since the leader's previous case ended, whichever is later; the other waits.
-    EtaInput eta_in;
-    eta_in.done_cost = done_cost_;
-    eta_in.done_wall = done_wall_;
-    eta_in.queued_cost = left_cost_;
-    eta_in.workers = std::max(1, stats_.workers);
-    std::map<int, std::pair<Clock::time_point, std::size_t>> first;  // rank -> oldest hand-out
-    for (const auto& [idx, held] : running_) {
-      auto it = first.find(held.rank);
-      if (it == first.end() || held.handed < it->second.first)
-        first[held.rank] = {held.handed, idx};
+    // Strictly in queue order (largest first): a case waits until its group is free, so a big
+    // case is never starved by small ones behind it.
+    while (const CaseTask* next = book_.peek()) {
+      const std::vector<int> ranks = pool_.place(book_.ranks_for(*next));
+      if (ranks.empty()) break;
+      const Assignment a{*next, ranks};
+      book_.pop();
+      pool_.take(ranks);
+      book_.started(a.task, ranks);
+      for (int r : ranks)
+        if (r != 0) outbox_.send(encode_assignment(a), r, kTagAssign);
+      if (ranks.front() == 0) {  // rank 0 is free only between its cases (in run())
+        local_ = a;
+        local_pending_ = true;
+        break;
+      }
     }
-    for (const auto& [rank, oldest] : first) {
-      const auto freed = freed_.find(rank);
-      const Clock::time_point start =
-          freed == freed_.end() ? oldest.first : std::max(oldest.first, freed->second);
-      const double c = cost(CaseTask{oldest.second, 1, 0, false});
-      eta_in.running.push_back({c, since(start)});
-      eta_in.queued_cost -= c;
-    }
-    const double eta = estimate_eta(eta_in);
-    const int running = static_cast<int>(first.size());  // held but waiting counts as left
-    const int left = in_.total - done_ - failed_ - running;
-    std::ostringstream os;
-    os << "[campaign] ";
-    if (!event.empty()) os << event << "\n[campaign] ";
-    os << "done " << done_ << " | running " << running << " | failed " << failed_ << " | left "
-       << left << " of " << in_.total << " | elapsed " << format_hms(el) << " | ETA "
-       << format_hms(eta);
-    *in_.out << os.str() << std::endl;
-    last_line_ = Clock::now();
+    book_.tick();
+    outbox_.progress();
+  }
+
+  void run_local() {
+    const auto t0 = Clock::now();
+    const CaseOutcome o = run_assignment(ctx_, world_, local_, [this] {
+      const auto p0 = Clock::now();
+      pump();
+      ScheduleStats& s = book_.stats();
+      s.poll_seconds += since(p0);
+      s.polls += 1;
+    });
+    book_.stats().local_seconds += since(t0);
+    pool_.release(book_.finished(local_.task, o));
   }
 
   const CaseContext& ctx_;
-  const ScheduleInput& in_;
-  std::vector<std::string> hosts_;
-  std::deque<CaseTask> queue_;
-  struct Held {
-    int group, rank;           // rank group, world rank of its leader
-    Clock::time_point handed;  // when the case was handed out
-  };
-  std::map<std::size_t, Held> running_;     // case index -> who holds it
-  std::map<int, Clock::time_point> freed_;  // world rank -> when its last case ended
-  int done_ = 0, failed_ = 0;
-  double left_cost_ = 0, done_cost_ = 0, done_wall_ = 0;
-  ScheduleStats stats_;
-  Clock::time_point t0_ = Clock::now(), last_tick_ = Clock::now(), last_line_ = Clock::now();
+  MPI_Comm world_;
+  RankPool pool_;
+  Dispatcher book_;
+  Outbox outbox_;
+  Assignment local_;
+  bool local_pending_ = false;
 };
 
-// Rank 0's loop. Each remote group holds up to two cases, the one it runs and the next, so that
-// it never waits for a reply between cases (the second is granted only while the queue is longer
-// than there are groups: at the tail, cases go to whoever is free first).
-ScheduleStats dispatch(const CaseContext& ctx, MPI_Comm world, const ScheduleInput& in,
-                       const std::vector<std::string>& hosts, int ranks_per_case) {
-  int size = 1, provided = MPI_THREAD_SINGLE;
-  MPI_Comm_size(world, &size);
-  MPI_Query_thread(&provided);
-  // The local thread makes no MPI calls; with one rank nothing else does either.
-  const bool local = size == 1 || provided >= MPI_THREAD_FUNNELED;
-  std::map<int, int> held;    // remote group leader -> cases assigned and not yet reported
-  std::map<int, bool> ready;  // leaders that have said hello and not been stopped
-  for (int r = ranks_per_case; r < size; r += ranks_per_case) held[r] = 0;
-  const std::size_t groups = held.size() + (local ? 1 : 0);
-  Dispatcher d(ctx, in, hosts);
-  d.stats().workers = static_cast<int>(groups);
-  if (in.out && !local && size > 1)
-    *in.out << "[campaign] MPI thread level below FUNNELED: rank 0 only dispatches" << std::endl;
-
-  std::future<CaseOutcome> local_run;
-  CaseTask local_task;
-  bool local_busy = false;
-  int stopped = 0;
-  Outbox outbox(world);
-  while (true) {
-    bool progressed = false;
-    if (local && !local_busy && d.next(local_task)) {
-      d.started(local_task, 0, 0);
-      local_run =
-          std::async(std::launch::async, [&ctx, t = local_task] { return run_case(ctx, t); });
-      local_busy = true;
-      progressed = true;
-    }
-    if (local_busy && local_run.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-      d.finished(local_task, local_run.get());
-      local_busy = false;
-      progressed = true;
-    }
-    int flag = 0;
-    MPI_Status st;
-    while (MPI_Iprobe(MPI_ANY_SOURCE, kTagResult, world, &flag, &st), flag) {
-      int from = -1;
-      const std::string msg = recv_string(st.MPI_SOURCE, kTagResult, world, &from);
-      if (msg.empty()) {
-        ready[from] = true;  // hello
-      } else {
-        CaseTask t;
-        CaseOutcome o;
-        if (!decode(msg, t, o))
-          throw std::runtime_error("campaign: garbled result from rank " + std::to_string(from));
-        d.finished(t, o);
-        held[from] -= 1;
-      }
-      progressed = true;
-    }
-    for (auto& [rank, n] : held) {
-      if (!ready[rank]) continue;
-      while (n < 2 && (n == 0 || d.queued() > groups)) {
-        CaseTask t;
-        if (!d.next(t)) break;
-        d.started(t, rank / ranks_per_case, rank);
-        outbox.send(encode_task(t), rank, kTagAssign);
-        n += 1;
-        progressed = true;
-      }
-    }
-    if (d.idle() && !local_busy) {
-      for (auto& [rank, ok] : ready)
-        if (ok) {
-          outbox.send("stop", rank, kTagAssign);
-          ok = false;
-          ++stopped;
-        }
-      if (stopped == static_cast<int>(held.size())) break;
-    }
-    d.tick();
-    outbox.progress();
-    if (progressed) continue;
-    // Sleep until the next poll, or until rank 0's own case ends, whichever comes first. While
-    // that case runs, poll less often: its thread shares this rank's core, and the remote groups
-    // hold their next case already, so a slower refill costs them nothing.
-    if (local_busy)
-      local_run.wait_for(kPollBusy);
-    else
-      std::this_thread::sleep_for(kPoll);
-  }
-  in.manifest->sync();
-  ScheduleStats s = d.stats();
-  s.loop_wall = since(d.start());
-  return s;
-}
-
-// A group leader's loop: say hello, then run what arrives, reporting each result (which also
-// asks for more). Cases that arrive while one runs wait in the inbox.
+// Every other rank: wait (sleeping) for an assignment, run the case with its group, and, as the
+// group's leader, report the outcome.
 void work(const CaseContext& ctx, MPI_Comm world) {
-  std::deque<std::string> inbox;
+  int me = 0;
+  MPI_Comm_rank(world, &me);
   Outbox outbox(world);
-  outbox.send("", 0, kTagResult);
   while (true) {
-    if (inbox.empty()) inbox.push_back(recv_string_sleeping(0, kTagAssign, world));
-    int flag = 0;
-    while (MPI_Iprobe(0, kTagAssign, world, &flag, MPI_STATUS_IGNORE), flag)
-      inbox.push_back(recv_string(0, kTagAssign, world));
-    const std::string msg = inbox.front();
-    inbox.pop_front();
+    const std::string msg = recv_string_sleeping(0, kTagAssign, world);
     if (msg == "stop") return;
-    const CaseTask t = decode_task(msg);
-    outbox.send(encode(t, run_case(ctx, t)), 0, kTagResult);
+    const Assignment a = decode_assignment(msg);
+    const CaseOutcome o = run_assignment(ctx, world, a, nullptr);
+    if (a.ranks.front() == me) outbox.send(encode(a.task, o), 0, kTagResult);
   }
 }
 
 }  // namespace
 
 double ScheduleStats::overhead() const {
-  if (workers <= 0 || loop_wall <= 0) return 0;
-  return 1.0 - case_wall / (workers * loop_wall);
+  if (ranks <= 0 || loop_wall <= 0) return 0;
+  return 1.0 - rank_seconds / (ranks * loop_wall);
+}
+
+double ScheduleStats::dispatch_share() const {
+  return local_seconds > 0 ? poll_seconds / local_seconds : 0;
 }
 
 void sleeping_barrier(MPI_Comm comm) {
@@ -407,14 +261,6 @@ ScheduleStats schedule(const CaseContext& ctx, MPI_Comm world, const ScheduleInp
   int rank = 0, size = 1;
   MPI_Comm_rank(world, &rank);
   MPI_Comm_size(world, &size);
-  const int rpc = ctx.spec->ranks_per_case;
-  // Rank groups: consecutive ranks share a case. The engine takes a group communicator
-  // (RunOptions::comm); groups still have one rank (validated in the spec) until the dispatcher
-  // hands a case to a whole group and the collectors sample the gathered bed (docs/parallel.md).
-  MPI_Comm group;
-  MPI_Comm_split(world, rank / rpc, rank, &group);
-  CaseContext local = ctx;
-  local.group = group;
 
   // Host names for the manifest.
   const std::string me = processor_name();
@@ -430,16 +276,15 @@ ScheduleStats schedule(const CaseContext& ctx, MPI_Comm world, const ScheduleInp
       std::vector<std::string> hosts;
       for (int r = 0; r < size; ++r)
         hosts.emplace_back(&all[static_cast<std::size_t>(r) * MPI_MAX_PROCESSOR_NAME]);
-      stats = dispatch(local, world, in, hosts, rpc);
-    } else if (rank % rpc == 0) {
-      work(local, world);
+      stats = Coordinator(ctx, world, in, hosts).run();
+    } else {
+      work(ctx, world);
     }
   } catch (const std::exception& e) {
     // A failure of the scheduler itself (not of a case): nothing sensible to continue with.
     std::fprintf(stderr, "tumble campaign: rank %d: %s\n", rank, e.what());
     MPI_Abort(world, 1);
   }
-  MPI_Comm_free(&group);
   return stats;
 }
 

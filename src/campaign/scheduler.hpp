@@ -1,13 +1,17 @@
 #pragma once
-// Dynamic scheduling of cases over rank groups (docs/architecture.md, "Campaigns"). The world is
-// split with MPI_Comm_split into groups of ranks_per_case; world rank 0 hands out cases, largest
-// first, to whichever group asks, and records every assignment and result in the manifest.
+// Dynamic scheduling of cases over rank groups (docs/campaign.md, "Rank groups"). World rank 0
+// hands out cases, largest first: each case goes to a group of the ranks its point asks for
+// (campaign.ranks_per_case, or its sweep's), placed by RankPool on consecutive free ranks; every
+// rank of the group receives the assignment, the group makes its communicator with
+// MPI_Comm_create_group (collective over the group only, so other groups compute undisturbed),
+// runs the case decomposed exactly as `mpirun -n k tumble run` does, and its leader reports the
+// outcome. Rank 0 records every assignment and result in the manifest.
 //
-// Rank 0 also computes: its own group's cases run in a second thread while the main thread keeps
-// dispatching, so no core idles for the dispatcher. That thread makes no MPI calls (the engine is
-// serial), which MPI_THREAD_FUNNELED allows; with a lower thread level rank 0 only dispatches.
-// Every wait (rank 0 for messages, workers for work, everyone at the end) sleeps between polls,
-// so an idle rank costs no CPU and ranks may oversubscribe cores.
+// Rank 0 also computes, without threads: while its own group runs a case, the run calls the
+// dispatcher's poll after every time step (and every 200 settling steps): one MPI_Iprobe when
+// there is nothing to do. The time spent there is measured (ScheduleStats::poll_seconds). Every
+// other wait (idle ranks for work, everyone at the end) sleeps between polls, so an idle rank
+// costs no CPU and ranks may oversubscribe cores.
 #include <mpi.h>
 
 #include <iosfwd>
@@ -19,11 +23,15 @@
 namespace tumble::campaign {
 
 struct ScheduleStats {
-  int workers = 0;          // groups that ran cases
-  int cases_run = 0;        // attempts finished in this invocation
-  double loop_wall = 0;     // seconds from the first assignment to the last result
-  double case_wall = 0;     // sum of the attempts' own wall times
-  double overhead() const;  // 1 - case_wall / (workers * loop_wall): time not spent in cases
+  int ranks = 0;                  // world ranks that could run cases
+  int cases_run = 0;              // attempts finished in this invocation
+  double loop_wall = 0;           // seconds from the first assignment to the last result
+  double rank_seconds = 0;        // sum over attempts of wall time x the ranks of their group
+  double local_seconds = 0;       // rank 0's time inside its own group's cases
+  double poll_seconds = 0;        // ... of which spent dispatching (polls between steps)
+  long long polls = 0;            // polls made from inside those cases
+  double overhead() const;        // 1 - rank_seconds / (ranks * loop_wall): rank time not in cases
+  double dispatch_share() const;  // poll_seconds / local_seconds
 };
 
 struct ScheduleInput {

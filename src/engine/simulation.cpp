@@ -428,11 +428,23 @@ void Simulation::check_health() const {
     }
     problem = os.str();
   }
-  // Every rank throws together (a rank left behind would wait forever in the next collective).
+  // Every rank throws together (a rank left behind would wait forever in the next collective),
+  // all with the diagnostic of the lowest rank that saw a problem, so that whichever rank reports
+  // the failure (a campaign group's leader) names what happened and where.
   if (dom_) {
-    int bad = problem.empty() ? 0 : 1, any = 0;
-    MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, dom_->comm());
-    if (any && problem.empty()) problem = "another rank of this realization reported a failure";
+    const MPI_Comm comm = dom_->comm();
+    int me = 0, size = 1;
+    MPI_Comm_rank(comm, &me);
+    MPI_Comm_size(comm, &size);
+    int mine = problem.empty() ? size : me, first = size;
+    MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
+    if (first < size) {
+      int length = static_cast<int>(problem.size());
+      MPI_Bcast(&length, 1, MPI_INT, first, comm);
+      problem.resize(static_cast<std::size_t>(length));
+      MPI_Bcast(problem.data(), length, MPI_CHAR, first, comm);
+      problem = "rank " + std::to_string(first) + " of " + std::to_string(size) + ": " + problem;
+    }
   }
   if (!problem.empty()) throw RunError(problem);
 }

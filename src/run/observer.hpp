@@ -5,6 +5,13 @@
 // calls the observers of its list in order, so an observer that records what others produced
 // (the checkpoint: the series, the snapshots written) comes after them. Virtual calls happen
 // once per observer per step, never per particle or contact.
+//
+// A decomposed run (RunOptions::comm of several ranks) has one instance of each observer on
+// every rank, called at the same steps. An observer that measures the whole bed either reduces
+// its own ranks' particles over RunState::comm or asks for RunState::whole_bed() (collective:
+// every rank asks at the same step); files are written by the run's rank 0 (RunState::lead()),
+// and a decision that stops the run (health, time limit) is taken for all ranks together, since a
+// rank that stopped alone would leave the others waiting in the next collective.
 #include <cstdint>
 
 namespace tumble {

@@ -159,8 +159,6 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
   const MPI_Comm comm = size_of(opt.comm) > 1 ? opt.comm : MPI_COMM_NULL;
   const bool lead = rank_in(comm) == 0;  // writes the serial files and the log
   std::ostream* log = lead ? opt.log : nullptr;
-  if (comm != MPI_COMM_NULL && !opt.observers.empty())
-    throw InputError("in-situ observers need a serial run (one rank per realization)");
   RunResult res;
   res.output_dir = scene.output_dir;
   if (lead) fs::create_directories(scene.output_dir);

@@ -25,7 +25,7 @@ struct RunOptions {
   std::ostream* log = nullptr;  // progress output (nullptr = silent; rank 0 only when parallel)
   // The caller's observers (not owned), called after the run's own series sampling and before
   // its snapshots and checkpoints (so a checkpoint never runs ahead of their saved state).
-  // Serial runs only for now.
+  // On a decomposed run every rank passes its own instances (run/observer.hpp).
   std::vector<Observer*> observers;
   // The ranks that run this realization together (domain decomposition); MPI_COMM_NULL or one
   // rank: serial. Every rank of `comm` calls run_realization with the same scene and options.

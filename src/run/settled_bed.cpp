@@ -38,7 +38,8 @@ Particles share_of(const Particles& all, MPI_Comm comm) {
   return mine;
 }
 
-Particles fill_and_settle(const Scene& scene, std::ostream* log, MPI_Comm comm) {
+Particles fill_and_settle(const Scene& scene, std::ostream* log, MPI_Comm comm,
+                          const std::function<void()>& between_blocks) {
   double shrink = 1;
   Particles bed;
   if (scene.cylinder()) {
@@ -77,6 +78,7 @@ Particles fill_and_settle(const Scene& scene, std::ostream* log, MPI_Comm comm) 
       sim.request_rebuild();
     }
     for (int k = 0; k < 200; ++k) sim.step();
+    if (between_blocks) between_blocks();
     const double rms = sim.rms_speed();
     const bool grown = shrink == 1 || block >= kGrowBlocks;
     if (grown && sim.time() > min_time && rms < scene.settle_rms_speed) break;
@@ -104,7 +106,8 @@ Particles fill_and_settle(const Scene& scene, std::ostream* log, MPI_Comm comm) 
   return out;
 }
 
-Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_Comm comm) {
+Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_Comm comm,
+                      const std::function<void()>& between_blocks) {
   if (reused) *reused = true;
   if (!scene.bed_file.empty()) {
     if (log) *log << "[fill] starting from bed file " << scene.bed_file << "\n";
@@ -118,7 +121,7 @@ Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_C
     return io::read_bed(cached, scene);
   }
   if (reused) *reused = false;
-  Particles bed = fill_and_settle(scene, log, comm);
+  Particles bed = fill_and_settle(scene, log, comm, between_blocks);
   if (rank_in(comm) == 0) {
     fs::create_directories(scene.bed_cache);
     io::write_bed(cached, bed, scene);

@@ -4,6 +4,7 @@
 // cache (fill.bed_cache), keyed by everything that determines it (io/bed_io.hpp).
 #include <mpi.h>
 
+#include <functional>
 #include <iosfwd>
 
 #include "base/particles.hpp"
@@ -13,10 +14,14 @@ namespace tumble {
 
 // Settled bed for the scene: fill.bed_file, else the cache, else fill + settle + save to cache.
 // With `comm` (collective): settled on all its ranks, the whole bed returned on every rank.
+// `between_blocks`, if given, is called every 200 settling steps (a campaign's rank 0 keeps
+// dispatching cases to other groups while its own group settles a bed).
 Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused = nullptr,
-                      MPI_Comm comm = MPI_COMM_NULL);
+                      MPI_Comm comm = MPI_COMM_NULL,
+                      const std::function<void()>& between_blocks = nullptr);
 // Fills and settles a bed (no caching); the whole bed on every rank of `comm`.
-Particles fill_and_settle(const Scene& scene, std::ostream* log, MPI_Comm comm = MPI_COMM_NULL);
+Particles fill_and_settle(const Scene& scene, std::ostream* log, MPI_Comm comm = MPI_COMM_NULL,
+                          const std::function<void()>& between_blocks = nullptr);
 // Rank r of `comm` keeps rows [N r / P, N (r+1) / P) of a bed every rank holds in full.
 Particles share_of(const Particles& all, MPI_Comm comm);
 

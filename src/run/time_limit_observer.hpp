@@ -1,7 +1,8 @@
 #pragma once
 // Stops an attempt that has run longer than its wall-clock limit (a campaign's per-case
 // time_limit), checked every 16 steps, with TimeLimitError so that the manifest can say "time
-// limit" rather than "run". The clock starts when the observer is made (the attempt's start).
+// limit" rather than "run". The clock starts when the observer is made (the attempt's start);
+// on a decomposed run rank 0's clock decides for every rank (one broadcast per check).
 #include <chrono>
 #include <cstdint>
 

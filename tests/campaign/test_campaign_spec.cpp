@@ -29,10 +29,35 @@ std::string error_of(const std::string& text) {
   return "";
 }
 
-TEST(CampaignSpec, RefusesMoreThanOneRankPerCaseNamingTheKey) {
-  const std::string e = error_of(with_campaign("", "ranks_per_case = 2"));
-  EXPECT_NE(e.find("key 'campaign.ranks_per_case' = 2"), std::string::npos) << e;
-  EXPECT_NE(e.find("collectors are serial"), std::string::npos) << e;
+TEST(CampaignSpec, RanksPerCaseIsAPositiveIntegerNamingTheKey) {
+  for (const char* bad : {"ranks_per_case = 0", "ranks_per_case = -2", "ranks_per_case = 1.5",
+                          "ranks_per_case = \"two\""}) {
+    const std::string e = error_of(with_campaign("", bad));
+    EXPECT_NE(e.find("key 'campaign.ranks_per_case'"), std::string::npos) << bad << ": " << e;
+  }
+  const std::string s = error_of(with_campaign("[[sweep]]\ntheta_z = 57\nranks_per_case = 0\n"));
+  EXPECT_NE(s.find("key 'sweep[0].ranks_per_case'"), std::string::npos) << s;
+  EXPECT_EQ(error_of(with_campaign("", "ranks_per_case = 4")), "");
+}
+
+// A sweep's ranks_per_case gives its points their own group size; the others keep the campaign's.
+TEST(Expand, RanksPerCaseByCampaignAndBySweep) {
+  const CampaignSpec s = parse_campaign(with_campaign(R"(
+[[sweep]]
+theta_z = [57, 90]
+[[sweep]]
+theta_z = 45
+ranks_per_case = 4
+)",
+                                                      "ranks_per_case = 2"),
+                                        "test.toml", ".");
+  const Expansion e = expand(s);
+  ASSERT_EQ(e.cases.size(), 3u);
+  for (const Case& c : e.cases) {
+    const bool big = c.params_text.find("theta_z=45") != std::string::npos;
+    EXPECT_EQ(c.ranks, big ? 4 : 2) << c.params_text;
+    EXPECT_EQ(c.ranks_key, big ? "sweep[1].ranks_per_case" : "campaign.ranks_per_case");
+  }
 }
 
 TEST(CampaignSpec, UnknownKeysGetASuggestion) {

@@ -1,0 +1,171 @@
+#include "campaign/dispatcher.hpp"
+
+#include <algorithm>
+#include <ostream>
+#include <set>
+#include <sstream>
+
+#include "base/text_util.hpp"
+#include "campaign/eta.hpp"
+#include "campaign/expand.hpp"
+#include "campaign/rank_pool.hpp"
+
+namespace tumble::campaign {
+namespace {
+double since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+Dispatcher::Dispatcher(const CaseContext& ctx, const ScheduleInput& in,
+                       std::vector<std::string> hosts, int ranks)
+    : ctx_(ctx),
+      in_(in),
+      hosts_(std::move(hosts)),
+      ranks_(ranks),
+      queue_(in.tasks.begin(), in.tasks.end()),
+      done_(in.done_before),
+      failed_(in.failed_before) {
+  for (const auto& t : queue_) left_cost_ += cost(t);
+}
+
+int Dispatcher::ranks_for(const CaseTask& t) const {
+  return ctx_.expansion->cases[t.case_index].ranks;
+}
+
+double Dispatcher::cost(const CaseTask& t) const {
+  return std::max(1.0, ctx_.expansion->cases[t.case_index].cost);
+}
+
+std::string Dispatcher::case_label(const CaseTask& t) const {
+  const Case& c = ctx_.expansion->cases[t.case_index];
+  return c.id + " [" + c.params_text + ", replica " + std::to_string(c.replica) + ", attempt " +
+         std::to_string(t.attempt) + "]";
+}
+
+CaseRecord Dispatcher::record(const CaseTask& t, const std::vector<int>& ranks) const {
+  const Case& c = ctx_.expansion->cases[t.case_index];
+  CaseRecord r;
+  r.case_id = c.id;
+  r.point_id = c.point_id;
+  r.params = c.params_text;
+  r.tier = ctx_.spec->tier;
+  r.replica = c.replica;
+  r.attempt = t.attempt;
+  r.seed = t.seed;
+  r.rank = ranks.front();
+  r.group = ranks.front() / static_cast<int>(ranks.size());
+  r.ranks = rank_list_text(ranks);
+  r.host = hosts_[static_cast<std::size_t>(ranks.front())];
+  std::set<std::string> seen;
+  for (int k : ranks) {
+    const std::string& h = hosts_[static_cast<std::size_t>(k)];
+    if (seen.insert(h).second) r.hosts += (r.hosts.empty() ? "" : ",") + h;
+  }
+  r.output = case_output(c.id);
+  r.slice = in_.slice;
+  r.t = unix_now();
+  return r;
+}
+
+void Dispatcher::started(const CaseTask& t, const std::vector<int>& ranks) {
+  running_[t.case_index] = {ranks, Clock::now()};
+  CaseRecord r = record(t, ranks);
+  r.status = "running";
+  r.start = utc_now();
+  in_.manifest->append(r);
+  if (!in_.quiet)
+    line("start " + case_label(t) + " on rank" + (ranks.size() > 1 ? "s " : " ") + r.ranks + " (" +
+         r.hosts + ")");
+}
+
+std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
+  const Held held = running_.at(t.case_index);
+  running_.erase(t.case_index);
+  const double k = static_cast<double>(held.ranks.size());
+  CaseRecord r = record(t, held.ranks);
+  r.start = o.start;
+  r.end = o.end;
+  r.wall = o.wall;
+  r.resumed_from_step = o.resumed_from_step;
+  stats_.cases_run += 1;
+  stats_.rank_seconds += o.wall * k;
+  left_cost_ -= cost(t);
+  std::string what;
+  if (o.ok) {
+    r.status = "done";
+    r.checksum = o.checksum;
+    done_ += 1;
+    done_cost_ += cost(t);
+    done_rank_seconds_ += o.wall * k;
+    what = "done";
+  } else {
+    r.status = "failed";
+    r.failure = o.failure;
+    r.diagnostic = o.diagnostic;
+    const bool retry = o.retryable && t.attempt < ctx_.spec->max_attempts;
+    r.final_failure = !retry;
+    what = "FAILED (" + o.failure + "): " + o.diagnostic;
+    if (retry) {
+      const Case& c = ctx_.expansion->cases[t.case_index];
+      CaseTask again{t.case_index, t.attempt + 1, case_seed(*ctx_.spec, c, t.attempt + 1),
+                     ctx_.spec->retry_seed == "new"};
+      queue_.push_back(again);
+      left_cost_ += cost(again);
+      what += "; retrying (attempt " + std::to_string(again.attempt) + " of " +
+              std::to_string(ctx_.spec->max_attempts) + ")";
+    } else {
+      failed_ += 1;
+    }
+  }
+  in_.manifest->append(r);
+  if (!o.ok || !in_.quiet)
+    line(what + ": " + case_label(t) + " on rank" + (held.ranks.size() > 1 ? "s " : " ") + r.ranks +
+             " in " + format_hms(o.wall) +
+             (o.resumed_from_step > 0
+                  ? " (resumed at step " + std::to_string(o.resumed_from_step) + ")"
+                  : ""),
+         true);
+  return held.ranks;
+}
+
+void Dispatcher::tick() {
+  if (since(last_tick_) < std::max(1.0, ctx_.spec->progress_interval)) return;
+  in_.manifest->sync();
+  if (in_.quiet || since(last_line_) >= ctx_.spec->progress_interval) line("");
+  last_tick_ = Clock::now();
+}
+
+// An event, with the counts on the next line when `counts` (or when there is no event).
+void Dispatcher::line(const std::string& event, bool counts) {
+  if (!in_.out) return;
+  if (!event.empty() && !counts) {
+    *in_.out << "[campaign] " << event << std::endl;
+    return;
+  }
+  // ETA from the cost (particles x steps) and the rank-seconds of the cases done in this
+  // invocation (campaign/eta.hpp).
+  EtaInput eta_in;
+  eta_in.done_cost = done_cost_;
+  eta_in.done_rank_seconds = done_rank_seconds_;
+  eta_in.queued_cost = left_cost_;
+  eta_in.ranks = std::max(1, ranks_);
+  for (const auto& [idx, held] : running_) {
+    const double c = cost(CaseTask{idx, 1, 0, false});
+    eta_in.running.push_back({c, since(held.handed), static_cast<int>(held.ranks.size())});
+    eta_in.queued_cost -= c;
+  }
+  const double eta = estimate_eta(eta_in);
+  const int running = static_cast<int>(running_.size());
+  const int left = in_.total - done_ - failed_ - running;
+  std::ostringstream os;
+  os << "[campaign] ";
+  if (!event.empty()) os << event << "\n[campaign] ";
+  os << "done " << done_ << " | running " << running << " | failed " << failed_ << " | left "
+     << left << " of " << in_.total << " | elapsed " << format_hms(since(t0_)) << " | ETA "
+     << format_hms(eta);
+  *in_.out << os.str() << std::endl;
+  last_line_ = Clock::now();
+}
+
+}  // namespace tumble::campaign

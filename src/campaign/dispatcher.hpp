@@ -1,0 +1,61 @@
+#pragma once
+// World rank 0's bookkeeping in a campaign (campaign/scheduler.hpp moves the messages): the queue
+// of cases, which ranks run what, the manifest lines of every start and end, retries, the progress
+// lines and their ETA, and the statistics of the invocation.
+#include <chrono>
+#include <deque>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "campaign/case_runner.hpp"
+#include "campaign/manifest.hpp"
+#include "campaign/scheduler.hpp"
+
+namespace tumble::campaign {
+
+class Dispatcher {
+ public:
+  // `hosts`: the host of every world rank; `ranks`: how many of them can run cases.
+  Dispatcher(const CaseContext& ctx, const ScheduleInput& in, std::vector<std::string> hosts,
+             int ranks);
+
+  // The next case to hand out (nullptr if none is queued) and the ranks it needs.
+  const CaseTask* peek() const { return queue_.empty() ? nullptr : &queue_.front(); }
+  int ranks_for(const CaseTask& t) const;
+  void pop() { queue_.pop_front(); }
+  bool idle() const { return queue_.empty() && running_.empty(); }
+
+  void started(const CaseTask& t, const std::vector<int>& ranks);
+  // Records the outcome (and queues a retry under the policy); returns the case's ranks.
+  std::vector<int> finished(const CaseTask& t, const CaseOutcome& o);
+
+  // A status line now and then, and the manifest flushed to disk.
+  void tick();
+  ScheduleStats& stats() { return stats_; }
+  std::chrono::steady_clock::time_point start() const { return t0_; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  double cost(const CaseTask& t) const;
+  std::string case_label(const CaseTask& t) const;
+  CaseRecord record(const CaseTask& t, const std::vector<int>& ranks) const;
+  void line(const std::string& event, bool counts = false);
+
+  const CaseContext& ctx_;
+  const ScheduleInput& in_;
+  std::vector<std::string> hosts_;
+  int ranks_ = 1;
+  std::deque<CaseTask> queue_;
+  struct Held {
+    std::vector<int> ranks;    // the group's world ranks, leader first
+    Clock::time_point handed;  // when the case was handed out
+  };
+  std::map<std::size_t, Held> running_;  // case index -> who runs it
+  int done_ = 0, failed_ = 0;
+  double left_cost_ = 0, done_cost_ = 0, done_rank_seconds_ = 0;
+  ScheduleStats stats_;
+  Clock::time_point t0_ = Clock::now(), last_tick_ = Clock::now(), last_line_ = Clock::now();
+};
+
+}  // namespace tumble::campaign
