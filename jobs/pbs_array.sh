@@ -5,6 +5,9 @@
 #   qsub -J 1-16 -l select=1:ncpus=8:mpiprocs=8 \
 #        -v CAMPAIGN=campaign/fig4_fraction.toml,TUMBLE_SLICES=16 jobs/pbs_array.sh
 #
+# Rank groups: one subjob = one mpiexec of k x m ranks running m cases at a time on groups of k,
+# e.g. -l select=4:ncpus=16:mpiprocs=16 -v ...,TUMBLE_RANKS_PER_CASE=16 (4 groups of 16).
+#
 # Subjob i (PBS_ARRAY_INDEX; PBS_ARRAYID under Torque) runs
 # `tumble campaign $CAMPAIGN --slice i/$TUMBLE_SLICES $TUMBLE_ARGS` under mpiexec; a slice with
 # nothing left to run exits at once. Fold the slices afterwards with `tumble merge DIR`.
@@ -12,7 +15,8 @@
 #
 # Environment: CAMPAIGN, TUMBLE_SLICES (required: PBS does not export the array size),
 # TUMBLE_ARGS (extra options), TUMBLE (default PBS_O_WORKDIR/build/tumble, then tumble on PATH),
-# TUMBLE_LAUNCH (default "mpiexec").
+# TUMBLE_LAUNCH (default "mpiexec"), TUMBLE_RANKS_PER_CASE (ranks per case, default: the
+# campaign file's campaign.ranks_per_case).
 #PBS -N tumble-campaign
 #PBS -j oe
 set -euo pipefail
@@ -34,4 +38,8 @@ here=$(dirname "${BASH_SOURCE[0]}")
 [ -f "$here/run_slice.sh" ] || here=${PBS_O_WORKDIR:-$PWD}/jobs
 # shellcheck source=jobs/run_slice.sh
 source "$here/run_slice.sh"
+if [ -n "${PBS_NODEFILE:-}" ] && [ -f "$PBS_NODEFILE" ]; then
+  TUMBLE_TASK_RANKS=$(wc -l < "$PBS_NODEFILE")
+  export TUMBLE_TASK_RANKS
+fi
 run_slice pbs_array.sh "$PWD" "${TUMBLE_LAUNCH:-mpiexec}" "$campaign" "$i" "$n" "${extra[@]}"

@@ -2,9 +2,25 @@
 # Shared by jobs/slurm_array.sh and jobs/pbs_array.sh (sourced, not run): find the tumble binary,
 # skip a slice that has nothing left to run, otherwise launch it.
 #   run_slice SCRIPT_NAME SEARCH_DIR LAUNCHER CAMPAIGN I N [tumble campaign options...]
+# TUMBLE_RANKS_PER_CASE=K (optional) runs every case on a group of K ranks (--ranks-per-case K);
+# the task's ranks (TUMBLE_TASK_RANKS, set by the caller from the scheduler) then form
+# floor(ranks / K) groups, and a remainder stays idle (said here and in the campaign's start line).
 run_slice() {
   local name=$1 dir=$2 launcher=$3 campaign=$4 i=$5 n=$6
   shift 6
+  local k=${TUMBLE_RANKS_PER_CASE:-}
+  if [ -n "$k" ]; then
+    [[ $k =~ ^[1-9][0-9]*$ ]] || { echo "$name: TUMBLE_RANKS_PER_CASE='$k' must be an integer >= 1" >&2; exit 2; }
+    local ranks=${TUMBLE_TASK_RANKS:-}
+    if [ -n "$ranks" ]; then
+      if [ "$ranks" -lt "$k" ]; then
+        echo "$name: $ranks ranks in this task, fewer than TUMBLE_RANKS_PER_CASE=$k: ask for at least $k (k x groups)" >&2
+        exit 2
+      fi
+      echo "$name: $ranks ranks -> $((ranks / k)) group(s) of $k$([ $((ranks % k)) -gt 0 ] && echo ", $((ranks % k)) rank(s) idle")"
+    fi
+    set -- --ranks-per-case "$k" "$@"
+  fi
   local tumble=${TUMBLE:-} c
   if [ -z "$tumble" ]; then
     for c in "$dir/build/tumble" "$(command -v tumble || true)"; do

@@ -4,6 +4,11 @@
 #   sbatch --array=1-16 --ntasks=8 jobs/slurm_array.sh campaign/fig4_fraction.toml [options]
 #   sbatch --dependency=afterany:JOBID --wrap "build/tumble merge results/fig4_fraction"
 #
+# Rank groups: one array task = one srun of k x m ranks running m cases at a time on groups of k
+# (domain decomposition inside each case), e.g. 4 groups of 16 ranks per task:
+#
+#   sbatch --array=1-8 --ntasks=64 --export=ALL,TUMBLE_RANKS_PER_CASE=16 jobs/slurm_array.sh FILE
+#
 # Task i of an array 1-N (or 0-(N-1)) runs `tumble campaign FILE --slice i/N [options]` under
 # srun. The slices are a deterministic, cost-balanced split of the cases, so a task resubmitted
 # later runs the same cases; a slice with nothing left to run exits at once without starting
@@ -11,7 +16,8 @@
 # resubmit only some tasks (e.g. --array=3,7), export TUMBLE_SLICES=N so that N is not guessed.
 #
 # Environment: TUMBLE (the binary; default SUBMIT_DIR/build/tumble, then tumble on PATH),
-# TUMBLE_LAUNCH (default "srun"), TUMBLE_SLICES (default: the array's size).
+# TUMBLE_LAUNCH (default "srun"), TUMBLE_SLICES (default: the array's size), TUMBLE_RANKS_PER_CASE
+# (ranks per case, default: the campaign file's campaign.ranks_per_case).
 #SBATCH --job-name=tumble-campaign
 #SBATCH --output=tumble-campaign-%A_%a.out
 set -euo pipefail
@@ -31,4 +37,5 @@ here=$(dirname "${BASH_SOURCE[0]}")
 [ -f "$here/run_slice.sh" ] || here=${SLURM_SUBMIT_DIR:-$PWD}/jobs
 # shellcheck source=jobs/run_slice.sh
 source "$here/run_slice.sh"
+export TUMBLE_TASK_RANKS=${SLURM_NTASKS:-}
 run_slice slurm_array.sh "${SLURM_SUBMIT_DIR:-$PWD}" "${TUMBLE_LAUNCH:-srun}" "$campaign" "$i" "$n" "$@"

@@ -14,7 +14,10 @@ that rank's diagnostic while the other groups go on.
 2. 4 ranks, k = 2, with TUMBLE_TEST_FAULT making one particle of one case leave the tumbler on
    rank 1 of its group only: that case fails (both attempts) with "rank 1 of 2: particle ... left
    the tumbler"; the three others are done and equal their twins; the whole run ends within the
-   test's timeout."""
+   test's timeout.
+3. jobs/slurm_array.sh with TUMBLE_RANKS_PER_CASE=2 on a 3-rank task (SLURM_NTASKS=3): the script
+   says "1 group(s) of 2, 1 rank(s) idle", passes the group size on, and the slice's cases run on
+   ranks 0-1 and equal their twins."""
 import argparse
 import os
 import shutil
@@ -29,6 +32,7 @@ ap.add_argument("--tumble", required=True)
 ap.add_argument("--mpiexec", required=True)
 ap.add_argument("--np-flag", default="-n")
 ap.add_argument("--campaign", required=True)
+ap.add_argument("--jobs", required=True, help="the repository's jobs/ directory")
 a = ap.parse_args()
 TOL = 1e-9
 
@@ -111,6 +115,21 @@ for c in others:
 with cc.h5py.File(os.path.join("groups_fault", "ensemble.h5"), "r") as e:
     if e.attrs["n_members"] != 3 or e.attrs["n_failed"] != 1:
         cc.fail("fault ensemble: %d members, %d failed" % (e.attrs["n_members"], e.attrs["n_failed"]))
+shutil.rmtree("groups_slurm", ignore_errors=True)
+launch = " ".join(cc.mpiexec_command(a.mpiexec, a.np_flag, 3))
+env = dict(os.environ, TUMBLE=a.tumble, TUMBLE_LAUNCH=launch, SLURM_ARRAY_TASK_ID="1",
+           SLURM_ARRAY_TASK_MIN="1", SLURM_ARRAY_TASK_MAX="2", SLURM_NTASKS="3",
+           TUMBLE_RANKS_PER_CASE="2")
+job = subprocess.run(["bash", os.path.join(a.jobs, "slurm_array.sh"), a.campaign, "--output",
+                      "groups_slurm", "--quiet"], env=env, capture_output=True, text=True, timeout=120)
+if job.returncode != 0 or "1 group(s) of 2, 1 rank(s) idle" not in job.stdout:
+    cc.fail("slurm_array.sh with TUMBLE_RANKS_PER_CASE=2:\n%s%s" % (job.stdout, job.stderr))
+_, latest = cc.manifest("groups_slurm")
+if not latest or any(r["status"] != "done" or r["ranks"] != "0-1" for r in latest.values()):
+    cc.fail("slurm slice with groups of 2: %s" % {c: (r["status"], r["ranks"]) for c, r in latest.items()})
+for c in latest:
+    worst = max(worst, fields_equal(c, "groups_k1", "groups_slurm"))
+print("slurm_array.sh: slice 1/2 ran %d cases on ranks 0-1 of a 3-rank task" % len(latest))
 print("OK: k = 2 on 2, 3 and 4 ranks equals k = 1 (worst relative difference %.3g, tolerance %g); "
       "a failure on rank 1 of a group was recorded as '%s...' after %d attempts, the other groups "
       "finished" % (worst, TOL, r["diagnostic"][:60], r["attempt"]))
