@@ -184,6 +184,10 @@ class Coordinator {
     // Strictly in queue order (largest first): a case waits until its group is free, so a big
     // case is never starved by small ones behind it.
     while (const CaseTask* next = book_.peek()) {
+      if (book_.ranks_for(*next) > pool_.size())  // validated before; never wait for ever
+        throw std::runtime_error("campaign: a case needs " +
+                                 std::to_string(book_.ranks_for(*next)) + " ranks, the run has " +
+                                 std::to_string(pool_.size()));
       const std::vector<int> ranks = pool_.place(book_.ranks_for(*next));
       if (ranks.empty()) break;
       const Assignment a{*next, ranks};
