@@ -82,6 +82,8 @@ void Dispatcher::started(const CaseTask& t, const std::vector<int>& ranks) {
 std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
   const Held held = running_.at(t.case_index);
   running_.erase(t.case_index);
+  for (auto& [idx, other] : running_)  // the group's next case, held while this one ran
+    if (other.ranks == held.ranks) other.handed = std::max(other.handed, Clock::now());
   const double k = static_cast<double>(held.ranks.size());
   CaseRecord r = record(t, held.ranks);
   r.start = o.start;

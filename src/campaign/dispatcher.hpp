@@ -24,10 +24,12 @@ class Dispatcher {
   const CaseTask* peek() const { return queue_.empty() ? nullptr : &queue_.front(); }
   int ranks_for(const CaseTask& t) const;
   void pop() { queue_.pop_front(); }
+  std::size_t queued() const { return queue_.size(); }
   bool idle() const { return queue_.empty() && running_.empty(); }
 
   void started(const CaseTask& t, const std::vector<int>& ranks);
-  // Records the outcome (and queues a retry under the policy); returns the case's ranks.
+  // Records the outcome (and queues a retry under the policy); returns the case's ranks. A case
+  // handed to the same ranks before this one ended (held next in line) starts counting now.
   std::vector<int> finished(const CaseTask& t, const CaseOutcome& o);
 
   // A status line now and then, and the manifest flushed to disk.

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <functional>
 #include <list>
+#include <map>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
@@ -179,7 +180,11 @@ class Coordinator {
       CaseOutcome o;
       if (!decode(msg, t, o))
         throw std::runtime_error("campaign: garbled result from rank " + std::to_string(from));
-      pool_.release(book_.finished(t, o));
+      const std::vector<int> ranks = book_.finished(t, o);
+      auto it = held_.find(ranks);
+      if (it != held_.end() && --it->second > 0) continue;  // its next case is already there
+      if (it != held_.end()) held_.erase(it);
+      pool_.release(ranks);
     }
     // Strictly in queue order (largest first): a case waits until its group is free, so a big
     // case is never starved by small ones behind it.
@@ -191,19 +196,38 @@ class Coordinator {
       const std::vector<int> ranks = pool_.place(book_.ranks_for(*next));
       if (ranks.empty()) break;
       const Assignment a{*next, ranks};
-      book_.pop();
       pool_.take(ranks);
-      book_.started(a.task, ranks);
-      for (int r : ranks)
-        if (r != 0) outbox_.send(encode_assignment(a), r, kTagAssign);
       if (ranks.front() == 0) {  // rank 0 is free only between its cases (in run())
+        hand_out(a);
         local_ = a;
         local_pending_ = true;
         break;
       }
+      hand_out(a);
+      held_[ranks] = 1;
+    }
+    // A remote group also holds its next case while the queue is longer than there are groups,
+    // so that it starts it without waiting for this rank's next poll (which, while rank 0
+    // computes, comes only between its own time steps); at the tail, cases go to whoever is
+    // free first.
+    for (auto& [ranks, n] : held_) {
+      const CaseTask* next = book_.peek();
+      if (!next || n != 1 || book_.ranks_for(*next) != static_cast<int>(ranks.size()) ||
+          book_.queued() <= static_cast<std::size_t>(pool_.size()) / ranks.size())
+        continue;
+      hand_out({*next, ranks});
+      n = 2;
     }
     book_.tick();
     outbox_.progress();
+  }
+
+  // Sends the queue's head to every rank of the group but this one, and records it.
+  void hand_out(const Assignment& a) {
+    book_.pop();
+    book_.started(a.task, a.ranks);
+    for (int r : a.ranks)
+      if (r != 0) outbox_.send(encode_assignment(a), r, kTagAssign);
   }
 
   void run_local() {
@@ -226,6 +250,7 @@ class Coordinator {
   Outbox outbox_;
   Assignment local_;
   bool local_pending_ = false;
+  std::map<std::vector<int>, int> held_;  // remote groups -> cases handed and not reported
 };
 
 // Every other rank: wait (sleeping) for an assignment, run the case with its group, and, as the

@@ -5,7 +5,9 @@
 // rank of the group receives the assignment, the group makes its communicator with
 // MPI_Comm_create_group (collective over the group only, so other groups compute undisturbed),
 // runs the case decomposed exactly as `mpirun -n k tumble run` does, and its leader reports the
-// outcome. Rank 0 records every assignment and result in the manifest.
+// outcome. Rank 0 records every assignment and result in the manifest. A remote group holds its
+// next case too while the queue is longer than there are groups, so it never waits for rank 0's
+// next poll between cases.
 //
 // Rank 0 also computes, without threads: while its own group runs a case, the run calls the
 // dispatcher's poll after every time step (and every 200 settling steps): one MPI_Iprobe when
