@@ -10,9 +10,8 @@
 #include "contact/laws.hpp"
 
 int main(int argc, char** argv) {
-  // FUNNELED: `tumble campaign` runs rank 0's own cases in a thread that makes no MPI calls.
-  int provided = 0;
-  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  // No threads make MPI calls: a campaign's rank 0 dispatches between its own case's time steps.
+  MPI_Init(&argc, &argv);
   std::cout.setf(std::ios::unitbuf);  // progress lines reach logs and pipes at once
   tumble::contact::register_laws();   // before any scene is read (scene/law_registry.hpp)
   CLI::App app{"Tumble: DEM campaigns of granular segregation in tumblers"};
