@@ -29,6 +29,9 @@ void register_campaign(CLI::App& app) {
                 "print what is done/failed/left in the slice; exit 0 if nothing is left to run");
   cmd->add_flag("--retry-failed", opts->run.retry_failed,
                 "run failed cases again (their attempts keep counting)");
+  cmd->add_flag("--force", opts->run.force,
+                "run into a directory that holds another campaign (its table and statistics "
+                "are replaced)");
   cmd->add_flag("--quiet,-q", opts->run.quiet, "progress lines only every progress_interval");
   cmd->callback([opts]() {
     int rank = 0;

@@ -7,13 +7,16 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 #include "base/error.hpp"
+#include "base/exit_codes.hpp"
 #include "base/hash.hpp"
 #include "base/version.hpp"
 #include "campaign/campaign_spec.hpp"
 #include "campaign/case_runner.hpp"
+#include "campaign/directory_lock.hpp"
 #include "campaign/ensemble.hpp"
 #include "campaign/expand.hpp"
 #include "campaign/field_collector.hpp"
@@ -176,9 +179,10 @@ Ensemble build_ensemble(const CampaignSpec& spec, const Expansion& e, const std:
 
 // This slice's statistics from the manifests and fields files (not from memory: the result is
 // the same whoever ran which case, and however often the campaign was interrupted).
-void fold_statistics(const CampaignSpec& spec, const Expansion& e, const std::string& dir,
-                     const std::vector<std::size_t>& slice, const CampaignOptions& opt,
-                     const ScheduleStats& stats, std::ostream& out) {
+// Returns the number of cases of the slice that are failed or without result.
+std::size_t fold_statistics(const CampaignSpec& spec, const Expansion& e, const std::string& dir,
+                            const std::vector<std::size_t>& slice, const CampaignOptions& opt,
+                            const ScheduleStats& stats, std::ostream& out) {
   const std::string slice_text = std::to_string(opt.slice_i) + "/" + std::to_string(opt.slice_n);
   const auto final_states = classify(spec, e, dir, slice, false, nullptr);
   PetscScope petsc;
@@ -203,6 +207,57 @@ void fold_statistics(const CampaignSpec& spec, const Expansion& e, const std::st
     for (const auto& f : p.failed) out << "[campaign]   excluded " << f << "\n";
   out << "[campaign] statistics: " << where
       << (opt.slice_n > 1 ? " (fold all slices with: tumble merge " + dir + ")" : "") << std::endl;
+  const std::size_t unfinished = ens.failed_count() + ens.missing_count();
+  if (unfinished > 0)
+    out << "[campaign] " << unfinished << " case" << (unfinished == 1 ? "" : "s")
+        << " of this slice failed or have no result and are not in the ensemble: rerun the same "
+           "command with --retry-failed to try them again (their diagnostics: "
+        << dir << "/manifest); exit code 4" << std::endl;
+  return unfinished;
+}
+
+// Refuses to run into a directory that holds another campaign: one whose case table lists cases
+// this campaign does not have (their results would silently leave the ensemble). A campaign that
+// grew (a sweep added) keeps every old case and is let in.
+void check_same_campaign(const std::string& dir, const Expansion& e, const std::string& file) {
+  std::ifstream in(dir + "/cases.tsv");
+  if (!in) return;
+  std::set<std::string> ids;
+  for (const Case& c : e.cases) ids.insert(c.id);
+  std::string line, example;
+  int foreign = 0, total = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    std::string index, id;
+    fields >> index >> id;
+    ++total;
+    if (!ids.count(id) && ++foreign == 1) example = id;
+  }
+  if (foreign == 0) return;
+  throw InputError("campaign error: '" + dir + "' holds another campaign: " +
+                   std::to_string(foreign) + " of its " + std::to_string(total) + " cases (e.g. " +
+                   example + ") are not cases of " + file +
+                   ", and their results would leave the ensemble; run into another --output, "
+                   "or pass --force to replace that campaign's table and statistics");
+}
+
+// Refuses a campaign in which any case's scene is invalid (e.g. a swept time step above the
+// stability bound, f = 1.5): every invalid point is named with its parameters and the scene's
+// message, before anything is written.
+void check_cases_valid(const CampaignSpec& spec, const Expansion& e) {
+  std::string bad;
+  int points = 0;
+  for (const Point& p : e.points) {
+    const Case& c = e.cases[p.cases.front()];
+    if (c.scene_error.empty()) continue;
+    if (++points <= 5) bad += "\n  point " + p.id + " [" + p.params_text + "]: " + c.scene_error;
+  }
+  if (points == 0) return;
+  throw InputError("campaign error (" + spec.file + "): " + std::to_string(points) + " of " +
+                   std::to_string(e.points.size()) + " parameter points make an invalid scene" +
+                   (points > 5 ? " (the first 5 shown)" : "") + ":" + bad +
+                   "\n  fix or remove them (tumble campaign FILE --list marks them INVALID)");
 }
 
 // Refuses a case whose group is larger than the world, naming the key that asked for it.
@@ -272,6 +327,9 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
     return 0;
   }
 
+  // Every case's scene is valid, or nothing runs (--list and --status show the invalid ones).
+  if (!opt.list && !opt.status) check_cases_valid(spec, e);
+
   // Every case's group must fit in this run's world (checked on every rank alike, before any
   // work); a world that is not a multiple of the group size leaves its last ranks idle.
   if (!opt.status) check_groups_fit(spec, e, slice, size, opt.ranks_per_case > 0);
@@ -280,6 +338,7 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   // so that a refusal (e.g. the slice is already running) ends every rank the same way.
   std::vector<CaseState> states;
   ScheduleInput in;
+  std::unique_ptr<DirectoryLock> dir_lock;  // held until the statistics are written
   std::unique_ptr<ManifestWriter> manifest;
   std::string refusal;
   int status_rc = 0;
@@ -310,9 +369,11 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
           out << "  to run: " << e.cases[slice[k]].id << " [" << e.cases[slice[k]].params_text
               << "] attempt " << states[k].next.attempt
               << (states[k].note.empty() ? "" : " (" + states[k].note + ")") << "\n";
-        status_rc = pending.empty() ? 0 : 10;
+        status_rc = pending.empty() ? exit_code::kOk : exit_code::kWorkLeft;
       } else {
         fs::create_directories(dir + "/partials");
+        dir_lock = std::make_unique<DirectoryLock>(dir, opt.slice_n);
+        if (!opt.force) check_same_campaign(dir, e, opt.file);
         manifest = std::make_unique<ManifestWriter>(dir + "/manifest/slice_" +
                                                     std::to_string(opt.slice_i) + "_of_" +
                                                     std::to_string(opt.slice_n) + ".jsonl");
@@ -350,17 +411,21 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   // Rank 0 folds the statistics while the others wait (sleeping); an error here must not leave
   // them waiting forever, so it is rethrown only after the barrier.
   std::string error;
+  std::size_t unfinished = 0;
   if (rank == 0) {
     try {
       manifest.reset();  // releases the lock: the slice may be run again
-      fold_statistics(spec, e, dir, slice, opt, stats, out);
+      unfinished = fold_statistics(spec, e, dir, slice, opt, stats, out);
     } catch (const std::exception& err) {
       error = err.what();
     }
   }
   sleeping_barrier(world);
   if (!error.empty()) throw std::runtime_error(error);
-  return 0;
+  // Every rank exits with rank 0's verdict (mpirun reports the first non-zero code).
+  int failed = unfinished > 0 ? 1 : 0;
+  MPI_Bcast(&failed, 1, MPI_INT, 0, world);
+  return failed ? exit_code::kFailedCases : exit_code::kOk;
 }
 
 }  // namespace tumble::campaign

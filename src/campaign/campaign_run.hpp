@@ -17,6 +17,7 @@ struct CampaignOptions {
   bool retry_failed = false;     // run failed cases again (attempts continue counting)
   bool quiet = false;            // progress lines only every progress_interval
   int ranks_per_case = 0;        // --ranks-per-case: overrides campaign.ranks_per_case (0: keep)
+  bool force = false;            // run into a directory that holds another campaign
 };
 
 // Parses --ranks-per-case's value (an integer >= 1); throws InputError.
@@ -25,7 +26,8 @@ int parse_ranks_per_case(const std::string& text);
 // Parses "i/n" (1 <= i <= n); throws InputError.
 void parse_slice(const std::string& text, int& i, int& n);
 
-// Collective over `world`. Returns the exit code (0; with `status`, 10 when work is left).
+// Collective over `world`. Returns the exit code (base/exit_codes.hpp): 0; 4 when cases of the
+// slice failed or have no result; with `status`, 10 when work is left.
 int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out);
 
 // Partial results of slice i of n live in DIR/partials/slice_I_of_N.h5; the whole campaign's

@@ -1,6 +1,7 @@
 #include "campaign/dispatcher.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <ostream>
 #include <set>
 #include <sstream>
@@ -12,6 +13,8 @@
 
 namespace tumble::campaign {
 namespace {
+constexpr double kRetryDelay = 5;  // seconds before a second attempt, doubling after
+constexpr double kMaxRetryDelay = 300;
 double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -27,6 +30,20 @@ Dispatcher::Dispatcher(const CaseContext& ctx, const ScheduleInput& in,
       done_(in.done_before),
       failed_(in.failed_before) {
   for (const auto& t : queue_) left_cost_ += cost(t);
+}
+
+const CaseTask* Dispatcher::peek() {
+  const auto now = Clock::now();
+  for (peeked_ = queue_.begin(); peeked_ != queue_.end(); ++peeked_) {
+    const auto wait = not_before_.find(peeked_->case_index);
+    if (wait == not_before_.end() || wait->second <= now) return &*peeked_;
+  }
+  return nullptr;
+}
+
+void Dispatcher::pop() {
+  not_before_.erase(peeked_->case_index);
+  queue_.erase(peeked_);
 }
 
 int Dispatcher::ranks_for(const CaseTask& t) const {
@@ -114,8 +131,13 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
                      ctx_.spec->retry_seed == "new"};
       queue_.push_back(again);
       left_cost_ += cost(again);
+      const double delay = kRetryDelay * std::pow(2.0, again.attempt - 2);
+      not_before_[t.case_index] =
+          Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                             std::chrono::duration<double>(std::min(delay, kMaxRetryDelay)));
       what += "; retrying (attempt " + std::to_string(again.attempt) + " of " +
-              std::to_string(ctx_.spec->max_attempts) + ")";
+              std::to_string(ctx_.spec->max_attempts) + ") in " +
+              format_hms(std::min(delay, kMaxRetryDelay));
     } else {
       failed_ += 1;
     }

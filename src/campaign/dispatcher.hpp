@@ -20,10 +20,13 @@ class Dispatcher {
   Dispatcher(const CaseContext& ctx, const ScheduleInput& in, std::vector<std::string> hosts,
              int ranks);
 
-  // The next case to hand out (nullptr if none is queued) and the ranks it needs.
-  const CaseTask* peek() const { return queue_.empty() ? nullptr : &queue_.front(); }
+  // The next case to hand out (nullptr if none is due now) and the ranks it needs; pop() takes
+  // that case off the queue. A retry waits out its back-off (kRetryDelay, doubling with each
+  // attempt) while the cases behind it go ahead, so a fault that fails attempts at once (a full
+  // disk) does not burn every attempt within a second.
+  const CaseTask* peek();
   int ranks_for(const CaseTask& t) const;
-  void pop() { queue_.pop_front(); }
+  void pop();
   std::size_t queued() const { return queue_.size(); }
   bool idle() const { return queue_.empty() && running_.empty(); }
 
@@ -49,6 +52,8 @@ class Dispatcher {
   std::vector<std::string> hosts_;
   int ranks_ = 1;
   std::deque<CaseTask> queue_;
+  std::deque<CaseTask>::iterator peeked_;
+  std::map<std::size_t, Clock::time_point> not_before_;  // case index -> earliest retry
   struct Held {
     std::vector<int> ranks;    // the group's world ranks, leader first
     Clock::time_point handed;  // when the case was handed out

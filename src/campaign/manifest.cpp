@@ -108,10 +108,24 @@ ManifestWriter::~ManifestWriter() {
 void ManifestWriter::append(const CaseRecord& r) {
   const std::string line = to_json(r) + "\n";
   // One write(2) per line: O_APPEND places it atomically at the end, so a kill never interleaves
-  // or truncates a line in the page cache.
-  const ssize_t n = ::write(fd_, line.data(), line.size());
-  if (n != static_cast<ssize_t>(line.size()))
-    throw std::runtime_error("cannot append to manifest '" + path_ + "': " + std::strerror(errno));
+  // or truncates a line in the page cache. A short write (a full disk) is finished or undone:
+  // the file is cut back to where the line began, so a rerun never reads half a line as a record.
+  const off_t begin = ::lseek(fd_, 0, SEEK_END);
+  std::size_t done = 0;
+  while (done < line.size()) {
+    const ssize_t n = ::write(fd_, line.data() + done, line.size() - done);
+    if (n > 0) {
+      done += static_cast<std::size_t>(n);
+      continue;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    const int err = n < 0 ? errno : ENOSPC;  // write(2) returning 0 on a file: no room
+    if (begin >= 0 && ::ftruncate(fd_, begin) != 0) {
+      // Could not undo: the reader skips a line that does not parse (counted as torn).
+    }
+    throw RunError("cannot append to the manifest '" + path_ + "': " + std::strerror(err) +
+                   " (errno " + std::to_string(err) + "); the line was not written");
+  }
 }
 
 void ManifestWriter::sync() { ::fsync(fd_); }

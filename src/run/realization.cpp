@@ -171,6 +171,8 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
   const std::int64_t snap_every = steps_for(scene.snapshot_interval, dt, period);
 
   const std::string restart = restart_path(opt, ckpt_path, comm);
+  if (restart.empty() && opt.resume && log)
+    *log << "[run] resume: no checkpoint at " << ckpt_path << " yet; starting from step 0\n";
   Started st = restart.empty() ? fresh_start(scene, protocol, comm, log, &res.reused_bed)
                                : restart_from(restart, scene, protocol, snap_every, comm, log);
   Simulation* sim = st.sim.get();

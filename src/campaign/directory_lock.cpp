@@ -1,0 +1,53 @@
+#include "campaign/directory_lock.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "base/error.hpp"
+
+namespace tumble::campaign {
+namespace {
+// The process holding a lock that conflicts with a write lock on [start, start + len), or 0.
+pid_t holder(int fd, off_t start, off_t len) {
+  struct flock q {};
+  q.l_type = F_WRLCK;
+  q.l_whence = SEEK_SET;
+  q.l_start = start;
+  q.l_len = len;
+  if (::fcntl(fd, F_GETLK, &q) != 0 || q.l_type == F_UNLCK) return 0;
+  return q.l_pid;
+}
+}  // namespace
+
+DirectoryLock::DirectoryLock(const std::string& dir, int slicing) {
+  const std::string path = dir + "/campaign.lock";
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw RunError("cannot open '" + path + "': " + std::strerror(errno));
+  struct flock mine {};
+  mine.l_type = F_RDLCK;
+  mine.l_whence = SEEK_SET;
+  mine.l_start = slicing;
+  mine.l_len = 1;
+  const bool got = ::fcntl(fd_, F_SETLK, &mine) == 0;
+  // Another slicing: a lock on any byte but ours (both sides checked after taking ours, so two
+  // slicings starting at once both refuse rather than both run).
+  pid_t other = got ? holder(fd_, 0, slicing) : 0;
+  if (got && other == 0) other = holder(fd_, slicing + 1, 0);  // len 0: to the end of the file
+  if (got && other == 0) return;
+  ::close(fd_);
+  fd_ = -1;
+  throw InputError("campaign error: '" + dir + "' is being run right now with another slicing" +
+                   (other > 0 ? " (process " + std::to_string(other) + ")" : "") +
+                   ": a whole campaign, its slices i/" + std::to_string(slicing) +
+                   " and other slicings i/m would compute the same cases twice; wait for it to "
+                   "end, or run into another --output");
+}
+
+DirectoryLock::~DirectoryLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the lock
+}
+
+}  // namespace tumble::campaign
