@@ -1,5 +1,6 @@
 // The manifest: records survive a round trip, a torn last line (crash mid-write) is ignored, the
-// latest line of a case wins across files, and a slice cannot be run twice at once.
+// latest line of a case wins across files, a slice cannot be run twice at once, and a full disk
+// is reported as such.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -83,6 +84,30 @@ TEST(Manifest, ASliceCannotRunTwiceAtOnce) {
   const std::string dir = scratch("manifest_lock");
   ManifestWriter first(dir + "/m.jsonl");
   EXPECT_THROW(ManifestWriter second(dir + "/m.jsonl"), InputError);
+}
+
+}  // namespace
+}  // namespace tumble::campaign
+
+namespace tumble::campaign {
+namespace {
+
+// A full disk (/dev/full answers every write with ENOSPC): the append fails with the file and
+// the cause named, not with an unrelated errno.
+TEST(Manifest, AFullDiskIsNamedWithItsCause) {
+  ASSERT_TRUE(fs::exists("/dev/full")) << "Linux provides /dev/full";
+  ManifestWriter w("/dev/full");
+  CaseRecord r;
+  r.case_id = "abc";
+  r.status = "done";
+  try {
+    w.append(r);
+    FAIL() << "an append to /dev/full succeeded";
+  } catch (const RunError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("/dev/full"), std::string::npos) << m;
+    EXPECT_NE(m.find("No space left on device"), std::string::npos) << m;
+  }
 }
 
 }  // namespace

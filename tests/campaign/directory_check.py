@@ -1,0 +1,59 @@
+"""campaign.one_directory_one_campaign: a campaign directory is run by one slicing at a time and
+holds one campaign.
+
+1. While the whole campaign (kill_campaign.toml, 1 rank, ~30 s) runs, `--slice 1/2` of it into
+   the same directory is refused at once (exit 2, "another slicing"), as is a second whole run
+   (exit 2, "already running"); the first run is then stopped.
+2. Another campaign (groups_campaign.toml) into that directory is refused (exit 2, "holds another
+   campaign") without touching its campaign.toml; with --force it runs (exit 0)."""
+import argparse
+import os
+import shutil
+import subprocess
+import time
+
+import campaign_checks as cc
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--tumble", required=True)
+ap.add_argument("--kill-campaign", required=True)
+ap.add_argument("--other-campaign", required=True)
+a = ap.parse_args()
+out = "one_directory"
+shutil.rmtree(out, ignore_errors=True)
+
+whole = subprocess.Popen([a.tumble, "campaign", a.kill_campaign, "--output", out],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
+deadline = time.time() + 60
+while not os.path.exists(os.path.join(out, "manifest", "slice_1_of_1.jsonl")):
+    if time.time() > deadline or whole.poll() is not None:
+        cc.fail("the whole campaign did not start")
+    time.sleep(0.05)
+try:
+    for extra, word in ((["--slice", "1/2"], "another slicing"), ([], "already running")):
+        r = subprocess.run([a.tumble, "campaign", a.kill_campaign, "--output", out] + extra,
+                           capture_output=True, text=True, timeout=30)
+        if r.returncode != 2 or word not in r.stderr:
+            cc.fail("%s while the whole campaign runs: exit %d, %s" % (extra or "a second run",
+                                                                     r.returncode, r.stderr))
+        print("refused while running (%s): %s" % (" ".join(extra) or "same slicing",
+                                                   r.stderr.strip().splitlines()[0][:100]))
+    if whole.poll() is not None:
+        cc.fail("the whole campaign ended before the checks: they proved nothing")
+finally:
+    whole.kill()
+    whole.wait()
+
+before = open(os.path.join(out, "campaign.toml")).read()
+r = subprocess.run([a.tumble, "campaign", a.other_campaign, "--output", out],
+                   capture_output=True, text=True, timeout=60)
+if r.returncode != 2 or "holds another campaign" not in r.stderr:
+    cc.fail("another campaign into the directory: exit %d, %s" % (r.returncode, r.stderr))
+if open(os.path.join(out, "campaign.toml")).read() != before:
+    cc.fail("the refused campaign replaced campaign.toml")
+r = subprocess.run([a.tumble, "campaign", a.other_campaign, "--output", out, "--force"],
+                   capture_output=True, text=True, timeout=120)
+if r.returncode != 0:
+    cc.fail("with --force: exit %d, %s" % (r.returncode, r.stderr))
+print("OK: another slicing and a second run refused while the campaign ran; another campaign "
+      "refused without --force, run with it")
