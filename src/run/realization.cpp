@@ -196,8 +196,8 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
   if (scene.drift_grid == OnOff::on) add(std::make_unique<DriftObserver>(scene));
   add(std::make_unique<HealthObserver>());
   if (opt.write_snapshots) add(std::make_unique<SnapshotObserver>(snap_every));
-  add(std::make_unique<CheckpointObserver>(ckpt_path,
-                                           steps_for(scene.checkpoint_interval, dt, period)));
+  add(std::make_unique<CheckpointObserver>(
+      ckpt_path, steps_for(scene.checkpoint_interval, dt, period), scene.checkpoint_wall));
   add(std::make_unique<ProgressObserver>());
 
   if (sim->step_count() == 0)

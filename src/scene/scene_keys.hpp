@@ -115,6 +115,8 @@
     "simulated time between snapshots (0 = once per iteration)") \
   X(double, checkpoint_interval, "output.checkpoint_interval", 0, 0, 1e9, \
     "simulated time between checkpoints (0 = once per iteration)") \
+  X(double, checkpoint_wall, "output.checkpoint_wall", 600, 0, 1e9, \
+    "wall seconds after which a checkpoint is also written, at the next neighbour rebuild (0 = off)") \
   X(double, progress_interval, "output.progress_interval", 10, 0, 1e6, \
     "wall seconds between progress lines") \
   X(double, analysis_interval, "output.analysis_interval", 0.5, 0, 1e9, \
