@@ -16,7 +16,9 @@ that rank's diagnostic while the other groups go on.
    rank 1 of its group only: that case fails (both attempts) with "rank 1 of 2: particle ... left
    the tumbler"; the three others are done and equal their twins; the whole run ends within the
    test's timeout.
-3. jobs/slurm_array.sh with TUMBLE_RANKS_PER_CASE=2 on a 3-rank task (SLURM_NTASKS=3): the script
+3. A case on a group of 2 over its wall-clock limit (groups_time_limit.toml) fails as
+   "time_limit" on both ranks at once: the campaign ends (no hang), exit 4.
+4. jobs/slurm_array.sh with TUMBLE_RANKS_PER_CASE=2 on a 3-rank task (SLURM_NTASKS=3): the script
    says "1 group(s) of 2, 1 rank(s) idle", passes the group size on, and the slice's cases run on
    ranks 0-1 and equal their twins."""
 import argparse
@@ -38,7 +40,7 @@ a = ap.parse_args()
 TOL = 1e-9
 
 
-def run(out, ranks, k, env=None):
+def run(out, ranks, k, env=None, want_rc=0):
     shutil.rmtree(out, ignore_errors=True)
     cmd = cc.mpiexec_command(a.mpiexec, a.np_flag, ranks) + [
         a.tumble, "campaign", a.campaign, "--output", out, "--ranks-per-case", str(k)]
@@ -50,8 +52,8 @@ def run(out, ranks, k, env=None):
         cc.fail("%s: no end within 120 s (a hang)" % out)
     with open(out + ".log", "w") as log:
         log.write(r.stdout + r.stderr)
-    if r.returncode != 0:
-        cc.fail("%s: exit %d (see %s.log)" % (out, r.returncode, out))
+    if r.returncode != want_rc:
+        cc.fail("%s: exit %d, expected %d (see %s.log)" % (out, r.returncode, want_rc, out))
     return r.stdout
 
 
@@ -110,7 +112,7 @@ for out, ranks, want_groups, layout in (
           % (out, sorted(want_groups), worst), flush=True)
 
 victim = sorted(done_ref)[0]
-text = run("groups_fault", 4, 2, {"TUMBLE_TEST_FAULT": "%s:1:1000" % victim})
+text = run("groups_fault", 4, 2, {"TUMBLE_TEST_FAULT": "%s:1:1000" % victim}, want_rc=4)
 _, latest = cc.manifest("groups_fault")
 r = latest[victim]
 if r["status"] != "failed" or r["failure"] != "run":
@@ -125,6 +127,20 @@ for c in others:
 with cc.h5py.File(os.path.join("groups_fault", "ensemble.h5"), "r") as e:
     if e.attrs["n_members"] != 3 or e.attrs["n_failed"] != 1:
         cc.fail("fault ensemble: %d members, %d failed" % (e.attrs["n_members"], e.attrs["n_failed"]))
+limit_file = os.path.join(os.path.dirname(a.campaign), "groups_time_limit.toml")
+shutil.rmtree("groups_limit", ignore_errors=True)
+cmd = cc.mpiexec_command(a.mpiexec, a.np_flag, 2) + [
+    a.tumble, "campaign", limit_file, "--output", "groups_limit", "--ranks-per-case", "2"]
+try:
+    lim = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+except subprocess.TimeoutExpired:
+    cc.fail("a time limit on a group of 2: no end within 120 s (a hang)")
+_, latest = cc.manifest("groups_limit")
+rec = list(latest.values())
+if lim.returncode != 4 or len(rec) != 1 or rec[0]["failure"] != "time_limit" or rec[0]["ranks"] != "0-1":
+    cc.fail("a time limit on a group of 2: exit %d, %s\n%s" % (lim.returncode, rec, lim.stderr))
+print("time limit on ranks 0-1: %s" % rec[0]["diagnostic"][:80], flush=True)
+
 shutil.rmtree("groups_slurm", ignore_errors=True)
 launch = " ".join(cc.mpiexec_command(a.mpiexec, a.np_flag, 3))
 env = dict(os.environ, TUMBLE=a.tumble, TUMBLE_LAUNCH=launch, SLURM_ARRAY_TASK_ID="1",
