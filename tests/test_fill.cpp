@@ -39,6 +39,18 @@ TEST(Fill, SameSeedSameBedOtherSeedOtherBed) {
   EXPECT_TRUE(differs);
 }
 
+// Validation plans without storing positions: the same walk, so the same counts and the same fit.
+TEST(Fill, CountOnlyPlanMatchesTheBed) {
+  for (const char* start : {"fill.start=mixed", "fill.start=large_top", "fill.start=large_xneg"}) {
+    const Scene s = tiny({start, "particles.large_fraction=0.3"});
+    const BedPlan full = plan_bed(s), counts = plan_bed(s, false);
+    EXPECT_EQ(counts.n_large, full.n_large);
+    EXPECT_EQ(counts.n_small, full.n_small);
+    EXPECT_TRUE(counts.position.empty());
+    EXPECT_EQ(static_cast<std::int64_t>(full.position.size()), full.n_large + full.n_small);
+  }
+}
+
 TEST(Fill, CompositionMatchesLargeFraction) {
   for (double f : {0.0, 0.15, 0.5, 1.0}) {
     const Scene s = tiny({"particles.large_fraction=" + std::to_string(f)});

@@ -2,11 +2,14 @@
 // particle is made (parse_scene does all checks; nothing is written to disk).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "base/error.hpp"
 #include "base/vec3.hpp"
+#include "scene/fill.hpp"
 #include "scene/scene.hpp"
 
 using namespace tumble;
@@ -95,4 +98,51 @@ TEST(SceneValidation, ResolvedSceneRoundTrips) {
   const Scene b = parse_scene(scene_to_text(a), {}, "t");
   EXPECT_EQ(a.resolved, b.resolved);
   EXPECT_EQ(b.restitution, 0.5);
+}
+
+// A scene file must say something: an empty, blank or comment-only file, a directory, or a file
+// without [scene] name is refused with the file named (before: each ran the default scene).
+TEST(SceneValidation, SceneFileMustNameItself) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(TUMBLE_TEST_SCRATCH) / "scene_files";
+  fs::create_directories(dir);
+  auto refusal = [&](const std::string& name, const std::string& text) {
+    const fs::path p = dir / name;
+    std::ofstream(p) << text;
+    try {
+      (void)load_scene(p.string());
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refusal("empty.toml", "").find("is empty"), std::string::npos);
+  EXPECT_NE(refusal("comments.toml", "# x\n").find("only comments"), std::string::npos);
+  const std::string unnamed = refusal("unnamed.toml", "[tumbler]\nradius = 0.02\n");
+  EXPECT_NE(unnamed.find("unnamed.toml' has no [scene] name"), std::string::npos) << unnamed;
+  EXPECT_EQ(refusal("named.toml", "[scene]\nname = \"x\"\n[tumbler]\nradius = 0.02\n"), "");
+  try {
+    (void)load_scene(dir.string());
+    ADD_FAILURE() << "a directory was read as a scene";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+  }
+}
+
+// A scene far beyond memory or the uint32 indices is refused from arithmetic, at once, with the
+// estimate (before: --check hung in the bed plan or ended in std::bad_alloc).
+TEST(SceneValidation, HugeScenesAreRefusedWithTheEstimate) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string m = error_of("", {"particles.d_small=1e-5", "particles.d_large=1e-5"});
+  EXPECT_NE(m.find("too large"), std::string::npos) << m;
+  EXPECT_NE(m.find("particles"), std::string::npos) << m;
+  set_memory_limit(100e6, "a 100 MB test limit");
+  const std::string r = error_of("", {"tumbler.radius=0.2"});  // ~1.4e6 particles, ~1.3 GiB
+  set_memory_limit(0, "");
+  EXPECT_NE(r.find("more memory than a 100 MB test limit"), std::string::npos) << r;
+  EXPECT_EQ(error_of("", {"tumbler.radius=0.2"}), "");  // no limit: only the indices bound it
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+  // The estimate is the plan's own counts before rounding (each species to the nearest whole).
+  const Scene s = parse_scene("", {}, "t");
+  EXPECT_NEAR(estimate_resources(s).particles, static_cast<double>(planned_particle_count(s)), 1.0);
 }

@@ -45,6 +45,8 @@ struct IslandArgs {
     cmd->add_option("--islands-cache", cache, "where computed islands are cached");
     cmd->add_option("--r", r, "CM shell of the islands");
   }
+  // Before any snapshot is read or island computed (an orbit search takes minutes).
+  void validate() const { require(r > 0.15 && r < 1, "--r", "in (0.15, 1)", r); }
   std::vector<cm::Island> all(const SnapshotData& s, bool kam) const {
     if (!file.empty()) return load_islands(file);
     CmIslandOptions o;
@@ -70,6 +72,7 @@ void register_classify(CLI::App& an) {
   a->islands.add(cmd);
   cmd->add_option("-o,--output", a->out, "HDF5 output (per-particle fates and the counts)");
   cmd->callback([a] {
+    a->islands.validate();
     const SnapshotData s0 = read_snapshot(a->from), s1 = read_snapshot(a->to);
     const IslandMask mask(shell_polygons(a->islands.all(s0, false), a->islands.r));
     const FateResult r = classify_fates(s0, s1, mask);
@@ -115,7 +118,15 @@ void register_section(CLI::App& an) {
   cmd->add_option("-o,--output", a->out, "HDF5 output");
   cmd->callback([a] {
     require(a->grid >= 4 && a->grid <= 1000, "--grid", "in [4, 1000]", a->grid);
-    require(a->half_width > 0, "--half-width", "> 0", a->half_width);
+    require(a->half_width > 0 && a->half_width <= 100, "--half-width", "in (0, 100]",
+            a->half_width);
+    a->islands.validate();
+    // What can be checked before the islands are known (their search takes minutes): two
+    // different indices, not negative. The upper bound (the island count) is checked below.
+    if (a->pair.size() == 2)
+      require(a->pair[0] >= 0 && a->pair[1] >= 0 && a->pair[0] != a->pair[1], "--pair",
+              "two different island indices >= 0",
+              std::to_string(a->pair[0]) + " " + std::to_string(a->pair[1]));
     std::vector<SnapshotData> snaps;
     for (const auto& p : a->snaps) snaps.push_back(read_snapshot(p));
     const auto all = a->islands.all(snaps.front(), true);
@@ -199,6 +210,7 @@ void register_enrichment(CLI::App& an) {
   cmd->add_option("-o,--output", a->out, "HDF5 output");
   cmd->callback([a] {
     require(a->inner >= 0 && a->inner < 1, "--inner", "in [0, 1)", a->inner);
+    a->islands.validate();
     std::vector<Enrichment> values;
     std::vector<double> v;
     for (const auto& p : a->snaps) {
@@ -247,8 +259,13 @@ void register_campaign_analysis(CLI::App& an) {
     require(a->opt.section_grid == 0 || (a->opt.section_grid >= 4 && a->opt.section_grid <= 1000),
             "--section-grid", "0 (one bin per large diameter) or in [4, 1000]",
             a->opt.section_grid);
-    require(a->opt.section_half_width > 0, "--section-half-width", "> 0",
-            a->opt.section_half_width);
+    require(a->opt.section_half_width > 0 && a->opt.section_half_width <= 100,
+            "--section-half-width", "in (0, 100]", a->opt.section_half_width);
+    require(a->opt.light_inner >= 0 && a->opt.light_inner < 1, "--light-inner", "in [0, 1)",
+            a->opt.light_inner);
+    // < 0 (the default) means the first / last snapshot; any other value is an iteration.
+    require(a->opt.fates_to < 0 || a->opt.fates_from <= a->opt.fates_to, "--from",
+            "<= --to (iterations)", a->opt.fates_from);
     const std::string out = a->out.empty() ? a->dir + "/analysis.h5" : a->out;
     const auto points = analyze_campaign(a->dir, a->opt);
     require(!points.empty(), "DIR", "a campaign directory with finished cases (cases/*/fields.h5)",

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "app/campaign_commands.hpp"
+#include "app/commands.hpp"
 #include "campaign/campaign_run.hpp"
 
 namespace tumble::app {
@@ -16,6 +17,7 @@ void register_campaign(CLI::App& app) {
     campaign::CampaignOptions run;
     std::string slice = "1/1";
     std::string ranks_per_case;
+    std::string max_memory;
   };
   auto opts = std::make_shared<Opts>();
   cmd->add_option("file", opts->run.file, "campaign file (TOML)")->required();
@@ -24,6 +26,9 @@ void register_campaign(CLI::App& app) {
   cmd->add_option("--output,-o", opts->run.output, "campaign directory (overrides output_dir)");
   cmd->add_option("--ranks-per-case", opts->ranks_per_case,
                   "ranks per case (overrides campaign.ranks_per_case; a sweep's own value wins)");
+  cmd->add_option("--max-memory", opts->max_memory,
+                  "a case whose scene is estimated to need more memory than this is invalid (e.g. "
+                  "2G; default: the machine's available memory)");
   cmd->add_flag("--list", opts->run.list, "print the expanded cases of the slice and exit");
   cmd->add_flag("--status", opts->run.status,
                 "print what is done/failed/left in the slice; exit 0 if nothing is left to run");
@@ -38,6 +43,7 @@ void register_campaign(CLI::App& app) {
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     int rc = 0;
     try {
+      arm_memory_limit(opts->max_memory);
       campaign::parse_slice(opts->slice, opts->run.slice_i, opts->run.slice_n);
       if (!opts->ranks_per_case.empty())
         opts->run.ranks_per_case = campaign::parse_ranks_per_case(opts->ranks_per_case);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "app/commands.hpp"
+#include "base/memory.hpp"
 #include "cm/cm_io.hpp"
 #include "cm/kam.hpp"
 #include "cm/mcm_summary.hpp"
@@ -28,6 +29,17 @@ void require(bool ok, const std::string& option, const std::string& allowed, T v
   std::ostringstream msg;
   msg << "must be " << allowed << " (got " << value << ")";
   throw CLI::ValidationError(option, msg.str());
+}
+
+// Refuses a run whose arrays would not fit in the machine's available memory, before they are
+// allocated (a reservation of that size ends in std::bad_alloc, or in swapping for hours).
+// `options` names what sets the size; `what` says what is stored.
+void require_memory(double bytes, const std::string& options, const std::string& what) {
+  const double avail = available_memory_bytes();
+  if (avail <= 0 || bytes <= avail) return;
+  throw CLI::ValidationError(options, "need about " + format_bytes(bytes) + " for " + what +
+                                          ", more than the " + format_bytes(avail) +
+                                          " available on this machine");
 }
 
 std::string tag(double a, double b) {
@@ -115,6 +127,10 @@ void register_poincare(CLI::App& cm) {
     o.seeding = args->seeding == "shell" ? Seeding::Shell : Seeding::Interface;
     o.first_rotation = args->phase != "second";
     o.second_rotation = args->phase != "first";
+    // poincare_section reserves seeds x periods iterates per seed set (chart point, seed, period).
+    const double n_sets = (o.first_rotation ? 1.0 : 0.0) + (o.second_rotation ? 1.0 : 0.0);
+    require_memory(n_sets * o.seeds * static_cast<double>(o.periods) * (sizeof(Vec2) + 16),
+                   "--seeds x --periods", "the iterates of the section");
     const std::string out =
         args->out.empty()
             ? "results/cm/poincare_" + tag(args->proto.theta_z, args->proto.theta_x) + ".h5"
@@ -321,6 +337,12 @@ void register_mcm(CLI::App& cm) {
             args->island_length);
     o.cumulative_from = args->cumulative[0];
     o.cumulative_to = args->cumulative[1];
+    // Every tracer's position at each recorded iteration (and the iteration), plus the initial
+    // and snapshot positions.
+    const double records =
+        std::floor((o.cumulative_to - o.cumulative_from) / o.cumulative_stride) + 1.0;
+    require_memory(o.tracers * (records * (sizeof(Vec3) + sizeof(int)) + 2.0 * sizeof(Vec3)),
+                   "--tracers x --cumulative / --stride", "the recorded tracer positions");
     o.drift = !args->no_drift;
     const DriftGrid grid =
         args->drift == "synthetic" ? synthetic_drift({}) : read_drift_grid(args->drift);

@@ -2,14 +2,24 @@
 // and calls the library.
 #include <mpi.h>
 
+#include <filesystem>
 #include <iostream>
 
 #include "app/commands.hpp"
+#include "base/error.hpp"
+#include "base/memory.hpp"
 #include "run/realization.hpp"
 #include "scene/fill.hpp"
 #include "scene/scene.hpp"
 
 namespace tumble::app {
+
+void arm_memory_limit(const std::string& max_memory) {
+  if (!max_memory.empty())
+    set_memory_limit(parse_memory_size(max_memory, "--max-memory"), "--max-memory " + max_memory);
+  else if (const double avail = available_memory_bytes(); avail > 0)
+    set_memory_limit(avail, "this machine has available (MemAvailable)");
+}
 
 void register_run(CLI::App& app) {
   auto* cmd = app.add_subcommand(
@@ -20,6 +30,7 @@ void register_run(CLI::App& app) {
     std::string restart;
     bool resume = false, list_keys = false, check = false;
     long long max_steps = -1;
+    std::string max_memory;
   };
   auto opts = std::make_shared<Opts>();
   cmd->add_option("scene", opts->scene, "scene file (TOML)");
@@ -27,6 +38,9 @@ void register_run(CLI::App& app) {
   cmd->add_option("--restart", opts->restart, "continue from this checkpoint file");
   cmd->add_flag("--resume", opts->resume, "continue from OUTPUT_DIR/checkpoint.h5 if present");
   cmd->add_option("--max-steps", opts->max_steps, "stop after this many protocol steps");
+  cmd->add_option("--max-memory", opts->max_memory,
+                  "refuse a scene estimated to need more memory than this (e.g. 2G; default: the "
+                  "machine's available memory)");
   cmd->add_flag("--check", opts->check, "validate the scene, print it resolved, and exit");
   cmd->add_flag("--list-keys", opts->list_keys,
                 "list every scene key with its range or choices, default and meaning, and exit");
@@ -46,13 +60,18 @@ void register_run(CLI::App& app) {
       return;
     }
     if (opts->scene.empty()) throw CLI::RequiredError("scene");
+    arm_memory_limit(opts->max_memory);
     const Scene scene = load_scene(opts->scene, opts->overrides);
+    // A missing checkpoint is bad input (exit 2), found before the bed is made or the HDF5
+    // library is asked to open it.
+    if (!opts->restart.empty() && !std::filesystem::is_regular_file(opts->restart))
+      throw InputError("--restart '" + opts->restart + "': no such checkpoint file");
     if (opts->check) {
       std::cout << scene_to_text(scene);
       if (scene.bed_file.empty()) {
         std::cout << "# bed: ";
         if (!scene.cylinder()) {
-          const BedPlan plan = plan_bed(scene);
+          const BedPlan plan = plan_bed(scene, false);
           std::cout << plan.n_large << " large + " << plan.n_small << " small = ";
         }
         std::cout << planned_particle_count(scene) << " particles; time step " << scene.time_step()

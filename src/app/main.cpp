@@ -6,6 +6,7 @@
 #include "app/campaign_commands.hpp"
 #include "app/commands.hpp"
 #include "base/error.hpp"
+#include "base/exit_codes.hpp"
 #include "base/version.hpp"
 #include "contact/laws.hpp"
 
@@ -26,13 +27,18 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    rc = app.exit(e);
+    // CLI11 prints --help and --version (exit 0) and its own message for a bad option; its codes
+    // (104-109) are replaced by the one for bad input. A subcommand's own exit code reaches here
+    // as a RuntimeError (`campaign --status`: work left) and is kept.
+    const int cli_rc = app.exit(e);
+    namespace ec = tumble::exit_code;
+    rc = e.get_name() == "RuntimeError" || cli_rc == ec::kOk ? cli_rc : ec::kBadInput;
   } catch (const tumble::InputError& e) {
     std::cerr << "tumble: " << e.what() << "\n";
-    rc = 2;
+    rc = tumble::exit_code::kBadInput;
   } catch (const std::exception& e) {
     std::cerr << "tumble: error: " << e.what() << "\n";
-    rc = 1;
+    rc = tumble::exit_code::kRunFailed;
   }
   MPI_Finalize();
   return rc;

@@ -399,11 +399,15 @@ CampaignSpec parse_campaign(const std::string& toml_text, const std::string& ori
     }
   }
   if (!have_campaign) c.fail("campaign", "table is missing (it names at least the scene template)");
-  std::ifstream in(s.scene_path);
-  if (!in) c.fail("campaign.scene", "names a file that cannot be read: '" + s.scene_path + "'");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  s.scene_text = ss.str();
+  // The template goes through the scene loader's file checks (a directory, an empty or
+  // comment-only file, no [scene] name), named here as the campaign key that points to it.
+  try {
+    s.scene_text = read_scene_file(s.scene_path);
+  } catch (const InputError& e) {
+    std::string why = e.what();
+    if (why.rfind("scene error: ", 0) == 0) why = why.substr(13);
+    c.fail("campaign.scene", "= '" + s.scene_path + "': " + why);
+  }
   // The template's shape (or its override) decides what a case collects. (A name that is no
   // shape is reported by the scene loader when the cases are expanded.)
   Shape shape = Shape::sphere;
@@ -427,6 +431,9 @@ CampaignSpec parse_campaign(const std::string& toml_text, const std::string& ori
 }
 
 CampaignSpec load_campaign(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec))  // an ifstream opens a directory and reads it as empty
+    throw InputError("campaign error: '" + path + "' is a directory, not a campaign file (TOML)");
   std::ifstream in(path);
   if (!in) throw InputError("campaign error: cannot read campaign file '" + path + "'");
   std::stringstream ss;

@@ -3,6 +3,7 @@
 // bottom of the tumbler (so it settles in a fraction of a second rather than falling from the top),
 // then settled under gravity by the engine.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "base/particles.hpp"
@@ -19,10 +20,32 @@ struct BedPlan {
 };
 
 // Particle counts and their lattice positions for the scene, deterministic in the seed; throws
-// InputError if the bed does not fit in the tumbler.
-BedPlan plan_bed(const Scene& s);
+// InputError if the bed does not fit in the tumbler. With positions = false only the counts and
+// the fit are computed (validation: the same walk of the lattice, nothing stored).
+BedPlan plan_bed(const Scene& s, bool positions = true);
 // Number of particles the scene's bed will hold (a cylinder: particles.count; a sphere: the plan).
 std::int64_t planned_particle_count(const Scene& s);
+
+// What a scene will need before anything is allocated: particles (a sphere: the plan's counts,
+// computed without the lattice), cells of the neighbour grid, and bytes in all.
+struct ResourceEstimate {
+  double particles = 0, cells = 0, bytes = 0;
+};
+// The engine's measured share per particle (docs/performance.md, "Memory": 0.94 kB: state,
+// neighbour list with springs, reference positions, checkpoint buffers) and per grid cell (the
+// cell starts and their fill copy, two uint32).
+inline constexpr double kBytesPerParticle = 940;
+inline constexpr double kBytesPerCell = 8;
+ResourceEstimate estimate_resources(const Scene& s);
+// The memory a scene may need, checked by validate_scene before the bed is planned. 0 (the
+// default) checks only what the code can index (uint32 particle and cell indices): a scene read
+// back from a snapshot or checkpoint is not refused for the reading machine. `tumble run` and
+// `tumble campaign` set it (--max-memory, else the machine's available memory); `origin` says
+// where the limit came from, for the message.
+void set_memory_limit(double bytes, const std::string& origin);
+// Throws InputError with the estimate when the scene needs more than the limit or the indices hold.
+void check_resources(const Scene& s);
+
 // Builds the (unsettled) bed: species 0 = small, 1 = large; ids 0..N-1. Deterministic in the seed.
 Particles make_bed(const Scene& s);
 // Sets mass/inertia/radius-derived fields from species (used by every bed source).

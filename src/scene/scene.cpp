@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <sstream>
@@ -213,12 +214,38 @@ Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& 
   return s;
 }
 
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+std::string read_scene_file(const std::string& path) {
+  std::error_code ec;
+  // An ifstream opens a directory without complaint and reads it as empty.
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError("scene error: '" + path + "' is a directory, not a scene file (TOML)");
   std::ifstream in(path);
   if (!in) throw InputError("scene error: cannot read scene file '" + path + "'");
   std::stringstream ss;
   ss << in.rdbuf();
-  return parse_scene(ss.str(), overrides, path);
+  const std::string text = ss.str();
+  const std::string needed = "; a scene must at least name itself: [scene] name = \"...\"";
+  toml::table tbl;
+  try {
+    tbl = toml::parse(text, path);
+  } catch (const toml::parse_error&) {
+    return text;  // parse_scene reports the error with its line
+  }
+  if (tbl.empty()) {
+    const bool blank = text.find_first_not_of(" \t\r\n") == std::string::npos;
+    throw InputError("scene error: scene file '" + path + "' is " +
+                     (blank ? "empty" : "only comments (no keys)") + needed);
+  }
+  const auto name = tbl["scene"]["name"].value<std::string>();
+  if (!name)
+    throw InputError("scene error: scene file '" + path + "' has no [scene] name" + needed);
+  if (name->find_first_not_of(" \t") == std::string::npos)
+    throw InputError("scene error: scene file '" + path + "' has an empty [scene] name" + needed);
+  return text;
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  return parse_scene(read_scene_file(path), overrides, path);
 }
 
 // The stability bound of the scene's contact law (damped_time_step_bound in
@@ -303,6 +330,10 @@ void validate_scene(const Scene& s) {
   if (s.d_large * 4 > s.radius)
     fail("tumbler.radius",
          "must be at least 4 large diameters (" + std::to_string(4 * s.d_large) + ")");
+  // Before anything is planned or allocated, and before the checks whose advice (a time step, a
+  // stiffness) would not help a scene that cannot fit: the estimate is arithmetic, the bed plan
+  // below walks a lattice as large as the bed.
+  check_resources(s);
   const double bound = time_step_bound(s);
   if (s.time_step() > bound) {
     std::ostringstream os;
@@ -336,11 +367,15 @@ void validate_scene(const Scene& s) {
     fail("protocol.theta_z",
          "and protocol.theta_x are both 0: the biaxial protocol would not move");
   if (!s.bed_file.empty()) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(s.bed_file, ec))
+      fail("fill.bed_file", "names a directory, not a bed file: '" + s.bed_file + "'");
     std::ifstream f(s.bed_file);
     if (!f) fail("fill.bed_file", "names a file that cannot be read: '" + s.bed_file + "'");
   } else if (!s.cylinder()) {
-    // Raises InputError if the requested bed does not fit in the tumbler.
-    (void)plan_bed(s);
+    // Raises InputError if the requested bed does not fit in the tumbler (counts only: the same
+    // walk as the bed's, nothing stored).
+    (void)plan_bed(s, false);
   }
 }
 

@@ -68,6 +68,11 @@ std::string default_text(const KeySpec& spec);
 // Reads `path` (TOML), applies `overrides` ("section.key=value"), checks every key and value and
 // the cross-key constraints. Throws InputError naming the key on the first problem.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+// The text of a scene file, refused (InputError naming the file and what is missing) when the path
+// is a directory or unreadable, the file is empty or holds only comments, or it does not name
+// itself ([scene] name = "..."): a file that says nothing must not run a default scene. TOML errors
+// are left to parse_scene, which reports them with their line. Used by load_scene and campaigns.
+std::string read_scene_file(const std::string& path);
 // Same from TOML text (tests).
 Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& overrides = {},
                   const std::string& origin = "<string>");

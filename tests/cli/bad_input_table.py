@@ -1,0 +1,193 @@
+#!/usr/bin/env python3
+"""Bad input through the CLI, table-driven (issue 21, deliverable 8).
+
+Each row of bad_inputs.tsv is one command line that Tumble must refuse before any work: the exit
+code it must end with (src/base/exit_codes.hpp: 2 = bad input) and a word its message must hold.
+Placeholders in a row: {scenes} (the shipped scenes), {fx} (fixture files this script writes:
+empty and comment-only scenes, bad campaigns, directories; see FIXTURES). A row is
+
+  refused as expected  the exit code and the word match;
+  crash                killed by a signal, an uncaught C++ exception (std::bad_alloc,
+                       "terminate called"), or over --row-limit seconds (a hang);
+  silently accepted    exit 0: the bad input was taken;
+  mismatch             any other exit code, or the message lacks the word.
+
+A few good inputs run first (--help, --version, a valid --check): a binary that refuses
+everything must not pass. The test fails unless every row is refused as expected.
+
+usage: bad_input_table.py --tumble BIN --table bad_inputs.tsv --source SRC [--work DIR]
+"""
+import argparse
+import os
+import shlex
+import subprocess
+import sys
+import tempfile
+import time
+
+TINY_BODY = """
+[tumbler]
+radius = 0.020
+[particles]
+d_small = 0.002
+d_large = 0.004
+large_fraction = 0.15
+[contact]
+collision_time = 1e-3
+[protocol]
+mode = "biaxial"
+theta_z = 57
+theta_x = 57
+rpm = 3
+[time]
+dt = 2e-5
+"""
+
+# name -> content ("/" at the end: a directory). Scenes and campaigns that are wrong in one way.
+FIXTURES = {
+    "empty.toml": "",
+    "blank.toml": "\n   \n\t\n",
+    "comments.toml": "# a scene that says nothing\n# [scene]\n# name = \"x\"\n",
+    "noname.toml": TINY_BODY,
+    "emptyname.toml": "[scene]\nname = \"  \"\n" + TINY_BODY,
+    "sectiononly.toml": "[scene]\n" + TINY_BODY,
+    "badtoml.toml": "[scene]\nname = \"x\"\n[tumbler\nradius = 0.02\n",
+    "typo.toml": "[scene]\nname = \"x\"\n[tumbler]\nradus = 0.02\n",
+    "array.toml": "[scene]\nname = \"x\"\n[tumbler]\nradius = [0.02]\n",
+    "adir/": None,
+    "adir.toml/": None,
+    "c_empty.toml": "",
+    "c_comments.toml": "# nothing\n",
+    "c_noscene.toml": "[campaign]\nname = \"c\"\n",
+    "c_scene_dir.toml": "[campaign]\nname = \"c\"\nscene = \"adir\"\n",
+    "c_scene_missing.toml": "[campaign]\nname = \"c\"\nscene = \"nowhere.toml\"\n",
+    "c_scene_empty.toml": "[campaign]\nname = \"c\"\nscene = \"empty.toml\"\n",
+    "c_scene_comments.toml": "[campaign]\nname = \"c\"\nscene = \"comments.toml\"\n",
+    "c_scene_noname.toml": "[campaign]\nname = \"c\"\nscene = \"noname.toml\"\n",
+    "c_unknown_top.toml": "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\n[sweeps]\n",
+    "c_unknown_key.toml":
+        "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\nreplica = 2\n",
+    "c_slash_name.toml": "[campaign]\nname = \"a/b\"\nscene = \"{scenes}/bst_tiny.toml\"\n",
+    "c_badtoml.toml": "[campaign\nname = \"c\"\n",
+    "c_replicas0.toml": "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\nreplicas = 0\n",
+    "c_ranks0.toml":
+        "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\nranks_per_case = 0\n",
+    "c_name_number.toml": "[campaign]\nname = 3\nscene = \"{scenes}/bst_tiny.toml\"\n",
+    "campaign_dir/": None,
+    "no_partials/": None,
+    "empty_partials/partials/": None,
+}
+
+
+def write_fixtures(fx, scenes):
+    for name, text in FIXTURES.items():
+        path = os.path.join(fx, name)
+        if text is None:
+            os.makedirs(path, exist_ok=True)
+            continue
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with open(path, "w") as f:
+            f.write(text.replace("{scenes}", scenes))
+
+
+def read_table(path):
+    rows = []
+    with open(path) as f:
+        for lineno, line in enumerate(f, 1):
+            if not line.strip() or line.startswith("#"):
+                continue
+            parts = line.rstrip("\n").split("\t")
+            if len(parts) != 4:
+                sys.exit("%s:%d: need 4 tab-separated columns (id, exit code, word, command), got %d"
+                         % (path, lineno, len(parts)))
+            rows.append((parts[0], int(parts[1]), parts[2], parts[3], lineno))
+    return rows
+
+
+def run(tumble, args, limit):
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
+    t0 = time.monotonic()
+    try:
+        p = subprocess.run([tumble] + args, capture_output=True, text=True, timeout=limit,
+                           env=env, stdin=subprocess.DEVNULL)
+        return p.returncode, p.stdout + p.stderr, time.monotonic() - t0
+    except subprocess.TimeoutExpired as e:
+        out = (e.stdout or b"").decode(errors="replace") + (e.stderr or b"").decode(errors="replace")
+        return None, out, time.monotonic() - t0
+
+
+CRASH_WORDS = ("terminate called", "std::bad_alloc", "Segmentation fault", "core dumped",
+               "MPI_ABORT")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--tumble", required=True)
+    ap.add_argument("--table", required=True)
+    ap.add_argument("--source", required=True, help="source tree (for scenes/)")
+    ap.add_argument("--work", help="where fixtures go (default: a temporary directory)")
+    ap.add_argument("--row-limit", type=float, default=10.0,
+                    help="seconds after which a row counts as a hang")
+    a = ap.parse_args()
+    scenes = os.path.join(a.source, "scenes")
+    work = a.work or tempfile.mkdtemp(prefix="tumble_bad_input_")
+    fx = os.path.join(work, "fx")
+    os.makedirs(fx, exist_ok=True)
+    write_fixtures(fx, scenes)
+    failures = []
+
+    # Controls: good input is still accepted (a binary that refuses everything must not pass).
+    for args, word in ((["--help"], "Usage"), (["--version"], "("),
+                       (["run", os.path.join(scenes, "bst_tiny.toml"), "--check"], "particles")):
+        rc, out, dt = run(a.tumble, args, a.row_limit)
+        ok = rc == 0 and word in out
+        print("control %-50s rc %s %.2fs %s" % (" ".join(args)[-50:], rc, dt, "ok" if ok else "FAIL"))
+        if not ok:
+            failures.append("control %s: rc %s, output:\n%s" % (args, rc, out[-2000:]))
+
+    rows = read_table(a.table)
+    counts = {"refused as expected": 0, "crash": 0, "silently accepted": 0, "mismatch": 0}
+    slow = []
+    for rid, want_rc, word, cmd, lineno in rows:
+        args = shlex.split(cmd.replace("{scenes}", scenes).replace("{fx}", fx).replace("{source}", a.source))
+        rc, out, dt = run(a.tumble, args, a.row_limit)
+        if rc is None or rc < 0 or rc >= 128 or any(w in out for w in CRASH_WORDS):
+            kind = "crash"
+        elif rc == 0:
+            kind = "silently accepted"
+        elif rc == want_rc and word.lower() in out.lower():
+            kind = "refused as expected"
+        else:
+            kind = "mismatch"
+        counts[kind] += 1
+        if dt > 1.0:
+            slow.append((rid, dt))
+        msg = out.strip().splitlines()
+        shown = msg[0] if msg else ""
+        for m in msg:  # the line that holds the word, if any
+            if word.lower() in m.lower():
+                shown = m
+                break
+        print("%-4s %-34s rc %-4s want %d %5.2fs  %-19s %s"
+              % (rid, cmd[:34], rc, want_rc, dt, kind, shown[:160]))
+        if kind != "refused as expected":
+            failures.append("row %s (line %d): %s\n  command: tumble %s\n  want exit %d and '%s'; "
+                            "got exit %s after %.2f s:\n%s"
+                            % (rid, lineno, kind, " ".join(args), want_rc, word, rc, dt,
+                               out[-2000:]))
+
+    print("\nrows %d: refused as expected %d, crashes %d, silently accepted %d, mismatches %d"
+          % (len(rows), counts["refused as expected"], counts["crash"],
+             counts["silently accepted"], counts["mismatch"]))
+    if slow:
+        print("rows slower than 1 s (the machine may be loaded): " +
+              ", ".join("%s %.2fs" % s for s in slow))
+    if failures:
+        print("\n".join(["", "FAILED:"] + failures))
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
