@@ -2,6 +2,7 @@
 #include <mpi.h>
 
 #include <iostream>
+#include <string>
 
 #include "app/campaign_commands.hpp"
 #include "app/commands.hpp"
@@ -10,9 +11,26 @@
 #include "base/version.hpp"
 #include "contact/laws.hpp"
 
+namespace {
+// Whether this command line needs MPI. Starting MPI costs ~0.5 s, more than a whole Poincaré
+// section or a refused option: the continuum model and the analyses are serial and make no MPI
+// call (nor does anything they link), and help/version print and exit.
+bool needs_mpi(int argc, char** argv) {
+  const char* command = nullptr;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h" || a == "--version") return false;
+    if (!command && !a.empty() && a[0] != '-') command = argv[i];
+  }
+  const std::string c = command ? command : "";
+  return !(c.empty() || c == "cm" || c == "analyze");
+}
+}  // namespace
+
 int main(int argc, char** argv) {
   // No threads make MPI calls: a campaign's rank 0 dispatches between its own case's time steps.
-  MPI_Init(&argc, &argv);
+  const bool mpi = needs_mpi(argc, argv);
+  if (mpi) MPI_Init(&argc, &argv);
   std::cout.setf(std::ios::unitbuf);  // progress lines reach logs and pipes at once
   tumble::contact::register_laws();   // before any scene is read (scene/law_registry.hpp)
   CLI::App app{"Tumble: DEM campaigns of granular segregation in tumblers"};
@@ -40,6 +58,6 @@ int main(int argc, char** argv) {
     std::cerr << "tumble: error: " << e.what() << "\n";
     rc = tumble::exit_code::kRunFailed;
   }
-  MPI_Finalize();
+  if (mpi) MPI_Finalize();
   return rc;
 }
