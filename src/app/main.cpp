@@ -6,6 +6,7 @@
 #include "app/campaign_commands.hpp"
 #include "app/commands.hpp"
 #include "base/error.hpp"
+#include "base/exit_codes.hpp"
 #include "base/version.hpp"
 #include "contact/laws.hpp"
 
@@ -27,6 +28,9 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     rc = app.exit(e);
+  } catch (const tumble::CorruptInputError& e) {  // before InputError, its base
+    std::cerr << "tumble: corrupt input: " << e.what() << "\n";
+    rc = tumble::exit_code::kCorruptInput;
   } catch (const tumble::InputError& e) {
     std::cerr << "tumble: " << e.what() << "\n";
     rc = 2;
