@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "base/error.hpp"
 #include "io/bed_io.hpp"
@@ -122,4 +123,90 @@ TEST(Fidelity, SoftTierBedsReadBack) {
   EXPECT_NO_THROW(io::read_bed(dir + "/bed.h5", s));
   bed_pressing_in(0.3 * s.d_small);
   EXPECT_THROW(io::read_bed(dir + "/bed.h5", s), InputError);
+}
+
+// Beds are validated before any work (issue 21, docs/guarantees.md "Bed validation"): each bad
+// bed is refused as bad input naming the row; the same damage in a cached bed is corrupt input.
+TEST(BedValidation, BadBedsAreRefusedWithTheRowNamed) {
+  const Scene s = parse_scene(kPaper, {}, "paper");
+  const std::string path = ::testing::TempDir() + "/bed_validation.h5";
+  // Four small particles in a row on the floor, one diameter apart: a valid bed.
+  auto good = [&] {
+    Particles p;
+    p.resize(4);
+    for (std::size_t i = 0; i < 4; ++i) {
+      p.id[i] = static_cast<std::int64_t>(i);
+      p.radius[i] = 0.5 * s.d_small;
+      p.x[i] = {(static_cast<double>(i) - 1.5) * s.d_small, -0.5 * s.radius, 0};
+    }
+    return p;
+  };
+  auto message = [&](const Particles& p, io::BedSource source = io::BedSource::User) {
+    io::write_bed(path, p, s);
+    try {
+      io::read_bed(path, s, source);
+    } catch (const CorruptInputError& e) {
+      return std::string("corrupt: ") + e.what();
+    } catch (const InputError& e) {
+      return std::string("input: ") + e.what();
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message(good()), "accepted");
+  Particles p = good();
+  p.id[2] = 1;
+  EXPECT_NE(message(p).find("input: bed '" + path + "', row 2: id 1 appears twice"),
+            std::string::npos);
+  p = good();
+  p.id[3] = 1000000000000;
+  EXPECT_NE(message(p).find("row 3: id 1000000000000 is outside [0, 4)"), std::string::npos);
+  p = good();
+  p.species[1] = 7;
+  EXPECT_NE(message(p).find("row 1: species 7"), std::string::npos);
+  p = good();
+  p.x[0].y = std::nan("");
+  EXPECT_NE(message(p).find("row 0: the position is not finite"), std::string::npos);
+  p = good();
+  p.x[3] = p.x[2];
+  EXPECT_NE(message(p).find("the particles of row 2 and row 3 overlap"), std::string::npos);
+  p = good();
+  p.x[3].x = 2 * s.radius;
+  EXPECT_NE(message(p).find("row 3: particle 3 lies outside the tumbler"), std::string::npos);
+  EXPECT_NE(message(Particles{}).find("holds no particles"), std::string::npos);
+  // Tumble's own cache: the same damage is a corrupt file (exit 3), not bad input.
+  p = good();
+  p.species[1] = 7;
+  EXPECT_EQ(message(p, io::BedSource::Cache).rfind("corrupt: ", 0), 0u);
+}
+
+// A text bed (the LIGGGHTS format) names the line: an unknown type, a duplicate id.
+TEST(BedValidation, TextBedsNameTheLine) {
+  const Scene s = parse_scene(kPaper, {}, "paper");
+  const std::string path = ::testing::TempDir() + "/bed_validation.txt";
+  auto message = [&](const std::string& text) {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    std::fputs(text.c_str(), f);
+    std::fclose(f);
+    try {
+      io::read_bed(path, s);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  // Gravity along -z in the file: z = -R/2 is Tumble's y = -R/2.
+  char a[128], b[128];
+  std::snprintf(a, sizeof a, "1 1 %.17g 0 0 %.17g\n", s.d_small, -0.5 * s.radius);
+  std::snprintf(b, sizeof b, "2 1 %.17g %.17g 0 %.17g\n", s.d_small, s.d_small, -0.5 * s.radius);
+  EXPECT_EQ(message(std::string("# id type d x y z\n") + a + b), "accepted");
+  std::string bad = b;
+  bad[2] = '9';  // type 9
+  EXPECT_NE(message(std::string("# id type d x y z\n") + a + bad).find("line 3: particle type 9"),
+            std::string::npos);
+  bad = b;
+  bad[0] = '1';  // id 1 twice
+  EXPECT_NE(
+      message(std::string("# id type d x y z\n") + a + bad).find("line 3: id 1 appears twice"),
+      std::string::npos);
+  EXPECT_NE(message("# nothing\n").find("holds no particles"), std::string::npos);
 }

@@ -51,6 +51,9 @@ int main(int argc, char** argv) {
     const int cli_rc = app.exit(e);
     namespace ec = tumble::exit_code;
     rc = e.get_name() == "RuntimeError" || cli_rc == ec::kOk ? cli_rc : ec::kBadInput;
+  } catch (const tumble::CorruptInputError& e) {  // before InputError, its base
+    std::cerr << "tumble: corrupt input: " << e.what() << "\n";
+    rc = tumble::exit_code::kCorruptInput;
   } catch (const tumble::InputError& e) {
     std::cerr << "tumble: " << e.what() << "\n";
     rc = tumble::exit_code::kBadInput;

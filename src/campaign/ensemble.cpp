@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "base/error.hpp"
+#include "base/hash.hpp"
 #include "base/student_t.hpp"
 #include "h5/hdf5_file.hpp"
 
@@ -333,7 +334,24 @@ void attr_int(PetscViewer v, const std::string& obj, const char* name, std::size
         "PetscViewerHDF5WriteAttribute");
 }
 // A rows x cols table as one Vec of block size `cols`: an HDF5 dataset of shape (rows, cols).
-void view_table(PetscViewer v, const char* name, const std::vector<double>& values, PetscInt cols) {
+// PETSc's viewer writes the datasets of ensembles and partial results, so H5File's Fletcher32
+// filter does not reach them: their checksums are FNV-1a 64 of the values as read back (row-major
+// doubles), listed one "<object> <hex>" per line in the root attribute "checksums". Point groups
+// are listed with a digest of the attributes read() uses (point_digest).
+std::string value_digest(const std::vector<double>& values) {
+  return hex16(fnv1a64(values.data(), values.size() * sizeof(double)));
+}
+std::string point_digest(std::int64_t row, const std::vector<std::string>& texts,
+                         std::int64_t grid_n, std::int64_t series_length) {
+  std::string all = std::to_string(row) + '\x1f' + std::to_string(grid_n) + '\x1f' +
+                    std::to_string(series_length);
+  for (const auto& t : texts) all += '\x1f' + t;
+  return hex16(fnv1a64(all));
+}
+
+void view_table(PetscViewer v, const char* name, const std::vector<double>& values, PetscInt cols,
+                const std::string& group, std::string& checksums) {
+  checksums += group + "/" + name + " " + value_digest(values) + "\n";
   Vec x;
   check(VecCreate(PETSC_COMM_SELF, &x), "VecCreate");
   check(VecSetSizes(x, static_cast<PetscInt>(values.size()), PETSC_DECIDE), "VecSetSizes");
@@ -371,6 +389,7 @@ void Ensemble::write(const std::string& path) const {
   }
   const std::size_t n = rows.size();
   const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::string checksums;  // "<object> <hex>" lines (value_digest, point_digest)
   for (const auto& [name, cols] : width) {
     check(PetscViewerHDF5PushGroup(v, ("/fields/" + name).c_str()), "PushGroup");
     std::vector<double> table[5];
@@ -384,7 +403,8 @@ void Ensemble::write(const std::string& path) const {
                                             fs.ci95()};
       for (int k = 0; k < 5; ++k) std::copy(stats[k].begin(), stats[k].end(), &table[k][r * cols]);
     }
-    for (int k = 0; k < 5; ++k) view_table(v, kStatNames[k], table[k], cols);
+    for (int k = 0; k < 5; ++k)
+      view_table(v, kStatNames[k], table[k], cols, "/fields/" + name, checksums);
     check(PetscViewerHDF5PopGroup(v), "PopGroup");
   }
   if (series_width > 0) {
@@ -395,8 +415,8 @@ void Ensemble::write(const std::string& path) const {
       std::copy(rows[r]->series_iteration.begin(), rows[r]->series_iteration.end(),
                 &it[r * series_width]);
     }
-    view_table(v, "time", t, static_cast<PetscInt>(series_width));
-    view_table(v, "iteration", it, static_cast<PetscInt>(series_width));
+    view_table(v, "time", t, static_cast<PetscInt>(series_width), "/series", checksums);
+    view_table(v, "iteration", it, static_cast<PetscInt>(series_width), "/series", checksums);
     check(PetscViewerHDF5PopGroup(v), "PopGroup");
   }
 
@@ -448,7 +468,15 @@ void Ensemble::write(const std::string& path) const {
     attr(v, base, "failed", join(p.failed, "\n"));
     attr_int(v, base, "n_missing", p.missing.size());
     attr(v, base, "missing", join(p.missing, ","));
+    checksums += base + " " +
+                 point_digest(static_cast<std::int64_t>(r),
+                              {p.params_text, p.params_canonical, p.tier, p.frame, join(mine, ","),
+                               join(p.members, ","), join(p.failed, "\n"), join(p.missing, ",")},
+                              p.grid_n, static_cast<std::int64_t>(p.series_time.size())) +
+                 "\n";
   }
+  checksums += "/ " + hex16(fnv1a64(join(names, ","))) + "\n";  // the root's "fields"
+  attr(v, "/", "checksums", checksums);
   check(PetscViewerDestroy(&v), "PetscViewerDestroy");
   if (std::rename(tmp.c_str(), path.c_str()) != 0)
     throw std::runtime_error("cannot rename " + tmp + " to " + path);
@@ -484,48 +512,110 @@ Ensemble Ensemble::read(const std::string& path) {
   io::H5File f(path, io::H5File::Mode::Read);
   if (!f.has_attr("/", "kind") || f.attr_string("/", "kind") != "tumble ensemble")
     throw InputError("'" + path + "' is not a Tumble ensemble file");
+  auto corrupt = [&](const std::string& what) {
+    throw CorruptInputError("ensemble '" + path + "': " + what +
+                            "; the file is damaged or was not written by Tumble");
+  };
+  // The digests written with the file (files written before they existed have none: read as they
+  // are). Every object read below must then have one, and it must match.
+  std::map<std::string, std::string> sums;
+  const bool summed = f.has_attr("/", "checksums");
+  if (summed)
+    for (const auto& line : split(f.attr_string("/", "checksums"), '\n')) {
+      const auto sp = line.find(' ');
+      if (sp == std::string::npos) corrupt("its checksum list is damaged");
+      sums[line.substr(0, sp)] = line.substr(sp + 1);
+    }
+  auto verify = [&](const std::string& object, const std::string& digest) {
+    if (!summed) return;
+    const auto it = sums.find(object);
+    if (it == sums.end()) corrupt("'" + object + "' has no checksum");
+    if (it->second != digest) corrupt("'" + object + "' fails its checksum");
+  };
+  auto read_summed = [&](const std::string& name) {
+    std::vector<double> x = f.read_double(name);
+    verify(name, value_digest(x));
+    return x;
+  };
+  const std::string field_list = f.attr_string("/", "fields");
+  verify("/", hex16(fnv1a64(field_list)));
   struct Table {
     std::vector<double> data[3];  // count, mean, m2
     std::size_t cols = 0;
   };
   std::map<std::string, Table> tables;
-  for (const auto& name : split(f.attr_string("/", "fields"), ',')) {
+  std::size_t table_rows = 0;  // rows of every table: one per point
+  bool have_rows = false;
+  auto rows_of = [&](const std::vector<double>& data, std::size_t cols, const std::string& name) {
+    const std::size_t rows = cols ? data.size() / cols : 0;
+    if (cols == 0 || rows * cols != data.size() || (have_rows && rows != table_rows))
+      corrupt("'" + name + "' does not have one row of " + std::to_string(cols) + " per point");
+    table_rows = rows;
+    have_rows = true;
+  };
+  for (const auto& name : split(field_list, ',')) {
     Table& t = tables[name];
     const std::string g = "/fields/" + name + "/";
-    for (int k = 0; k < 3; ++k) t.data[k] = f.read_double(g + kStatNames[k]);
+    for (int k = 0; k < 3; ++k) t.data[k] = read_summed(g + kStatNames[k]);
     const auto shape = f.shape(g + "count");
     t.cols = shape.size() == 2 ? shape[1] : 1;
+    for (int k = 0; k < 3; ++k) rows_of(t.data[k], t.cols, g + kStatNames[k]);
+    for (double c : t.data[0])
+      if (!(c >= 0) || c != std::floor(c)) corrupt("'" + g + "count' holds " + std::to_string(c));
   }
   std::vector<double> times, iterations;
   std::size_t series_cols = 0;
   if (f.exists("/series/time")) {
-    times = f.read_double("/series/time");
-    iterations = f.read_double("/series/iteration");
+    times = read_summed("/series/time");
+    iterations = read_summed("/series/iteration");
     const auto shape = f.shape("/series/time");
     series_cols = shape.size() == 2 ? shape[1] : 1;
+    rows_of(times, series_cols, "/series/time");
+    rows_of(iterations, series_cols, "/series/iteration");
   }
   Ensemble e;
   for (const auto& id : children(f.id(), "/points")) {
     const std::string base = "/points/" + id;
     PointStats& p = e.points[id];
     p.id = id;
-    const auto r = static_cast<std::size_t>(f.attr_int64(base, "row"));
+    const std::int64_t row = f.attr_int64(base, "row");
     p.params_text = f.attr_string(base, "params");
     p.params_canonical = f.attr_string(base, "params_canonical");
     p.tier = f.attr_string(base, "tier");
     p.frame = f.attr_string(base, "frame");
-    p.grid_n = static_cast<int>(f.attr_int64(base, "grid_n"));
-    p.members = split(f.attr_string(base, "members"), ',');
-    p.failed = split(f.attr_string(base, "failed"), '\n');
-    p.missing = split(f.attr_string(base, "missing"), ',');
-    const auto len = static_cast<std::size_t>(f.attr_int64(base, "series_length"));
+    const std::int64_t grid_n = f.attr_int64(base, "grid_n");
+    p.grid_n = static_cast<int>(grid_n);
+    const std::string fields = f.attr_string(base, "fields"),
+                      members = f.attr_string(base, "members"),
+                      failed = f.attr_string(base, "failed"),
+                      missing = f.attr_string(base, "missing");
+    p.members = split(members, ',');
+    p.failed = split(failed, '\n');
+    p.missing = split(missing, ',');
+    const std::int64_t length = f.attr_int64(base, "series_length");
+    verify(base, point_digest(row,
+                              {p.params_text, p.params_canonical, p.tier, p.frame, fields, members,
+                               failed, missing},
+                              grid_n, length));
+    // Indices into the tables: checked, so that no attribute can make a read run off them.
+    if (row < 0 || (have_rows && static_cast<std::size_t>(row) >= table_rows))
+      corrupt("'" + base + "' has row " + std::to_string(row) + " of " +
+              std::to_string(table_rows));
+    if (length < 0 || static_cast<std::size_t>(length) > series_cols)
+      corrupt("'" + base + "' has series_length " + std::to_string(length) + ", the series " +
+              std::to_string(series_cols) + " columns");
+    const auto r = static_cast<std::size_t>(row);
+    const auto len = static_cast<std::size_t>(length);
     if (len > 0) {
       p.series_time = row_of(times, series_cols, r, len);
       p.series_iteration = row_of(iterations, series_cols, r, len);
     }
-    for (const auto& name : split(f.attr_string(base, "fields"), ',')) {
-      const Table& t = tables.at(name);
+    for (const auto& name : split(fields, ',')) {
+      const auto found = tables.find(name);
+      if (found == tables.end()) corrupt("'" + base + "' names a field '" + name + "' it lacks");
+      const Table& t = found->second;
       const std::size_t n = is_series(name) ? len : t.cols;
+      if (n > t.cols) corrupt("'" + base + "' has more series samples than '" + name + "'");
       FieldStats fs;
       fs.set(row_of(t.data[0], t.cols, r, n), row_of(t.data[1], t.cols, r, n),
              row_of(t.data[2], t.cols, r, n));

@@ -130,8 +130,14 @@ void FieldCollector::sample(const Particles& p, std::int64_t j, double time, dou
       analysis::ShellDirections dirs = analysis::shell_directions(
           p, slot_of_, to_frame, grid_, plan_.radius, s.displacement_inner);
       const std::size_t slot = static_cast<std::size_t>(j % plan_.lag);
-      if (j - plan_.lag >= plan_.window_first && ring_j_[slot] == j - plan_.lag)
+      if (j - plan_.lag >= plan_.window_first && ring_j_[slot] == j - plan_.lag) {
+        // A loaded ring of another particle count (a damaged state file) must not be indexed.
+        if (ring_[slot].cell.size() != dirs.u.size())
+          throw CorruptInputError("collector state '" + state_path_ + "': its ring holds " +
+                                  std::to_string(ring_[slot].cell.size()) + " particles, the bed " +
+                                  std::to_string(dirs.u.size()));
         disp_.add_interval(ring_[slot], dirs.u, species_);
+      }
       if (j + plan_.lag <= plan_.window_last) {
         ring_[slot] = std::move(dirs);
         ring_j_[slot] = j;
@@ -179,6 +185,9 @@ bool FieldCollector::load() {
   io::H5File f(state_path_, io::H5File::Mode::Read);
   if (!f.has_attr("/", "plan") || f.attr_string("/", "plan") != plan_.spec.canonical())
     return false;
+  // Sizes the collector was built with: a state file must agree, or its arrays would be indexed
+  // past their ends (checked below; the checksums catch damaged bytes, this what they cannot).
+  const std::size_t cells = conc_.volume_large.size();
   next_j_ = f.attr_int64("/", "next_sample");
   series_.time = f.read_double("series/time");
   series_.iteration = f.read_double("series/iteration");
@@ -205,7 +214,41 @@ bool FieldCollector::load() {
       ring_[k].u[i] = {u[3 * i], u[3 * i + 1], u[3 * i + 2]};
     ring_[k].cell = f.read_int32("ring/cell" + std::to_string(k));
   }
+  check_loaded(cells);
   return true;
+}
+
+void FieldCollector::check_loaded(std::size_t cells) const {
+  auto corrupt = [&](const std::string& what) {
+    throw CorruptInputError("collector state '" + state_path_ + "': " + what +
+                            "; the file is damaged (delete it to collect this case again)");
+  };
+  if (next_j_ < 0 || next_j_ > plan_.last_sample + 1)
+    corrupt("next_sample = " + std::to_string(next_j_) + " (the plan has " +
+            std::to_string(plan_.last_sample + 1) + " samples)");
+  const std::size_t len = series_.time.size();
+  for (const auto* v : {&series_.iteration, &series_.shell_large_fraction,
+                        &series_.radial_segregation, &series_.mixing_index})
+    if (v->size() != len) corrupt("the series datasets have different lengths");
+  if (len > static_cast<std::size_t>(next_j_)) corrupt("more series samples than samples taken");
+  for (const auto* v : {&conc_.volume_large, &conc_.volume_small, &disp_.sum_large,
+                        &disp_.sum_small, &disp_.count_large, &disp_.count_small})
+    if (v->size() != cells)
+      corrupt("a map has " + std::to_string(v->size()) + " cells, the grid " +
+              std::to_string(cells));
+  if (conc_.samples < 0 || disp_.intervals < 0) corrupt("a negative sample count");
+  std::size_t slots = 0;
+  for (std::size_t k = 0; k < ring_.size(); ++k) {
+    if (ring_j_[k] < 0) continue;
+    if (ring_j_[k] >= next_j_) corrupt("ring/j holds a sample not taken yet");
+    if (ring_[k].cell.size() != ring_[k].u.size() || (slots && ring_[k].u.size() != slots))
+      corrupt("ring/u" + std::to_string(k) + " and ring/cell" + std::to_string(k) +
+              " do not have one row per particle");
+    slots = ring_[k].u.size();
+    for (const std::int32_t c : ring_[k].cell)
+      if (c < -1 || c >= static_cast<std::int64_t>(cells))
+        corrupt("ring/cell" + std::to_string(k) + " holds cell " + std::to_string(c));
+  }
 }
 
 void write_case_attributes(io::H5File& f, const FieldsMeta& m, const CollectSpec& spec) {

@@ -73,6 +73,8 @@ class FieldCollector : public CaseCollector {
   CollectPlan plan_;
   analysis::LambertGrid grid_;
   std::string state_path_;
+  // Refuses (CorruptInputError) a loaded state whose sizes or indices do not fit the plan.
+  void check_loaded(std::size_t cells) const;
   std::int64_t next_j_ = 0;
   Series series_;
   analysis::ConcentrationMap conc_;

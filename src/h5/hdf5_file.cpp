@@ -3,13 +3,59 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
+
+#include "base/error.hpp"
 
 namespace tumble::io {
 namespace {
 void check(herr_t status, const std::string& what) {
   if (status < 0) throw std::runtime_error("HDF5: " + what + " failed");
+}
+
+// The innermost message of HDF5's error stack ("Fletcher32 checksum failed", "incorrect metadata
+// checksum after all read tries", ...): what tells a damaged file from a missing object.
+std::string hdf5_reason() {
+  std::string reason;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_UPWARD,
+      [](unsigned n, const H5E_error2_t* e, void* out) -> herr_t {
+        if (n == 0 && e->desc) *static_cast<std::string*>(out) = e->desc;
+        return 0;
+      },
+      &reason);
+  return reason.empty() ? "" : " (" + reason + ")";
+}
+
+// Reading a file Tumble wrote failed: the file is damaged (a checksum of the data or of the
+// metadata no longer matches) or is not what Tumble writes. Named with file and object so the
+// user knows what to delete or regenerate.
+[[noreturn]] void corrupt(const std::string& path, const std::string& what) {
+  throw CorruptInputError("'" + path + "': " + what + hdf5_reason() +
+                          "; the file is damaged or was not written by Tumble");
+}
+
+// Creation properties of a dataset of `dims` elements of `type`: chunked, with HDF5's Fletcher32
+// checksum per chunk, so that every read verifies the data it returns (H5Dread fails on a
+// mismatch). Chunks of at most ~1 MiB of whole rows fit HDF5's default chunk cache and keep
+// row-block reads (read_rows_*) cheap. An empty dataset cannot be chunked (a chunk dimension
+// must be >= 1 and <= a fixed extent of 0): it stays contiguous, there is nothing to check.
+hid_t checksummed_dcpl(hid_t type, const std::vector<hsize_t>& dims) {
+  hsize_t n = 1;
+  for (auto d : dims) n *= d;
+  if (dims.empty() || n == 0) return H5P_DEFAULT;
+  std::vector<hsize_t> chunk = dims;
+  const hsize_t row_bytes = (n / dims[0]) * H5Tget_size(type);
+  chunk[0] = std::max<hsize_t>(1, std::min<hsize_t>(dims[0], (hsize_t{1} << 20) / row_bytes));
+  hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  check(H5Pset_chunk(dcpl, static_cast<int>(chunk.size()), chunk.data()), "set chunk");
+  check(H5Pset_fletcher32(dcpl), "set Fletcher32 filter");
+  return dcpl;
+}
+void close_dcpl(hid_t dcpl) {
+  if (dcpl != H5P_DEFAULT) H5Pclose(dcpl);
 }
 
 // Opens the parent group chain of `name`, creating missing groups (like `mkdir -p`).
@@ -39,14 +85,24 @@ H5File::H5File(const std::string& path, Mode mode, MPI_Comm comm) : path_(path) 
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // we report errors ourselves
   hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
   if (parallel()) H5Pset_fapl_mpio(fapl, comm_, MPI_INFO_NULL);
+  // The 1.8 file format and later: its superblock, object headers (and with them the attributes
+  // and the links of compact groups) and B-trees carry checksums that HDF5 verifies on read. The
+  // datasets' own checksums are the Fletcher32 filter (checksummed_dcpl). Readers of HDF5 >= 1.8
+  // (h5py, PETSc, h5dump) read these files; files written before still read (no checksums).
+  if (mode != Mode::Read) H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_LATEST);
   if (mode == Mode::Read)
     file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl);
   else
     file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
   H5Pclose(fapl);
-  if (file_ < 0)
+  if (file_ < 0) {
+    // An existing, readable file that HDF5 cannot open is damaged (its superblock checksum, its
+    // signature) or not HDF5 at all; a missing one is an ordinary error.
+    if (mode == Mode::Read && ::access(path.c_str(), R_OK) == 0)
+      corrupt(path, "cannot be opened as an HDF5 file");
     throw std::runtime_error("cannot " + std::string(mode == Mode::Read ? "open" : "create") +
                              " HDF5 file '" + path + "'");
+  }
 }
 
 std::string H5File::shared(const std::string& value) const {
@@ -72,7 +128,9 @@ void H5File::write_rows_raw(const std::string& name, hid_t type, const void* dat
   const int nd = cols > 0 ? 2 : 1;
   const hsize_t dims[2] = {total, cols}, start[2] = {before, 0}, count[2] = {rows, cols};
   hid_t space = H5Screate_simple(nd, dims, nullptr);
-  hid_t set = H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t dcpl = checksummed_dcpl(type, std::vector<hsize_t>(dims, dims + nd));
+  hid_t set = H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  close_dcpl(dcpl);
   check(set, "create dataset " + name);
   hid_t mem = H5Screate_simple(nd, count, nullptr);
   if (rows > 0)
@@ -104,9 +162,16 @@ void H5File::read_rows_raw(const std::string& name, hid_t type, void* data, hsiz
                            hsize_t count) const {
   const std::vector<hsize_t> dims = shape(name);
   hid_t set = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
-  if (set < 0) throw std::runtime_error("HDF5: no dataset '" + name + "' in " + path_);
+  if (set < 0) corrupt(path_, "dataset '" + name + "' is missing or unreadable");
   hid_t space = H5Dget_space(set);
   const int nd = static_cast<int>(dims.size());
+  if (nd < 1 || nd > 2 || begin + count > dims[0]) {
+    H5Sclose(space);
+    H5Dclose(set);
+    corrupt(path_, "dataset '" + name + "' has " + std::to_string(nd) + " dimensions / " +
+                       std::to_string(nd ? dims[0] : 0) + " rows, rows " + std::to_string(begin) +
+                       ".." + std::to_string(begin + count) + " asked for");
+  }
   const hsize_t start[2] = {begin, 0}, cnt[2] = {count, nd > 1 ? dims[1] : 1};
   hid_t mem = H5Screate_simple(nd, cnt, nullptr);
   if (count > 0) {
@@ -122,7 +187,7 @@ void H5File::read_rows_raw(const std::string& name, hid_t type, void* data, hsiz
   H5Sclose(mem);
   H5Sclose(space);
   H5Dclose(set);
-  check(st, "read rows of " + name);
+  if (st < 0) corrupt(path_, "dataset '" + name + "' fails its checksum or cannot be read");
 }
 
 namespace {
@@ -160,8 +225,14 @@ bool H5File::exists(const std::string& name) const {
   while (true) {
     pos = name.find('/', pos + 1);
     const std::string prefix = name.substr(0, pos);
-    if (!prefix.empty() && prefix != "/" && H5Lexists(file_, prefix.c_str(), H5P_DEFAULT) <= 0)
-      return false;
+    if (prefix.empty() || prefix == "/") {
+      if (pos == std::string::npos) return true;
+      continue;
+    }
+    const htri_t e = H5Lexists(file_, prefix.c_str(), H5P_DEFAULT);
+    // Negative: the group holding the link cannot be read (a damaged header), not "absent".
+    if (e < 0) corrupt(path_, "cannot look up '" + prefix + "'");
+    if (e == 0) return false;
     if (pos == std::string::npos) return true;
   }
 }
@@ -174,7 +245,9 @@ void H5File::write_raw(const std::string& name, hid_t type, const void* data,
   if (prod != n) throw std::runtime_error("HDF5: shape does not match data size for " + name);
   ensure_parents(file_, name);
   hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
-  hid_t set = H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t dcpl = checksummed_dcpl(type, dims);
+  hid_t set = H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  close_dcpl(dcpl);
   check(set, "create dataset " + name);
   if (n > 0) {
     if (parallel()) {  // rank 0's data; the others take part in the collective write with none
@@ -216,7 +289,7 @@ void H5File::write(const std::string& name, const double* data, std::vector<hsiz
 
 std::vector<hsize_t> H5File::shape(const std::string& name) const {
   hid_t set = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
-  if (set < 0) throw std::runtime_error("HDF5: no dataset '" + name + "' in " + path_);
+  if (set < 0) corrupt(path_, "dataset '" + name + "' is missing or unreadable");
   hid_t space = H5Dget_space(set);
   int rank = H5Sget_simple_extent_ndims(space);
   std::vector<hsize_t> dims(rank > 0 ? rank : 0);
@@ -234,9 +307,10 @@ std::size_t H5File::count(const std::string& name) const {
 
 void H5File::read_raw(const std::string& name, hid_t type, void* data) const {
   hid_t set = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
-  if (set < 0) throw std::runtime_error("HDF5: no dataset '" + name + "' in " + path_);
-  check(H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "read " + name);
+  if (set < 0) corrupt(path_, "dataset '" + name + "' is missing or unreadable");
+  const herr_t st = H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
   H5Dclose(set);
+  if (st < 0) corrupt(path_, "dataset '" + name + "' fails its checksum or cannot be read");
 }
 
 std::vector<double> H5File::read_double(const std::string& name) const {
@@ -273,17 +347,23 @@ void write_attr(hid_t file, const std::string& obj, const std::string& name, hid
   H5Sclose(space);
   H5Oclose(o);
 }
-void read_attr(hid_t file, const std::string& obj, const std::string& name, hid_t type,
-               void* value) {
-  hid_t o = open_obj(file, obj);
+// An attribute of a file being read: missing or unreadable means the file is not as Tumble wrote
+// it (with the 1.8 format an attribute lives in its object's checksummed header).
+hid_t open_attr(hid_t file, const std::string& path, const std::string& obj,
+                const std::string& name) {
+  hid_t o = H5Oopen(file, obj.c_str(), H5P_DEFAULT);
+  if (o < 0) corrupt(path, "object '" + obj + "' is missing or unreadable");
   hid_t a = H5Aopen(o, name.c_str(), H5P_DEFAULT);
-  if (a < 0) {
-    H5Oclose(o);
-    throw std::runtime_error("HDF5: no attribute '" + name + "' on " + obj);
-  }
-  check(H5Aread(a, type, value), "read attribute " + name);
-  H5Aclose(a);
   H5Oclose(o);
+  if (a < 0) corrupt(path, "attribute '" + name + "' of '" + obj + "' is missing or unreadable");
+  return a;
+}
+void read_attr(hid_t file, const std::string& path, const std::string& obj, const std::string& name,
+               hid_t type, void* value) {
+  hid_t a = open_attr(file, path, obj, name);
+  const herr_t st = H5Aread(a, type, value);
+  H5Aclose(a);
+  if (st < 0) corrupt(path, "attribute '" + name + "' of '" + obj + "' cannot be read");
 }
 }  // namespace
 
@@ -303,41 +383,45 @@ void H5File::set_attr(const std::string& obj, const std::string& name, std::int6
   write_attr(file_, obj, name, H5T_NATIVE_INT64, &value);
 }
 std::string H5File::attr_string(const std::string& obj, const std::string& name) const {
-  hid_t o = open_obj(file_, obj);
-  hid_t a = H5Aopen(o, name.c_str(), H5P_DEFAULT);
-  if (a < 0) {
-    H5Oclose(o);
-    throw std::runtime_error("HDF5: no attribute '" + name + "' on " + obj);
-  }
+  hid_t a = open_attr(file_, path_, obj, name);
   hid_t ftype = H5Aget_type(a);
-  std::size_t size = H5Tget_size(ftype);
+  const std::size_t size = ftype < 0 ? 0 : H5Tget_size(ftype);
+  if (H5Tget_class(ftype) != H5T_STRING || size == 0 || size > (std::size_t{1} << 30)) {
+    if (ftype >= 0) H5Tclose(ftype);
+    H5Aclose(a);
+    corrupt(path_, "attribute '" + name + "' of '" + obj + "' is not a string");
+  }
   std::string out(size, '\0');
   hid_t mtype = H5Tcopy(H5T_C_S1);
   H5Tset_size(mtype, size);
-  check(H5Aread(a, mtype, out.data()), "read attribute " + name);
+  const herr_t st = H5Aread(a, mtype, out.data());
   H5Tclose(mtype);
   H5Tclose(ftype);
   H5Aclose(a);
-  H5Oclose(o);
+  if (st < 0) corrupt(path_, "attribute '" + name + "' of '" + obj + "' cannot be read");
   out.resize(out.find('\0') == std::string::npos ? out.size() : out.find('\0'));
   return out;
 }
 double H5File::attr_double(const std::string& obj, const std::string& name) const {
   double v = 0;
-  read_attr(file_, obj, name, H5T_NATIVE_DOUBLE, &v);
+  read_attr(file_, path_, obj, name, H5T_NATIVE_DOUBLE, &v);
   return v;
 }
 std::int64_t H5File::attr_int64(const std::string& obj, const std::string& name) const {
   std::int64_t v = 0;
-  read_attr(file_, obj, name, H5T_NATIVE_INT64, &v);
+  read_attr(file_, path_, obj, name, H5T_NATIVE_INT64, &v);
   return v;
 }
 bool H5File::has_attr(const std::string& obj, const std::string& name) const {
   hid_t o = H5Oopen(file_, obj.c_str(), H5P_DEFAULT);
-  if (o < 0) return false;
-  bool r = H5Aexists(o, name.c_str()) > 0;
+  if (o < 0) {
+    if (obj != "/" && !exists(obj)) return false;  // exists() throws on a damaged group
+    corrupt(path_, "object '" + obj + "' is unreadable");
+  }
+  const htri_t r = H5Aexists(o, name.c_str());
   H5Oclose(o);
-  return r;
+  if (r < 0) corrupt(path_, "attributes of '" + obj + "' are unreadable");
+  return r > 0;
 }
 
 AtomicH5Writer::AtomicH5Writer(const std::string& final_path)

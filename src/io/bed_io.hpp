@@ -10,9 +10,15 @@
 namespace tumble::io {
 
 void write_bed(const std::string& path, const Particles& p, const Scene& scene);
-// Reads a bed and checks it against the scene (diameters, tumbler radius); sets masses from the
-// scene.
-Particles read_bed(const std::string& path, const Scene& scene);
+// Where a bed comes from: a file the user named (fill.bed_file; a bad one is an InputError, exit 2)
+// or Tumble's own cache (a bad one is damaged: CorruptInputError, exit 3).
+enum class BedSource { User, Cache };
+// Reads a bed and refuses it, naming the line (text) or row (HDF5), unless: it holds particles;
+// its arrays have one length; ids are unique (HDF5: 0..N-1; text: numbering from 0 or 1, replaced
+// by the line order); species are 0 and 1 (text types 1 and 2); positions and radii are finite;
+// each radius is its species' diameter; every particle is inside the tumbler; and no two
+// particles overlap by more than half the smaller diameter. Sets masses from the scene.
+Particles read_bed(const std::string& path, const Scene& scene, BedSource source = BedSource::User);
 // Version of the code that fills and settles a bed (scene/fill*.cpp, the settling loop in
 // run/realization.cpp): bump it when a change there changes the bed a scene settles to, so that
 // cached beds of the old code are not reused silently. Version 1 adds nothing to the key (the

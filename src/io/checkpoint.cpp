@@ -1,5 +1,9 @@
 #include "io/checkpoint.hpp"
 
+#include <cmath>
+#include <type_traits>
+
+#include "base/comm.hpp"
 #include "base/error.hpp"
 #include "h5/hdf5_file.hpp"
 #include "io/series_io.hpp"
@@ -41,6 +45,112 @@ void read_column(const H5File& f, const std::string& name, hsize_t begin, hsize_
 }
 
 std::string dataset_of(const char* field) { return std::string("particles/") + field; }
+
+[[noreturn]] void corrupt(const std::string& path, const std::string& what) {
+  throw CorruptInputError("checkpoint '" + path + "': " + what);
+}
+
+// The shape a column's dataset must have: (n, 3) for a Vec3, (n) otherwise. Checked before any
+// read, so that a damaged length can never make a reader index past its arrays.
+template <class Column>
+void check_shape(const H5File& f, const std::string& name, hsize_t n) {
+  const std::vector<hsize_t> s = f.shape(name);
+  const bool vec3 = std::is_same<typename Column::value_type, Vec3>::value;
+  const bool ok = vec3 ? s.size() == 2 && s[0] == n && s[1] == 3 : s.size() == 1 && s[0] == n;
+  if (!ok)
+    corrupt(f.path(), "dataset '" + name + "' does not have " + std::to_string(n) +
+                          (vec3 ? " rows of 3" : " rows") + " (particles/id has " +
+                          std::to_string(n) + ")");
+}
+
+bool finite(double v) { return std::isfinite(v); }
+bool finite(const Vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+template <class T>
+bool finite(const T&) {
+  return true;  // integers
+}
+
+// What a checkpoint holds that does not depend on the scene: ids in [0, N) and unique (over all
+// ranks' blocks), species 0 or 1, every double finite, radii, masses and inertias positive,
+// contact pairs of existing particles (lo < hi), the step, time and snapshot count consistent.
+// The checksums catch damaged bytes; these catch what a checksum cannot (a file edited by hand,
+// written by a broken build), and they are what keeps a bad index from ever reaching an array.
+// Returns how often each id occurs in this rank's block (uniqueness over all blocks is checked
+// after the ranks have agreed that every block read: a collective must not wait on a rank that
+// threw).
+std::vector<int> check_contents(const CheckpointData& c, std::int64_t n, std::int64_t row0,
+                                const std::string& path) {
+  const Particles& p = c.particles;
+  std::vector<int> seen(static_cast<std::size_t>(n), 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const std::string row = " (row " + std::to_string(row0 + static_cast<std::int64_t>(i)) + ")";
+    if (p.id[i] < 0 || p.id[i] >= n)
+      corrupt(path, "particle id " + std::to_string(p.id[i]) + row + " is outside [0, " +
+                        std::to_string(n) + ")");
+    ++seen[static_cast<std::size_t>(p.id[i])];
+    if (p.species[i] != 0 && p.species[i] != 1)
+      corrupt(path, "particle " + std::to_string(p.id[i]) + row + " has species " +
+                        std::to_string(p.species[i]) + " (Tumble's are 0 and 1)");
+    if (!(p.radius[i] > 0) || !(p.inv_mass[i] > 0) || !(p.inv_inertia[i] > 0) ||
+        !finite(p.radius[i]) || !finite(p.inv_mass[i]) || !finite(p.inv_inertia[i]))
+      corrupt(path, "particle " + std::to_string(p.id[i]) + row +
+                        " has a radius, mass or inertia that is not positive and finite");
+  }
+  for_each_field<field::kCheckpoint>(p, [&](const char* name, const auto& column) {
+    for (std::size_t i = 0; i < column.size(); ++i)
+      if (!finite(column[i]))
+        corrupt(path, "dataset '" + dataset_of(name) + "' row " +
+                          std::to_string(row0 + static_cast<std::int64_t>(i)) + " is not finite");
+  });
+  for (const auto& r : c.history.records()) {
+    if (r.lo < 0 || r.hi >= n || r.lo >= r.hi)
+      corrupt(path, "contacts/pair_ids holds the pair (" + std::to_string(r.lo) + ", " +
+                        std::to_string(r.hi) + "), not two particles 0 <= lo < hi < " +
+                        std::to_string(n));
+    for (int d = 0; d < c.history.width(); ++d)
+      if (!finite(r.history[d])) corrupt(path, "contacts/spring holds a value that is not finite");
+    if (!finite(r.anchor)) corrupt(path, "contacts/anchor holds a value that is not finite");
+  }
+  if (c.step < 0 || !finite(c.time) || c.time < 0)
+    corrupt(path, "step " + std::to_string(c.step) + " and time " + std::to_string(c.time) +
+                      " are not a step count and a time");
+  // Snapshots are written at most once per step (and at step 0): a larger count cannot be right
+  // (and a huge one would make the restart list billions of snapshot names).
+  if (c.snapshots_written < 0 || c.snapshots_written > c.step + 1)
+    corrupt(path, "snapshots_written = " + std::to_string(c.snapshots_written) + " at step " +
+                      std::to_string(c.step));
+  const auto len = c.series.time.size();
+  for (const auto* v : {&c.series.iteration, &c.series.shell_large_fraction,
+                        &c.series.bed_large_fraction, &c.series.kinetic_energy})
+    if (v->size() != len)
+      corrupt(path, "the series datasets have different lengths (series/time has " +
+                        std::to_string(len) + ")");
+  return seen;
+}
+
+// A rank that finds the file damaged must not leave the others waiting in a collective: every
+// rank learns the lowest failing rank's message and throws it.
+void agree(MPI_Comm comm, const std::string& local_error, bool corrupt_kind) {
+  if (size_of(comm) <= 1) {
+    if (local_error.empty()) return;
+    if (corrupt_kind) throw CorruptInputError(local_error);
+    throw InputError(local_error);
+  }
+  const int size = size_of(comm), mine = local_error.empty() ? size : rank_in(comm);
+  int first = size;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
+  if (first == size) return;
+  std::string msg = local_error;
+  int len = static_cast<int>(msg.size()), kind = corrupt_kind ? 1 : 0;
+  MPI_Bcast(&len, 1, MPI_INT, first, comm);
+  MPI_Bcast(&kind, 1, MPI_INT, first, comm);
+  msg.resize(static_cast<std::size_t>(len));
+  MPI_Bcast(msg.data(), len, MPI_CHAR, first, comm);
+  if (kind) throw CorruptInputError(msg);
+  throw InputError(msg);
+}
 }  // namespace
 
 void write_checkpoint(const std::string& path, const Simulation& sim, const Scene& scene,
@@ -83,51 +193,113 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
     MPI_Comm_rank(comm, &rank);
     MPI_Comm_size(comm, &size);
   }
-  H5File f(path, H5File::Mode::Read);  // every rank reads its own rows independently
-  if (!f.has_attr("/", "kind") || f.attr_string("/", "kind") != "tumble checkpoint")
-    throw InputError("'" + path + "' is not a Tumble checkpoint");
   CheckpointData c;
-  const auto n = static_cast<std::int64_t>(f.shape("particles/id")[0]);
-  const auto b0 = static_cast<hsize_t>(n * rank / size),
-             b1 = static_cast<hsize_t>(n * (rank + 1) / size);
-  Particles& p = c.particles;
-  p.resize(b1 - b0);  // fields not in checkpoints start value-initialised
-  for_each_field<field::kCheckpoint>(p, [&](const char* name, auto& column) {
-    read_column(f, dataset_of(name), b0, b1 - b0, column);
-  });
-  // Contact records: a block each (routed to the pairs' ranks by their anchors). Checkpoints
-  // written before anchors existed give every rank every record instead.
-  const std::vector<hsize_t> shape = f.shape("contacts/spring");
-  const auto nc = static_cast<std::int64_t>(shape[0]);
-  // Its columns: the doubles of history per contact of the law that wrote it (Simulation::restore
-  // checks them against the scene's law and applies that law's sign pattern).
-  const int h = shape.size() > 1 ? static_cast<int>(shape[1]) : 1;
-  if (h < 1 || h > neighbor::kMaxHistoryDoubles)
-    throw InputError("'" + path + "': contacts/spring has " + std::to_string(h) +
-                     " columns (at most " + std::to_string(neighbor::kMaxHistoryDoubles) + ")");
-  const bool anchored = f.exists("contacts/anchor");
-  const auto c0 = anchored ? static_cast<hsize_t>(nc * rank / size) : 0;
-  const auto c1 = anchored ? static_cast<hsize_t>(nc * (rank + 1) / size) : nc;
-  const auto pairs = f.read_rows_int64("contacts/pair_ids", c0, c1 - c0);
-  const auto springs = f.read_rows_double("contacts/spring", c0, c1 - c0);
-  const auto anchors = anchored ? f.read_rows_double("contacts/anchor", c0, c1 - c0)
-                                : std::vector<double>(3 * (pairs.size() / 2), 0.0);
-  std::vector<neighbor::SavedSpring> recs(pairs.size() / 2);
-  for (std::size_t k = 0; k < recs.size(); ++k) {
-    neighbor::SavedSpring& r = recs[k];
-    r.lo = pairs[2 * k];
-    r.hi = pairs[2 * k + 1];
-    for (int d = 0; d < h; ++d) r.history[d] = springs[static_cast<std::size_t>(h) * k + d];
-    r.anchor = {anchors[3 * k], anchors[3 * k + 1], anchors[3 * k + 2]};
+  std::string error;
+  bool corrupt_kind = true;
+  std::vector<int> seen;  // occurrences of each id in this rank's block
+  try {
+    H5File f(path, H5File::Mode::Read);  // every rank reads its own rows independently
+    if (!f.has_attr("/", "kind") || f.attr_string("/", "kind") != "tumble checkpoint")
+      throw InputError("'" + path + "' is not a Tumble checkpoint");
+    const std::vector<hsize_t> id_shape = f.shape("particles/id");
+    if (id_shape.size() != 1) corrupt(path, "particles/id is not a list");
+    const auto n = static_cast<std::int64_t>(id_shape[0]);
+    // A count beyond 2^31 (a 100 GB checkpoint) is a damaged shape, not a bed.
+    if (n <= 0 || n >= (std::int64_t{1} << 31))
+      corrupt(path, "particles/id has " + std::to_string(n) + " rows");
+    const auto b0 = static_cast<hsize_t>(n * rank / size),
+               b1 = static_cast<hsize_t>(n * (rank + 1) / size);
+    Particles& p = c.particles;
+    p.resize(b1 - b0);  // fields not in checkpoints start value-initialised
+    for_each_field<field::kCheckpoint>(p, [&](const char* name, auto& column) {
+      check_shape<std::decay_t<decltype(column)>>(f, dataset_of(name), static_cast<hsize_t>(n));
+      read_column(f, dataset_of(name), b0, b1 - b0, column);
+    });
+    // Contact records: a block each (routed to the pairs' ranks by their anchors). Checkpoints
+    // written before anchors existed give every rank every record instead.
+    const std::vector<hsize_t> shape = f.shape("contacts/spring");
+    if (shape.empty()) corrupt(path, "contacts/spring is not a table");
+    const auto nc = static_cast<std::int64_t>(shape[0]);
+    // Its columns: the doubles of history per contact of the law that wrote it (Simulation::restore
+    // checks them against the scene's law and applies that law's sign pattern).
+    const int h = shape.size() > 1 ? static_cast<int>(shape[1]) : 1;
+    if (h < 1 || h > neighbor::kMaxHistoryDoubles)
+      corrupt(path, "contacts/spring has " + std::to_string(h) + " columns (at most " +
+                        std::to_string(neighbor::kMaxHistoryDoubles) + ")");
+    const bool anchored = f.exists("contacts/anchor");
+    const std::vector<hsize_t> pair_shape = f.shape("contacts/pair_ids");
+    if (pair_shape != std::vector<hsize_t>{shape[0], 2} ||
+        (anchored && f.shape("contacts/anchor") != std::vector<hsize_t>{shape[0], 3}))
+      corrupt(path,
+              "contacts/pair_ids, contacts/spring and contacts/anchor have different lengths");
+    const auto c0 = anchored ? static_cast<hsize_t>(nc * rank / size) : 0;
+    const auto c1 = anchored ? static_cast<hsize_t>(nc * (rank + 1) / size) : nc;
+    const auto pairs = f.read_rows_int64("contacts/pair_ids", c0, c1 - c0);
+    const auto springs = f.read_rows_double("contacts/spring", c0, c1 - c0);
+    const auto anchors = anchored ? f.read_rows_double("contacts/anchor", c0, c1 - c0)
+                                  : std::vector<double>(3 * (pairs.size() / 2), 0.0);
+    std::vector<neighbor::SavedSpring> recs(pairs.size() / 2);
+    for (std::size_t k = 0; k < recs.size(); ++k) {
+      neighbor::SavedSpring& r = recs[k];
+      r.lo = pairs[2 * k];
+      r.hi = pairs[2 * k + 1];
+      for (int d = 0; d < h; ++d) r.history[d] = springs[static_cast<std::size_t>(h) * k + d];
+      r.anchor = {anchors[3 * k], anchors[3 * k + 1], anchors[3 * k + 2]};
+    }
+    c.history = neighbor::ContactHistory({h, (1u << h) - 1});
+    c.history.set_records(std::move(recs));
+    read_series(f, c.series);
+    c.time = f.attr_double("/", "time");
+    c.step = f.attr_int64("/", "step");
+    c.snapshots_written = f.attr_int64("/", "snapshots_written");
+    c.scene_text = f.attr_string("/", "scene");
+    seen = check_contents(c, n, static_cast<std::int64_t>(b0), path);
+  } catch (const CorruptInputError& e) {
+    error = e.what();
+  } catch (const InputError& e) {
+    error = e.what();
+    corrupt_kind = false;
   }
-  c.history = neighbor::ContactHistory({h, (1u << h) - 1});
-  c.history.set_records(std::move(recs));
-  read_series(f, c.series);
-  c.time = f.attr_double("/", "time");
-  c.step = f.attr_int64("/", "step");
-  c.snapshots_written = f.attr_int64("/", "snapshots_written");
-  c.scene_text = f.attr_string("/", "scene");
+  agree(comm, error, corrupt_kind);
+  if (size_of(comm) > 1)
+    MPI_Allreduce(MPI_IN_PLACE, seen.data(), static_cast<int>(seen.size()), MPI_INT, MPI_SUM, comm);
+  for (std::size_t k = 0; k < seen.size(); ++k)
+    if (seen[k] > 1) corrupt(path, "particle id " + std::to_string(k) + " appears twice");
   return c;
+}
+
+void check_checkpoint_fits(const CheckpointData& c, const Scene& s, const std::string& path,
+                           MPI_Comm comm) {
+  std::string error;
+  try {
+    const Particles& p = c.particles;
+    const double tol = s.d_large;  // settled beds press into the wall by far less than this
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const std::string who = "particle " + std::to_string(p.id[i]);
+      const double want = 0.5 * (p.species[i] == 1 ? s.d_large : s.d_small);
+      const bool size_ok = p.radius[i] <= want * (1 + 1e-9) &&
+                           p.radius[i] >= want - 0.5 * s.size_spread - 1e-9 * want;
+      if (!size_ok)
+        corrupt(path, who + " has radius " + std::to_string(p.radius[i]) +
+                          " but its species' diameter gives " + std::to_string(want));
+      const Vec3& x = p.x[i];
+      const bool inside = s.cylinder() ? std::hypot(x.x, x.y) <= s.radius + tol &&
+                                             std::fabs(x.z) <= 0.5 * s.length + tol
+                                       : norm(x) <= s.radius + tol;
+      if (!inside)
+        corrupt(path, who + " at (" + std::to_string(x.x) + ", " + std::to_string(x.y) + ", " +
+                          std::to_string(x.z) + ") lies outside the tumbler (tumbler.radius = " +
+                          std::to_string(s.radius) + " plus one d_large)");
+    }
+    // time += dt once per step from 0: the two attributes must tell the same story.
+    const double expect = static_cast<double>(c.step) * s.time_step();
+    if (std::fabs(c.time - expect) > 1e-6 * expect + s.time_step())
+      corrupt(path, "time " + std::to_string(c.time) + " s is not step " + std::to_string(c.step) +
+                        " x dt = " + std::to_string(expect) + " s");
+  } catch (const CorruptInputError& e) {
+    error = e.what();
+  }
+  agree(comm, error, true);
 }
 
 }  // namespace tumble::io

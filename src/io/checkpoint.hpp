@@ -34,6 +34,15 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
                       const analysis::Series& series, std::int64_t snapshots_written);
 // Whole checkpoint (serial), or with `comm` of more than one rank this rank's block of the
 // particle rows and of the contact records (collective).
+// Refuses (CorruptInputError, naming file and dataset) a file whose checksums fail or whose
+// contents Tumble cannot have written: lengths that disagree, ids outside [0, N) or repeated,
+// species other than 0 and 1, values that are not finite, non-positive radii, contact pairs of
+// particles that do not exist. Every rank throws the same error.
 CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm = MPI_COMM_NULL);
+// The checks that need the scene the run restarts with (collective over `comm` like
+// read_checkpoint): each particle's radius is its species' diameter (within particles.size_spread),
+// every centre lies inside the tumbler within one d_large, and the time agrees with step x dt.
+void check_checkpoint_fits(const CheckpointData& c, const Scene& scene, const std::string& path,
+                           MPI_Comm comm = MPI_COMM_NULL);
 
 }  // namespace tumble::io

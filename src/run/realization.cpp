@@ -85,6 +85,7 @@ Started restart_from(const std::string& path, const Scene& scene,
                      std::ostream* log) {
   io::CheckpointData c = io::read_checkpoint(path, comm);
   check_restart_compatible(scene, c.scene_text);
+  io::check_checkpoint_fits(c, scene, path, comm);
   double rows = static_cast<double>(c.particles.size());
   if (comm != MPI_COMM_NULL) MPI_Allreduce(MPI_IN_PLACE, &rows, 1, MPI_DOUBLE, MPI_SUM, comm);
   const auto n = static_cast<std::size_t>(rows);

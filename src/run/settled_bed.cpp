@@ -118,7 +118,7 @@ Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_C
   if (size_of(comm) > 1) MPI_Bcast(&have, 1, MPI_INT, 0, comm);
   if (have) {
     if (log) *log << "[fill] reusing settled bed " << cached << "\n";
-    return io::read_bed(cached, scene);
+    return io::read_bed(cached, scene, io::BedSource::Cache);
   }
   if (reused) *reused = false;
   Particles bed = fill_and_settle(scene, log, comm, between_blocks);
