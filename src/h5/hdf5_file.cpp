@@ -4,7 +4,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 
 #include "base/error.hpp"
@@ -13,6 +15,22 @@ namespace tumble::io {
 namespace {
 void check(herr_t status, const std::string& what) {
   if (status < 0) throw std::runtime_error("HDF5: " + what + " failed");
+}
+
+std::string hdf5_reason();
+
+// A failed write, named with its file and HDF5's innermost reason (for the POSIX driver that
+// holds the system's: "errno = 28, error message = 'No space left on device'").
+void check_in(const std::string& path, herr_t status, const std::string& what) {
+  if (status < 0)
+    throw std::runtime_error("HDF5: cannot " + what + " in '" + path + "'" + hdf5_reason());
+}
+
+// The system's reason for a failed file operation (a full disk: "No space left on device"), which
+// HDF5's own messages leave out. errno is cleared before the operation, so a stale value from an
+// earlier call is never shown.
+std::string system_reason(int err) {
+  return err ? ": " + std::string(std::strerror(err)) + " (errno " + std::to_string(err) + ")" : "";
 }
 
 // The innermost message of HDF5's error stack ("Fletcher32 checksum failed", "incorrect metadata
@@ -90,18 +108,22 @@ H5File::H5File(const std::string& path, Mode mode, MPI_Comm comm) : path_(path) 
   // datasets' own checksums are the Fletcher32 filter (checksummed_dcpl). Readers of HDF5 >= 1.8
   // (h5py, PETSc, h5dump) read these files; files written before still read (no checksums).
   if (mode != Mode::Read) H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_LATEST);
+  errno = 0;
   if (mode == Mode::Read)
     file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl);
   else
     file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  const int err = errno;
   H5Pclose(fapl);
   if (file_ < 0) {
     // An existing, readable file that HDF5 cannot open is damaged (its superblock checksum, its
     // signature) or not HDF5 at all; a missing one is an ordinary error.
     if (mode == Mode::Read && ::access(path.c_str(), R_OK) == 0)
       corrupt(path, "cannot be opened as an HDF5 file");
+    // A file this call created (a full disk leaves it at 0 bytes) is not left behind.
+    if (mode != Mode::Read) std::remove(path.c_str());
     throw std::runtime_error("cannot " + std::string(mode == Mode::Read ? "open" : "create") +
-                             " HDF5 file '" + path + "'");
+                             " HDF5 file '" + path + "'" + system_reason(err) + hdf5_reason());
   }
 }
 
@@ -131,7 +153,7 @@ void H5File::write_rows_raw(const std::string& name, hid_t type, const void* dat
   const hid_t dcpl = checksummed_dcpl(type, std::vector<hsize_t>(dims, dims + nd));
   hid_t set = H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
   close_dcpl(dcpl);
-  check(set, "create dataset " + name);
+  check_in(path_, set, "create dataset " + name);
   hid_t mem = H5Screate_simple(nd, count, nullptr);
   if (rows > 0)
     H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr);
@@ -141,7 +163,7 @@ void H5File::write_rows_raw(const std::string& name, hid_t type, const void* dat
   }
   hid_t xfer = H5Pcreate(H5P_DATASET_XFER);
   if (parallel()) H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE);
-  if (total > 0) check(H5Dwrite(set, type, mem, space, xfer, data), "write " + name);
+  if (total > 0) check_in(path_, H5Dwrite(set, type, mem, space, xfer, data), "write " + name);
   H5Pclose(xfer);
   H5Sclose(mem);
   H5Dclose(set);
@@ -217,6 +239,19 @@ H5File::~H5File() {
   if (file_ >= 0) H5Fclose(file_);
 }
 
+void H5File::close() {
+  if (file_ < 0) return;
+  // HDF5 caches writes: a full disk often shows only here, when the caches are flushed.
+  errno = 0;
+  const herr_t flushed = H5Fflush(file_, H5F_SCOPE_GLOBAL);
+  const int err = errno;
+  const herr_t closed = H5Fclose(file_);
+  file_ = -1;
+  if (flushed < 0 || closed < 0)
+    throw std::runtime_error("HDF5: cannot write '" + path_ + "'" + system_reason(err) +
+                             hdf5_reason());
+}
+
 void H5File::create_group(const std::string& name) { ensure_parents(file_, name + "/"); }
 
 bool H5File::exists(const std::string& name) const {
@@ -248,7 +283,7 @@ void H5File::write_raw(const std::string& name, hid_t type, const void* data,
   const hid_t dcpl = checksummed_dcpl(type, dims);
   hid_t set = H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
   close_dcpl(dcpl);
-  check(set, "create dataset " + name);
+  check_in(path_, set, "create dataset " + name);
   if (n > 0) {
     if (parallel()) {  // rank 0's data; the others take part in the collective write with none
       hid_t mem = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
@@ -258,11 +293,11 @@ void H5File::write_raw(const std::string& name, hid_t type, const void* data,
       }
       hid_t xfer = H5Pcreate(H5P_DATASET_XFER);
       H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE);
-      check(H5Dwrite(set, type, mem, space, xfer, data), "write " + name);
+      check_in(path_, H5Dwrite(set, type, mem, space, xfer, data), "write " + name);
       H5Pclose(xfer);
       H5Sclose(mem);
     } else {
-      check(H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + name);
+      check_in(path_, H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + name);
     }
   }
   H5Dclose(set);
@@ -445,9 +480,22 @@ AtomicH5Writer::AtomicH5Writer(const std::string& final_path, MPI_Comm comm)
 }
 
 void AtomicH5Writer::commit() {
-  H5Fflush(file_->id(), H5F_SCOPE_GLOBAL);
+  // A write that failed anywhere (flush or close) throws here, before the rename: the final name
+  // never holds a damaged file, and the destructor removes the temporary.
+  std::string failure;
+  try {
+    file_->close();
+  } catch (const std::exception& e) {
+    failure = e.what();
+  }
   delete file_;
   file_ = nullptr;
+  if (comm_ != MPI_COMM_NULL) {  // every rank learns whether any rank failed
+    int bad = failure.empty() ? 0 : 1, any = 0;
+    MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, comm_);
+    if (any && failure.empty()) failure = "HDF5: another rank could not write '" + tmp_path_ + "'";
+  }
+  if (!failure.empty()) throw std::runtime_error(failure);
   int rank = 0;
   if (comm_ != MPI_COMM_NULL) {  // every rank has closed (and flushed) before the rename
     MPI_Barrier(comm_);

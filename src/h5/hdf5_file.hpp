@@ -21,6 +21,9 @@ class H5File {
   // (MPI_COMM_NULL or one rank: an ordinary serial file.)
   H5File(const std::string& path, Mode mode, MPI_Comm comm);
   ~H5File();
+  // Flushes and closes, throwing (with the file and the system's reason) if either fails; the
+  // destructor closes silently.
+  void close();
   H5File(const H5File&) = delete;
   H5File& operator=(const H5File&) = delete;
 
