@@ -14,12 +14,13 @@
 namespace {
 // Whether this command line needs MPI. Starting MPI costs ~0.5 s, more than a whole Poincaré
 // section or a refused option: the continuum model and the analyses are serial and make no MPI
-// call (nor does anything they link), and help/version print and exit.
+// call (nor does anything they link), help/version print and exit, and `run --check` validates.
 bool needs_mpi(int argc, char** argv) {
   const char* command = nullptr;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--help" || a == "-h" || a == "--version") return false;
+    if (a == "--help" || a == "-h" || a == "--version" || a == "--check" || a == "--list-keys")
+      return false;  // (`run --check` validates and plans the bed: no MPI either)
     if (!command && !a.empty() && a[0] != '-') command = argv[i];
   }
   const std::string c = command ? command : "";
