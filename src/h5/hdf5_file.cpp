@@ -235,6 +235,8 @@ std::vector<std::int32_t> H5File::read_rows_int32(const std::string& name, hsize
   return v;
 }
 
+bool files_left_open() { return H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_FILE) > 0; }
+
 H5File::~H5File() {
   if (file_ >= 0) H5Fclose(file_);
 }
