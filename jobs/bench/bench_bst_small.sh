@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Tumble against LIGGGHTS on the shared reference bed, in the same job on the same machine:
 # particle-steps per second on 1 core and peak memory (jobs/bench/bst_R35_bench.toml: the settled
-# 10,522-particle bed of ../shared/bench in a 35 mm sphere rotating at 3 rpm, the exact contact
+# 10,522-particle bed of jobs/bench/data in a 35 mm sphere rotating at 3 rpm, the exact contact
 # parameters LIGGGHTS was measured with).
 #
 # usage: jobs/bench/bench_bst_small.sh [STEPS=20000] [WARMUP=200000]

@@ -11,7 +11,7 @@
 # environment (all optional):
 #   LIGGGHTS_WORKDIR    scratch dir (kept); default: a mktemp dir, removed at exit
 #   LIGGGHTS_BIN        LIGGGHTS executable (default: liggghts in PATH)
-#   LIGGGHTS_BED        settled bed (default /work/shared/bench/bst_R35_settled.txt)
+#   LIGGGHTS_BED        settled bed (default jobs/bench/data/bst_R35_settled.txt, in the repository)
 #   LIGGGHTS_WARMUP     untimed warm-up steps (default 1000)
 #   LIGGGHTS_MESH_TOL   max facet deviation from the sphere [m] (default 5e-5)
 #   LIGGGHTS_MOVEMESH   0 = static mesh + surface_ang_vel (default), 1 = move/mesh rotate
@@ -29,7 +29,7 @@ STEPS=$2
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 
 BIN=${LIGGGHTS_BIN:-$(command -v liggghts || echo /usr/bin/liggghts)}
-BED=${LIGGGHTS_BED:-/work/shared/bench/bst_R35_settled.txt}
+BED=${LIGGGHTS_BED:-$HERE/../data/bst_R35_settled.txt}
 WARMUP=${LIGGGHTS_WARMUP:-1000}
 MESH_TOL=${LIGGGHTS_MESH_TOL:-5e-5}
 MOVEMESH=${LIGGGHTS_MOVEMESH:-0}
