@@ -39,7 +39,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from halo_model import ghosts_per_domain  # noqa: E402  (jobs/bench/halo_model.py)
+from halo_model import add_model_arguments, calibrate, ghosts_per_domain, step_parts  # noqa: E402
 
 
 def candidates(cores, cases):
@@ -56,27 +56,12 @@ def main():
     ap.add_argument("--cores", type=int, nargs="+", default=[64, 256, 1024])
     ap.add_argument("--cg", type=float, nargs="+", default=[0, 0.5],
                     help="cost per ghost-step in c_p; 0 = calibrated from the 2-rank run")
-    # halo_model.py's calibration, with the bst_paper numbers of docs/performance.md
-    ap.add_argument("--rate1", type=float, default=6.483e6, help="1-rank particle-steps/s")
-    ap.add_argument("--rate2", type=float, default=1.165e7, help="2-rank particle-steps/s")
-    ap.add_argument("--particles", type=float, default=89394, help="particles of bst_paper")
-    ap.add_argument("--ghosts2", type=float, default=7852, help="ghosts (both ranks) at 2 ranks")
-    ap.add_argument("--imbalance2", type=float, default=1.003, help="max/mean at 2 ranks")
-    ap.add_argument("--lat-local", type=float, default=2e-6, help="per-step latency at 2 ranks (s)")
-    ap.add_argument("--alpha", type=float, default=2e-6, help="network latency per message (s)")
-    ap.add_argument("--alpha-allreduce", type=float, default=3e-6,
-                    help="allreduce latency per tree level (s)")
-    ap.add_argument("--bandwidth", type=float, default=10e9, help="network bytes/s per rank")
-    ap.add_argument("--imbalance", type=float, default=1.05, help="max/mean assumed at k > 2 ranks")
-    ap.add_argument("--neighbours", type=float, default=26, help="messages per step at large k")
-    ap.add_argument("--reach", type=float, default=2.1, help="ghost reach in d_small (2 r_max + skin)")
-    ap.add_argument("--sample", type=int, default=400000, help="points sampled for ghost counts")
+    # halo_model.py's constants, with the bst_paper calibration of docs/performance.md
+    add_model_arguments(ap, rate1=6.483e6, rate2=1.165e7, imbalance2=1.003)
     a = ap.parse_args()
 
     n = a.particles
-    c_p = 1 / a.rate1
-    t2 = 2 / a.rate2 * n / 2
-    c_g_cal = (t2 - c_p * n / 2 * a.imbalance2 - a.lat_local) / (a.ghosts2 / 2)
+    c_p, c_g_cal = calibrate(a)
 
     all_k = sorted(set(k for c in a.cores for k in candidates(c, a.cases)))
     gmax = {1: 0.0}
@@ -87,10 +72,7 @@ def main():
     def efficiency(k, c_g):
         if k == 1:
             return 1.0
-        imb = a.imbalance2 if k == 2 else a.imbalance
-        lat = a.lat_local if k == 2 else min(a.neighbours, k - 1) * a.alpha + np.log2(k) * a.alpha_allreduce
-        t = c_p * n / k * imb + c_g * gmax[k] + lat + 72 * gmax[k] / a.bandwidth
-        return c_p * n / k / t
+        return c_p * n / k / sum(step_parts(a, c_p, c_g, n, k, gmax[k], measured_two=k == 2))
 
     print(f"study: {a.cases} cases x {a.t1:g} core-hours (bst_paper, standard tier, 20 iterations); "
           f"{n:.0f} particles; c_p = {c_p * 1e9:.1f} ns, calibrated c_g = {c_g_cal * 1e9:.1f} ns "

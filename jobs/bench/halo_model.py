@@ -71,13 +71,13 @@ def ghosts_per_domain(n_total, ranks, reach_d, sample, rng):
     return counts.max(), counts.mean(), radius_d
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--rate1", type=float, default=6.765e6, help="1-rank particle-steps/s")
-    ap.add_argument("--rate2", type=float, default=1.219e7, help="2-rank particle-steps/s")
+def add_model_arguments(ap, rate1=6.765e6, rate2=1.219e7, imbalance2=1.0):
+    """The measured and assumed constants of the model (shared with campaign_wall_model.py)."""
+    ap.add_argument("--rate1", type=float, default=rate1, help="1-rank particle-steps/s")
+    ap.add_argument("--rate2", type=float, default=rate2, help="2-rank particle-steps/s")
     ap.add_argument("--particles", type=float, default=89394, help="particles of the measured scene")
     ap.add_argument("--ghosts2", type=float, default=7852, help="ghosts (both ranks) at 2 ranks")
-    ap.add_argument("--imbalance2", type=float, default=1.0, help="max/mean at 2 ranks")
+    ap.add_argument("--imbalance2", type=float, default=imbalance2, help="max/mean at 2 ranks")
     ap.add_argument("--lat-local", type=float, default=2e-6, help="per-step latency at 2 ranks (s)")
     ap.add_argument("--alpha", type=float, default=2e-6, help="network latency per message (s)")
     ap.add_argument("--alpha-allreduce", type=float, default=3e-6,
@@ -86,19 +86,38 @@ def main():
     ap.add_argument("--imbalance", type=float, default=1.05, help="max/mean assumed at P ranks")
     ap.add_argument("--neighbours", type=float, default=26, help="messages per step at large P")
     ap.add_argument("--reach", type=float, default=2.1, help="ghost reach in d_small (2 r_max + skin)")
+    ap.add_argument("--sample", type=int, default=400000, help="points sampled for ghost counts")
+
+
+def calibrate(a):
+    """c_p (seconds per particle-step, 1 rank) and c_g (per ghost-step) from the 2-rank run."""
+    c_p = 1 / a.rate1
+    t2 = 2 / a.rate2 * a.particles / 2  # seconds per step at 2 ranks
+    return c_p, (t2 - c_p * a.particles / 2 * a.imbalance2 - a.lat_local) / (a.ghosts2 / 2)
+
+
+def step_parts(a, c_p, c_g, n_total, p, gmax, measured_two=False):
+    """The slowest rank's compute, ghost, latency and network seconds per step at P ranks;
+    measured_two: P = 2 with the measured imbalance and latency of the calibration run."""
+    n = n_total / p * (a.imbalance2 if measured_two else a.imbalance)
+    lat = a.lat_local if measured_two else (min(a.neighbours, p - 1) * a.alpha +
+                                            np.log2(p) * a.alpha_allreduce)
+    return c_p * n, c_g * gmax, lat, 72 * gmax / a.bandwidth
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_model_arguments(ap)
     ap.add_argument("--target", type=float, default=10e6, help="particles of the predicted tumbler")
     ap.add_argument("--cg", type=float, default=0,
                     help="cost per ghost-step in units of c_p (0: calibrate from the 2-rank run)")
     ap.add_argument("--ranks", type=int, nargs="+", default=[2, 64, 1024])
-    ap.add_argument("--sample", type=int, default=400000, help="points sampled for ghost counts")
     a = ap.parse_args()
     rng = np.random.default_rng(1)
 
-    c_p = 1 / a.rate1
+    c_p, c_g = calibrate(a)
     t2 = 2 / a.rate2 * a.particles / 2  # seconds per step at 2 ranks
-    n2 = a.particles / 2 * a.imbalance2
     g2 = a.ghosts2 / 2
-    c_g = (t2 - c_p * n2 - a.lat_local) / g2
     if a.cg > 0:
         print(f"(calibrated c_g would be {c_g / c_p:.2f} c_p; using {a.cg} c_p)")
         c_g = a.cg * c_p
@@ -113,13 +132,10 @@ def main():
     print("|---|---|---|---|---|---|---|---|---|")
     for p in a.ranks:
         gmax, gmean, _ = ghosts_per_domain(a.target, p, a.reach, a.sample, rng)
-        n = a.target / p * a.imbalance
-        lat = min(a.neighbours, p - 1) * a.alpha + np.log2(p) * a.alpha_allreduce
-        net = 72 * gmax / a.bandwidth
-        t = c_p * n + c_g * gmax + lat + net
-        eff = c_p * a.target / p / t
+        compute, ghost, lat, net = step_parts(a, c_p, c_g, a.target, p, gmax)
+        eff = c_p * a.target / p / (compute + ghost + lat + net)
         print(f"| {p} | {a.target / p:.0f} | {gmax:.0f} | {gmax / (a.target / p):.2f} | "
-              f"{c_p * n * 1e3:.3f} | {c_g * gmax * 1e3:.3f} | {lat * 1e3:.3f} | {net * 1e3:.3f} | "
+              f"{compute * 1e3:.3f} | {ghost * 1e3:.3f} | {lat * 1e3:.3f} | {net * 1e3:.3f} | "
               f"{100 * eff:.0f}% |")
 
 
