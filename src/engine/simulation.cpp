@@ -153,6 +153,12 @@ Simulation::Kernel Simulation::pair_kernel_for(bool one_species) {
                      : &Simulation::pair_forces<Law, kFriction, kPeriodic, false>;
 }
 
+template <bool kFriction, bool kPeriodic>
+Simulation::Kernel Simulation::lanes_kernel_for(bool one_species) {
+  return one_species ? &Simulation::pair_forces_lanes<kFriction, kPeriodic, true>
+                     : &Simulation::pair_forces_lanes<kFriction, kPeriodic, false>;
+}
+
 template <class Law>
 void Simulation::select_kernels(bool friction, bool wall_friction, bool periodic) {
   if (friction)
@@ -161,6 +167,25 @@ void Simulation::select_kernels(bool friction, bool wall_friction, bool periodic
   else
     pair_kernel_ = periodic ? pair_kernel_for<Law, false, true>(one_species_)
                             : pair_kernel_for<Law, false, false>(one_species_);
+  // The Yu law has a lane kernel: used where the CPU runs it (TUMBLE_PLAIN_KERNELS=1: not).
+  if constexpr (std::is_same_v<Law, contact::Yu2022Law>) {
+    lane_kernel_ = engine::yu2022_lane_kernel(friction, periodic, pair_kernel_name_);
+    if (lane_kernel_) {
+      const auto& pairs = tables<Law>().pair;
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) {
+          const contact::Yu2022Pair& p = pairs[a][b];
+          const double values[5] = {p.kn, p.dn, p.kt, p.dt, p.mu};
+          for (int q = 0; q < 5; ++q) lane_coefficients_[q][2 * a + b] = values[q];
+        }
+      if (friction)
+        pair_kernel_ = periodic ? lanes_kernel_for<true, true>(one_species_)
+                                : lanes_kernel_for<true, false>(one_species_);
+      else
+        pair_kernel_ = periodic ? lanes_kernel_for<false, true>(one_species_)
+                                : lanes_kernel_for<false, false>(one_species_);
+    }
+  }
   if (is_cylinder_)
     wall_kernel_ = wall_friction ? &Simulation::cylinder_wall_forces<Law, true>
                                  : &Simulation::cylinder_wall_forces<Law, false>;
@@ -359,6 +384,113 @@ void Simulation::pair_forces() {
         const Vec3 tq = cross(ft, nrm);  // = -n x F_t: torque per unit lever arm on both
         ti += li * tq;
         t[j] += lj * tq;
+      }
+    }
+    f[i] += fi;
+    t[i] += ti;
+  }
+}
+
+template <bool kFriction, bool kPeriodic, bool kOneSpecies>
+void Simulation::pair_forces_lanes() {
+  const std::size_t n = n_local_;
+  const Vec3* __restrict x = p_.x.data();
+  const double* __restrict rad = p_.radius.data();
+  const std::int32_t* __restrict sp = p_.species.data();
+  Vec3* __restrict f = p_.f.data();
+  Vec3* __restrict t = p_.t.data();
+  const std::uint32_t* __restrict start = list_.start.data();
+  const std::uint32_t* __restrict nbr = list_.nbr.data();
+  double* __restrict hist = list_.history.data();
+  const double period = 2 * cylinder_.half_length;
+  engine::TouchingContacts& c = touching_;
+  const std::size_t capacity = list_.nbr.size() + engine::kLaneBlock;
+  if (c.i.size() < capacity) {
+    c.i.resize(capacity);
+    c.j.resize(capacity);
+    c.k.resize(capacity);
+    c.type.resize(capacity);
+  }
+  c.row_start.resize(n + 1);
+  std::uint32_t* __restrict ci = c.i.data();
+  std::uint32_t* __restrict cj = c.j.data();
+  std::uint32_t* __restrict ck = c.k.data();
+  std::int32_t* __restrict ct = c.type.data();
+
+  // 1. The touching pairs, in list order, without a branch per pair: every pair is written at
+  // position m and m advances only if it touches. A pair that does not touch starts its history
+  // afresh (as in pair_forces), here by clearing the bits unconditionally.
+  const std::int32_t type0 = 3 * species0_;
+  std::uint32_t m = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 xi = x[i];
+    const double ri = rad[i];
+    const std::int32_t type_i = 2 * sp[i];
+    c.row_start[i] = m;
+    for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
+      const std::uint32_t j = nbr[k];
+      Vec3 d = xi - x[j];
+      if constexpr (kPeriodic) d.z -= period * std::nearbyint(d.z / period);
+      const double rsum = ri + rad[j];
+      const bool touching = !(norm2(d) >= rsum * rsum);
+      ci[m] = static_cast<std::uint32_t>(i);
+      cj[m] = j;
+      ck[m] = k;
+      ct[m] = kOneSpecies ? type0 : type_i + sp[j];
+      m += touching;
+      if constexpr (kFriction) {
+        const std::uint64_t keep = ~std::uint64_t{0} * touching;
+        double* h = hist + 3 * std::size_t{k};
+        for (int q = 0; q < 3; ++q) {
+          std::uint64_t bits;
+          std::memcpy(&bits, h + q, sizeof bits);
+          bits &= keep;
+          std::memcpy(h + q, &bits, sizeof bits);
+        }
+      }
+    }
+  }
+  c.row_start[n] = m;
+  c.count = m;
+  if (m == 0) return;
+  for (std::size_t q = m; q < c.padded(); ++q) {  // pad the last block with the last contact
+    ci[q] = ci[m - 1];
+    cj[q] = cj[m - 1];
+    ck[q] = ck[m - 1];
+    ct[q] = ct[m - 1];
+  }
+  const std::size_t stride = c.padded();
+  if (c.out.size() < 9 * stride) c.out.resize(9 * stride);
+
+  // 2. Forces and torques of every contact, several at a time.
+  engine::LaneInput in;
+  in.contacts = &c;
+  in.x = &p_.x.data()->x;
+  in.v = &p_.v.data()->x;
+  in.w = &p_.w.data()->x;
+  in.radius = rad;
+  in.history = hist;
+  in.kn = lane_coefficients_[0];
+  in.dn = lane_coefficients_[1];
+  in.kt = lane_coefficients_[2];
+  in.dt_tangential = lane_coefficients_[3];
+  in.mu = lane_coefficients_[4];
+  in.dt = dt_;
+  in.period = period;
+  lane_kernel_(in);
+
+  // 3. Added to the particles row by row, in the order of pair_forces (bitwise the same sums).
+  const double* __restrict o = c.out.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec3 fi{}, ti{};
+    for (std::uint32_t q = c.row_start[i]; q < c.row_start[i + 1]; ++q) {
+      const std::uint32_t j = cj[q];
+      const Vec3 fc{o[q], o[stride + q], o[2 * stride + q]};
+      fi += fc;
+      f[j] -= fc;
+      if constexpr (kFriction) {
+        ti += Vec3{o[3 * stride + q], o[4 * stride + q], o[5 * stride + q]};
+        t[j] += Vec3{o[6 * stride + q], o[7 * stride + q], o[8 * stride + q]};
       }
     }
     f[i] += fi;

@@ -13,6 +13,7 @@
 
 #include "base/particles.hpp"
 #include "contact/laws.hpp"
+#include "engine/contact_lanes.hpp"
 #include "geometry/cylinder_wall.hpp"
 #include "geometry/protocol.hpp"
 #include "geometry/sphere_wall.hpp"
@@ -74,6 +75,9 @@ class Simulation {
   bool leapfrog() const { return leapfrog_; }
   bool rotation() const { return rotation_; }
   bool one_species() const { return one_species_; }
+  // Which pair loop runs: "plain" (one contact at a time, the reference) or the lane kernel
+  // chosen for this CPU (engine/contact_lanes.hpp).
+  const char* pair_kernel_name() const { return pair_kernel_name_; }
   double time() const { return time_; }
   std::int64_t step_count() const { return step_; }
   double dt() const { return dt_; }
@@ -97,6 +101,12 @@ class Simulation {
   void pair_forces();
   template <class Law, bool kFriction, bool kPeriodic>
   static Kernel pair_kernel_for(bool one_species);
+  // The optimised pair loop of the Yu law: scan for touching pairs, lane kernel, accumulation
+  // (engine/contact_lanes.hpp); bitwise equal to pair_forces<Yu2022Law, ...>.
+  template <bool kFriction, bool kPeriodic, bool kOneSpecies>
+  void pair_forces_lanes();
+  template <bool kFriction, bool kPeriodic>
+  static Kernel lanes_kernel_for(bool one_species);
   template <bool kRotation>
   double kick_drift(double kick);
   template <bool kRotation>
@@ -144,6 +154,10 @@ class Simulation {
   std::uint64_t fast_rebuilds_ = 0;
   bool force_rebuild_ = false;
   Kernel pair_kernel_ = nullptr;
+  const char* pair_kernel_name_ = "plain";
+  engine::LaneKernel lane_kernel_ = nullptr;  // pair_forces_lanes: the CPU's lane kernel
+  engine::TouchingContacts touching_;         // pair_forces_lanes: this step's contacts
+  double lane_coefficients_[5][4] = {};       // kn, dn, kt, dt, mu per type 2 a + b
   Kernel wall_kernel_ = nullptr;
   double (Simulation::*elastic_energy_)() const = nullptr;  // of the scene's law
 };
