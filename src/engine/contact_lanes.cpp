@@ -5,7 +5,7 @@
 
 namespace tumble::engine {
 
-LaneKernel yu2022_lane_kernel(bool friction, bool periodic, const char*& name) {
+LaneKernel yu2022_lane_kernel(bool friction, bool periodic, bool one_species, const char*& name) {
   name = "plain";
   const char* plain = std::getenv("TUMBLE_PLAIN_KERNELS");
   if (plain != nullptr && std::string(plain) == "1") return nullptr;
@@ -14,7 +14,7 @@ LaneKernel yu2022_lane_kernel(bool friction, bool periodic, const char*& name) {
   __builtin_cpu_init();
   if (!__builtin_cpu_supports("avx2")) return nullptr;
   name = "avx2 lanes";
-  return yu2022_lanes_avx2(friction, periodic);
+  return yu2022_lanes_avx2(friction, periodic, one_species);
 }
 
 }  // namespace tumble::engine

@@ -169,7 +169,7 @@ void Simulation::select_kernels(bool friction, bool wall_friction, bool periodic
                             : pair_kernel_for<Law, false, false>(one_species_);
   // The Yu law has a lane kernel: used where the CPU runs it (TUMBLE_PLAIN_KERNELS=1: not).
   if constexpr (std::is_same_v<Law, contact::Yu2022Law>) {
-    lane_kernel_ = engine::yu2022_lane_kernel(friction, periodic, pair_kernel_name_);
+    lane_kernel_ = engine::yu2022_lane_kernel(friction, periodic, one_species_, pair_kernel_name_);
     if (lane_kernel_) {
       const auto& pairs = tables<Law>().pair;
       for (int a = 0; a < 2; ++a)
@@ -393,109 +393,32 @@ void Simulation::pair_forces() {
 
 template <bool kFriction, bool kPeriodic, bool kOneSpecies>
 void Simulation::pair_forces_lanes() {
-  const std::size_t n = n_local_;
-  const Vec3* __restrict x = p_.x.data();
-  const double* __restrict rad = p_.radius.data();
-  const std::int32_t* __restrict sp = p_.species.data();
-  Vec3* __restrict f = p_.f.data();
-  Vec3* __restrict t = p_.t.data();
-  const std::uint32_t* __restrict start = list_.start.data();
-  const std::uint32_t* __restrict nbr = list_.nbr.data();
-  double* __restrict hist = list_.history.data();
-  const double period = 2 * cylinder_.half_length;
-  engine::TouchingContacts& c = touching_;
-  const std::size_t capacity = list_.nbr.size() + engine::kLaneBlock;
-  if (c.i.size() < capacity) {
-    c.i.resize(capacity);
-    c.j.resize(capacity);
-    c.k.resize(capacity);
-    c.type.resize(capacity);
-  }
-  c.row_start.resize(n + 1);
-  std::uint32_t* __restrict ci = c.i.data();
-  std::uint32_t* __restrict cj = c.j.data();
-  std::uint32_t* __restrict ck = c.k.data();
-  std::int32_t* __restrict ct = c.type.data();
-
-  // 1. The touching pairs, in list order, without a branch per pair: every pair is written at
-  // position m and m advances only if it touches. A pair that does not touch starts its history
-  // afresh (as in pair_forces), here by clearing the bits unconditionally.
-  const std::int32_t type0 = 3 * species0_;
-  std::uint32_t m = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 xi = x[i];
-    const double ri = rad[i];
-    const std::int32_t type_i = 2 * sp[i];
-    c.row_start[i] = m;
-    for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
-      const std::uint32_t j = nbr[k];
-      Vec3 d = xi - x[j];
-      if constexpr (kPeriodic) d.z -= period * std::nearbyint(d.z / period);
-      const double rsum = ri + rad[j];
-      const bool touching = !(norm2(d) >= rsum * rsum);
-      ci[m] = static_cast<std::uint32_t>(i);
-      cj[m] = j;
-      ck[m] = k;
-      ct[m] = kOneSpecies ? type0 : type_i + sp[j];
-      m += touching;
-      if constexpr (kFriction) {
-        const std::uint64_t keep = ~std::uint64_t{0} * touching;
-        double* h = hist + 3 * std::size_t{k};
-        for (int q = 0; q < 3; ++q) {
-          std::uint64_t bits;
-          std::memcpy(&bits, h + q, sizeof bits);
-          bits &= keep;
-          std::memcpy(h + q, &bits, sizeof bits);
-        }
-      }
-    }
-  }
-  c.row_start[n] = m;
-  c.count = m;
-  if (m == 0) return;
-  for (std::size_t q = m; q < c.padded(); ++q) {  // pad the last block with the last contact
-    ci[q] = ci[m - 1];
-    cj[q] = cj[m - 1];
-    ck[q] = ck[m - 1];
-    ct[q] = ct[m - 1];
-  }
-  const std::size_t stride = c.padded();
-  if (c.out.size() < 9 * stride) c.out.resize(9 * stride);
-
-  // 2. Forces and torques of every contact, several at a time.
+  // The template options are those the lane kernel was chosen for (select_kernels); they name
+  // this instantiation so that pair_kernel_ says which one runs.
   engine::LaneInput in;
-  in.contacts = &c;
+  in.pairs = list_.nbr.size();
+  in.row = list_.row.data();
+  in.nbr = list_.nbr.data();
   in.x = &p_.x.data()->x;
   in.v = &p_.v.data()->x;
   in.w = &p_.w.data()->x;
-  in.radius = rad;
-  in.history = hist;
+  in.radius = p_.radius.data();
+  in.species = p_.species.data();
+  in.f = &p_.f.data()->x;
+  in.t = &p_.t.data()->x;
+  in.history = list_.history.data();
   in.kn = lane_coefficients_[0];
   in.dn = lane_coefficients_[1];
   in.kt = lane_coefficients_[2];
   in.dt_tangential = lane_coefficients_[3];
   in.mu = lane_coefficients_[4];
+  in.one_type = 3 * species0_;
   in.dt = dt_;
-  in.period = period;
+  in.period = 2 * cylinder_.half_length;
+  in.scratch = &touching_;
+  static_assert(sizeof(Vec3) == 3 * sizeof(double), "the lane kernels read Vec3 arrays as doubles");
+  (void)kFriction, (void)kPeriodic, (void)kOneSpecies;
   lane_kernel_(in);
-
-  // 3. Added to the particles row by row, in the order of pair_forces (bitwise the same sums).
-  const double* __restrict o = c.out.data();
-  for (std::size_t i = 0; i < n; ++i) {
-    Vec3 fi{}, ti{};
-    for (std::uint32_t q = c.row_start[i]; q < c.row_start[i + 1]; ++q) {
-      const std::uint32_t j = cj[q];
-      const Vec3 fc{o[q], o[stride + q], o[2 * stride + q]};
-      fi += fc;
-      f[j] -= fc;
-      if constexpr (kFriction) {
-        ti += Vec3{o[3 * stride + q], o[4 * stride + q], o[5 * stride + q]};
-        t[j] += Vec3{o[6 * stride + q], o[7 * stride + q], o[8 * stride + q]};
-      }
-    }
-    f[i] += fi;
-    t[i] += ti;
-  }
 }
 
 // The rough wall of either tumbler (the sphere, or the cylinder's curved wall): every force term

@@ -5,6 +5,8 @@
 // Simulation::pair_forces and yu2022_force, with the same association order.
 #include <immintrin.h>
 
+#include <cstdint>
+
 #include "engine/contact_lanes.hpp"
 
 namespace tumble::engine {
@@ -69,17 +71,115 @@ inline __m256d gather(const double* table, const void* idx) {
   return _mm256_mask_i32gather_pd(_mm256_setzero_pd(), table, index, all, 8);
 }
 
-template <bool kFriction, bool kPeriodic>
+// Left-packing of four 32-bit lanes: kPack[mask] is the byte shuffle (_mm_shuffle_epi8) that moves
+// the lanes whose bit is set to the front, in order, and zeroes the rest. A constant table: built
+// at compile time, so that no AVX2 code runs at start-up on a CPU without it.
+struct PackTable {
+  alignas(16) std::uint8_t bytes[16][16];
+};
+constexpr PackTable make_pack_table() {
+  PackTable table{};
+  for (int mask = 0; mask < 16; ++mask) {
+    int out = 0;
+    for (int lane = 0; lane < 4; ++lane)
+      if (mask & (1 << lane)) {
+        for (int b = 0; b < 4; ++b)
+          table.bytes[mask][4 * out + b] = static_cast<std::uint8_t>(4 * lane + b);
+        ++out;
+      }
+    for (int b = 4 * out; b < 16; ++b) table.bytes[mask][b] = 0x80;
+  }
+  return table;
+}
+constexpr PackTable kPack = make_pack_table();
+
+inline void pack_store(std::uint32_t* to, __m128i lanes, int mask) {
+  const __m128i shuffle = _mm_load_si128(reinterpret_cast<const __m128i*>(kPack.bytes[mask]));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(to), _mm_shuffle_epi8(lanes, shuffle));
+}
+inline __m128i load_index(const std::uint32_t* p) {
+  return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+}
+
+template <bool kFriction, bool kPeriodic, bool kOneSpecies>
 void yu2022_lanes(const LaneInput& in) {
-  TouchingContacts& c = *in.contacts;
-  const std::size_t n = c.padded();
-  double* out = c.out.data();
+  TouchingContacts& c = *in.scratch;
+  const std::size_t pairs = in.pairs;
+  if (c.i.size() < pairs + kLaneBlock) {
+    c.i.resize(pairs + kLaneBlock);
+    c.j.resize(pairs + kLaneBlock);
+    c.k.resize(pairs + kLaneBlock);
+    c.miss.resize(pairs + kLaneBlock);
+  }
+  std::uint32_t* __restrict ci = c.i.data();
+  std::uint32_t* __restrict cj = c.j.data();
+  std::uint32_t* __restrict ck = c.k.data();
+  std::uint32_t* __restrict miss = c.miss.data();
   const __m256d one = _mm256_set1_pd(1.0), dt = _mm256_set1_pd(in.dt);
   const __m256d period = _mm256_set1_pd(in.period);
   const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
-  for (std::size_t b = 0; b < n; b += kLaneBlock) {
-    const std::uint32_t* ii = c.i.data() + b;
-    const std::uint32_t* jj = c.j.data() + b;
+
+  // 1. Scan: a pair touches unless d² >= (r_i + r_j)² (as in pair_forces: a NaN distance counts
+  // as touching, so that it reaches the forces and the health check).
+  std::size_t m = 0, missed = 0;
+  std::size_t k0 = 0;
+  for (; k0 + 4 <= pairs; k0 += 4) {
+    const std::uint32_t* ii = in.row + k0;
+    const std::uint32_t* jj = in.nbr + k0;
+    V d = load3(in.x, ii) - load3(in.x, jj);
+    if constexpr (kPeriodic)
+      d.z = d.z - period * _mm256_round_pd(d.z / period, _MM_FROUND_CUR_DIRECTION);
+    const __m256d rsum = gather(in.radius, ii) + gather(in.radius, jj);
+    const int apart = _mm256_movemask_pd(_mm256_cmp_pd(dot(d, d), rsum * rsum, _CMP_GE_OQ));
+    const int touching = apart ^ 0xF;
+    const __m128i kv =
+        _mm_add_epi32(_mm_set1_epi32(static_cast<int>(k0)), _mm_setr_epi32(0, 1, 2, 3));
+    pack_store(ci + m, load_index(ii), touching);
+    pack_store(cj + m, load_index(jj), touching);
+    pack_store(ck + m, kv, touching);
+    m += static_cast<std::size_t>(__builtin_popcount(touching));
+    if constexpr (kFriction) {
+      pack_store(miss + missed, kv, apart);
+      missed += static_cast<std::size_t>(__builtin_popcount(apart));
+    }
+  }
+  for (; k0 < pairs; ++k0) {  // the last pairs, one at a time
+    const std::uint32_t i = in.row[k0], j = in.nbr[k0];
+    double d[3];
+    for (int q = 0; q < 3; ++q) d[q] = in.x[3 * std::size_t{i} + q] - in.x[3 * std::size_t{j} + q];
+    if constexpr (kPeriodic) d[2] -= in.period * __builtin_nearbyint(d[2] / in.period);
+    const double rsum = in.radius[i] + in.radius[j];
+    const bool apart = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= rsum * rsum;
+    ci[m] = i;
+    cj[m] = j;
+    ck[m] = static_cast<std::uint32_t>(k0);
+    m += !apart;
+    miss[missed] = static_cast<std::uint32_t>(k0);
+    missed += apart;
+  }
+  // A pair that does not touch starts its spring afresh.
+  if constexpr (kFriction) {
+    const __m256i first3 = first_three();
+    for (std::size_t q = 0; q < missed; ++q)
+      _mm256_maskstore_pd(in.history + 3 * std::size_t{miss[q]}, first3, _mm256_setzero_pd());
+  }
+  if (m == 0) return;
+  const std::size_t count = m;
+  for (; m % kLaneBlock != 0; ++m) {  // pad the last block with the last contact
+    ci[m] = ci[count - 1];
+    cj[m] = cj[count - 1];
+    ck[m] = ck[count - 1];
+  }
+
+  // 2 and 3. Forces and torques, four contacts at a time, then added to the particles in list
+  // order: the force on the row particle summed over its row first, as pair_forces does.
+  double* __restrict f = in.f;
+  double* __restrict t = in.t;
+  std::uint32_t row = ci[0];
+  double f_row[3] = {0, 0, 0}, t_row[3] = {0, 0, 0};
+  for (std::size_t b = 0; b < m; b += kLaneBlock) {
+    const std::uint32_t* ii = ci + b;
+    const std::uint32_t* jj = cj + b;
     // d = x_i - x_j (nearest image along a periodic axis)
     V d = load3(in.x, ii) - load3(in.x, jj);
     if constexpr (kPeriodic)
@@ -92,17 +192,24 @@ void yu2022_lanes(const LaneInput& in) {
     const V vrel = (load3(in.v, ii) - load3(in.v, jj)) -
                    cross(ri * load3(in.w, ii) + rj * load3(in.w, jj), nrm);
     const __m256d overlap = rsum - dist;
-    const std::int32_t* type = c.type.data() + b;
-    const __m256d kn = gather(in.kn, type), dn = gather(in.dn, type);
+    __m128i type;
+    if constexpr (kOneSpecies) {
+      type = _mm_set1_epi32(in.one_type);
+    } else {
+      const __m128i si = _mm_i32gather_epi32(in.species, load_index(ii), 4);
+      const __m128i sj = _mm_i32gather_epi32(in.species, load_index(jj), 4);
+      type = _mm_add_epi32(_mm_add_epi32(si, si), sj);
+    }
+    const __m256d kn = gather(in.kn, &type), dn = gather(in.dn, &type);
     // yu2022_force
     const __m256d vn = dot(vrel, nrm);
     const __m256d fn_mag = kn * overlap - dn * vn;
     V force = fn_mag * nrm;
-    V tq_i{}, tq_j{};
+    alignas(32) double lanes[9][4];
     if constexpr (kFriction) {
-      const __m256d kt = gather(in.kt, type), dtt = gather(in.dt_tangential, type);
-      const __m256d mu = gather(in.mu, type);
-      const std::uint32_t* kk = c.k.data() + b;
+      const __m256d kt = gather(in.kt, &type), dtt = gather(in.dt_tangential, &type);
+      const __m256d mu = gather(in.mu, &type);
+      const std::uint32_t* kk = ck + b;
       const V vt = vrel - vn * nrm;
       V spring = load3(in.history, kk);
       spring = spring - dot(spring, nrm) * nrm;
@@ -120,28 +227,56 @@ void yu2022_lanes(const LaneInput& in) {
       store3(in.history, kk, spring);
       force = force + ft;
       const V tq = cross(ft, nrm);
-      tq_i = ri * tq;
-      tq_j = rj * tq;
+      const V tq_i = ri * tq, tq_j = rj * tq;
+      _mm256_store_pd(lanes[3], tq_i.x);
+      _mm256_store_pd(lanes[4], tq_i.y);
+      _mm256_store_pd(lanes[5], tq_i.z);
+      _mm256_store_pd(lanes[6], tq_j.x);
+      _mm256_store_pd(lanes[7], tq_j.y);
+      _mm256_store_pd(lanes[8], tq_j.z);
     }
-    _mm256_storeu_pd(out + 0 * n + b, force.x);
-    _mm256_storeu_pd(out + 1 * n + b, force.y);
-    _mm256_storeu_pd(out + 2 * n + b, force.z);
-    if constexpr (kFriction) {
-      _mm256_storeu_pd(out + 3 * n + b, tq_i.x);
-      _mm256_storeu_pd(out + 4 * n + b, tq_i.y);
-      _mm256_storeu_pd(out + 5 * n + b, tq_i.z);
-      _mm256_storeu_pd(out + 6 * n + b, tq_j.x);
-      _mm256_storeu_pd(out + 7 * n + b, tq_j.y);
-      _mm256_storeu_pd(out + 8 * n + b, tq_j.z);
+    _mm256_store_pd(lanes[0], force.x);
+    _mm256_store_pd(lanes[1], force.y);
+    _mm256_store_pd(lanes[2], force.z);
+    const std::size_t real = count - b < kLaneBlock ? count - b : kLaneBlock;
+    for (std::size_t l = 0; l < real; ++l) {
+      const std::uint32_t i = ii[l], j = jj[l];
+      if (i != row) {  // the previous row is complete
+        for (int q = 0; q < 3; ++q) {
+          f[3 * std::size_t{row} + q] += f_row[q];
+          t[3 * std::size_t{row} + q] += t_row[q];
+          f_row[q] = t_row[q] = 0;
+        }
+        row = i;
+      }
+      for (int q = 0; q < 3; ++q) {
+        f_row[q] += lanes[q][l];
+        f[3 * std::size_t{j} + q] -= lanes[q][l];
+      }
+      if constexpr (kFriction)
+        for (int q = 0; q < 3; ++q) {
+          t_row[q] += lanes[3 + q][l];
+          t[3 * std::size_t{j} + q] += lanes[6 + q][l];
+        }
     }
+  }
+  for (int q = 0; q < 3; ++q) {
+    f[3 * std::size_t{row} + q] += f_row[q];
+    t[3 * std::size_t{row} + q] += t_row[q];
   }
 }
 
 }  // namespace
 
-LaneKernel yu2022_lanes_avx2(bool friction, bool periodic) {
-  if (friction) return periodic ? &yu2022_lanes<true, true> : &yu2022_lanes<true, false>;
-  return periodic ? &yu2022_lanes<false, true> : &yu2022_lanes<false, false>;
+LaneKernel yu2022_lanes_avx2(bool friction, bool periodic, bool one_species) {
+  if (friction) {
+    if (periodic)
+      return one_species ? &yu2022_lanes<true, true, true> : &yu2022_lanes<true, true, false>;
+    return one_species ? &yu2022_lanes<true, false, true> : &yu2022_lanes<true, false, false>;
+  }
+  if (periodic)
+    return one_species ? &yu2022_lanes<false, true, true> : &yu2022_lanes<false, true, false>;
+  return one_species ? &yu2022_lanes<false, false, true> : &yu2022_lanes<false, false, false>;
 }
 
 }  // namespace tumble::engine

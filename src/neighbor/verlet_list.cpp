@@ -54,6 +54,13 @@ void VerletList::add_row(const Particles& p, std::size_t i, bool with_ghosts) {
       }
 }
 
+void VerletList::fill_rows() {
+  row.resize(nbr.size());
+  const std::size_t n = start.empty() ? 0 : start.size() - 1;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) row[k] = static_cast<std::uint32_t>(i);
+}
+
 void VerletList::sort(Particles& p) {
   grid_.sort(p.x, perm_, cell_start_);
   p.permute(perm_);
@@ -82,6 +89,7 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
     add_row(p, i, true);
   }
   start[n_local] = static_cast<std::uint32_t>(nbr.size());
+  fill_rows();
   const std::size_t w = static_cast<std::size_t>(layout_.width);
   history.assign(w * nbr.size(), 0.0);
   for (std::size_t i = 0; i < n_local; ++i)
@@ -113,6 +121,7 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved) {
     add_row(p, i, false);
   }
   start[n] = static_cast<std::uint32_t>(nbr.size());
+  fill_rows();
 
   const std::size_t w = static_cast<std::size_t>(layout_.width);
   history.assign(w * nbr.size(), 0.0);

@@ -40,6 +40,8 @@ class VerletList {
 
   std::vector<std::uint32_t> start;  // size n+1
   std::vector<std::uint32_t> nbr;    // partner indices
+  std::vector<std::uint32_t> row;    // row particle of each pair (row[k] = i for start[i] <= k <
+                                     // start[i + 1]), for loops over pairs rather than rows
   // History of pair k, as seen from the row particle: history[w k], ..., history[w k + w - 1],
   // w = history_layout().width.
   std::vector<double> history;
@@ -55,6 +57,8 @@ class VerletList {
   HistoryLayout layout_;
   // Appends the partners of row i: owned j > i from the sorted cells, and ghosts if binned.
   void add_row(const Particles& p, std::size_t i, bool with_ghosts);
+  // Fills `row` from `start`.
+  void fill_rows();
   // The list is valid for local carry-over when it describes the current particles.
   bool old_start_capacity_ok(std::size_t n) const { return start.size() == n + 1; }
   std::vector<Vec3> x_ref_;
