@@ -101,6 +101,28 @@ inline __m128i load_index(const std::uint32_t* p) {
   return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
 }
 
+// A coefficient for the four species pairs (types 0..3) in one register, or, with one species, the
+// one value in every lane.
+struct CoefficientTable {
+  __m256d kn, dn, kt, dt_tangential, mu, neg_inv_kt;
+};
+template <bool kOneSpecies>
+__m256d coefficient_set(const double* per_type, std::int32_t one_type) {
+  if constexpr (kOneSpecies) return _mm256_set1_pd(per_type[one_type]);
+  return _mm256_loadu_pd(per_type);
+}
+// The 32-bit lane indices that pick 64-bit element `type` of a register in each lane.
+inline __m256i pair_lookup_index(__m128i type) {
+  const __m256i twice = _mm256_slli_epi64(_mm256_cvtepu32_epi64(type), 1);
+  return _mm256_or_si256(twice,
+                         _mm256_slli_epi64(_mm256_add_epi64(twice, _mm256_set1_epi64x(1)), 32));
+}
+template <bool kOneSpecies>
+__m256d lookup(__m256d set, __m256i index) {
+  if constexpr (kOneSpecies) return set;
+  return _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(set), index));
+}
+
 template <bool kFriction, bool kPeriodic, bool kOneSpecies>
 void yu2022_lanes(const LaneInput& in) {
   TouchingContacts& c = *in.scratch;
@@ -171,6 +193,15 @@ void yu2022_lanes(const LaneInput& in) {
     ck[m] = ck[count - 1];
   }
 
+  // -1/k_t is what yu2022_force computes for a sliding contact: the same value, divided once.
+  CoefficientTable table;
+  table.kn = coefficient_set<kOneSpecies>(in.kn, in.one_type);
+  table.dn = coefficient_set<kOneSpecies>(in.dn, in.one_type);
+  table.kt = coefficient_set<kOneSpecies>(in.kt, in.one_type);
+  table.dt_tangential = coefficient_set<kOneSpecies>(in.dt_tangential, in.one_type);
+  table.mu = coefficient_set<kOneSpecies>(in.mu, in.one_type);
+  table.neg_inv_kt = (-one) / table.kt;
+
   // 2 and 3. Forces and torques, four contacts at a time, then added to the particles in list
   // order: the force on the row particle summed over its row first, as pair_forces does.
   double* __restrict f = in.f;
@@ -192,23 +223,26 @@ void yu2022_lanes(const LaneInput& in) {
     const V vrel = (load3(in.v, ii) - load3(in.v, jj)) -
                    cross(ri * load3(in.w, ii) + rj * load3(in.w, jj), nrm);
     const __m256d overlap = rsum - dist;
-    __m128i type;
-    if constexpr (kOneSpecies) {
-      type = _mm_set1_epi32(in.one_type);
-    } else {
+    // The coefficients of each lane's species pair: four-entry tables held in registers, looked
+    // up with a permutation (a gather from memory costs several times more on current CPUs).
+    __m256i type = _mm256_setzero_si256();
+    if constexpr (!kOneSpecies) {
       const __m128i si = _mm_i32gather_epi32(in.species, load_index(ii), 4);
       const __m128i sj = _mm_i32gather_epi32(in.species, load_index(jj), 4);
-      type = _mm_add_epi32(_mm_add_epi32(si, si), sj);
+      type = pair_lookup_index(_mm_add_epi32(_mm_add_epi32(si, si), sj));
     }
-    const __m256d kn = gather(in.kn, &type), dn = gather(in.dn, &type);
+    const __m256d kn = lookup<kOneSpecies>(table.kn, type),
+                  dn = lookup<kOneSpecies>(table.dn, type);
     // yu2022_force
     const __m256d vn = dot(vrel, nrm);
     const __m256d fn_mag = kn * overlap - dn * vn;
     V force = fn_mag * nrm;
     alignas(32) double lanes[9][4];
     if constexpr (kFriction) {
-      const __m256d kt = gather(in.kt, &type), dtt = gather(in.dt_tangential, &type);
-      const __m256d mu = gather(in.mu, &type);
+      const __m256d kt = lookup<kOneSpecies>(table.kt, type);
+      const __m256d dtt = lookup<kOneSpecies>(table.dt_tangential, type);
+      const __m256d mu = lookup<kOneSpecies>(table.mu, type);
+      const __m256d neg_inv_kt = lookup<kOneSpecies>(table.neg_inv_kt, type);
       const std::uint32_t* kk = ck + b;
       const V vt = vrel - vn * nrm;
       V spring = load3(in.history, kk);
@@ -220,7 +254,7 @@ void yu2022_lanes(const LaneInput& in) {
       const __m256d sliding = _mm256_cmp_pd(ft2, cap * cap, _CMP_GT_OQ);
       if (_mm256_movemask_pd(sliding) != 0) {  // Coulomb cap on some lane
         const V capped = (cap / _mm256_sqrt_pd(ft2)) * ft;
-        const V capped_spring = ((-one) / kt) * (capped + dtt * vt);
+        const V capped_spring = neg_inv_kt * (capped + dtt * vt);
         ft = select(sliding, capped, ft);
         spring = select(sliding, capped_spring, spring);
       }
