@@ -207,7 +207,8 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
     *log << "[run] " << scene.name << ": " << res.particles << " particles, dt = " << dt << " s, "
          << s.total_steps << " steps (" << scene.run_time() << " s simulated"
          << (protocol.periodic() ? ", " + std::to_string(scene.iterations) + " iterations" : "")
-         << "), output in " << scene.output_dir << "\n";
+         << "), pair loop: " << sim->pair_kernel_name() << ", output in " << scene.output_dir
+         << "\n";
 
   // The run loop.
   s.started = Clock::now();
