@@ -19,7 +19,8 @@ namespace tumble::engine {
 // block of contacts is padded with copies of the last contact, whose results are not used).
 inline constexpr std::size_t kLaneBlock = 4;
 
-// Scratch of one step, reused from step to step (sized by the kernel).
+// Scratch of one step, reused from step to step (sized by the caller: the lane kernels use no
+// standard-library code).
 struct TouchingContacts {
   std::vector<std::uint32_t> i, j, k;  // touching pairs in list order: row, partner, list index
   std::vector<std::uint32_t> miss;     // list indices of the pairs that do not touch
@@ -47,7 +48,12 @@ struct LaneInput {
   std::int32_t one_type = 0;  // one-species kernels: the type of every contact
   double dt = 0;              // time step
   double period = 0;          // axial period (periodic scenes), else unused
-  TouchingContacts* scratch = nullptr;
+  // Scratch of pairs + kLaneBlock entries each (TouchingContacts): the touching pairs in list
+  // order (row, partner, list index) and the list indices of the others.
+  std::uint32_t* contact_i = nullptr;
+  std::uint32_t* contact_j = nullptr;
+  std::uint32_t* contact_k = nullptr;
+  std::uint32_t* miss = nullptr;
 };
 
 using LaneKernel = void (*)(const LaneInput&);

@@ -415,7 +415,13 @@ void Simulation::pair_forces_lanes() {
   in.one_type = 3 * species0_;
   in.dt = dt_;
   in.period = 2 * cylinder_.half_length;
-  in.scratch = &touching_;
+  engine::TouchingContacts& c = touching_;
+  if (c.i.size() < in.pairs + engine::kLaneBlock)
+    for (auto* v : {&c.i, &c.j, &c.k, &c.miss}) v->resize(in.pairs + engine::kLaneBlock);
+  in.contact_i = c.i.data();
+  in.contact_j = c.j.data();
+  in.contact_k = c.k.data();
+  in.miss = c.miss.data();
   static_assert(sizeof(Vec3) == 3 * sizeof(double), "the lane kernels read Vec3 arrays as doubles");
   (void)kFriction, (void)kPeriodic, (void)kOneSpecies;
   lane_kernel_(in);

@@ -1,10 +1,15 @@
 // The Yu 2022 contact kernel (contact/yu2022.hpp) on four contacts at once, AVX2. This file alone
-// is compiled with -mavx2 (src/engine/CMakeLists.txt) and is called only after a run-time check
-// (engine/contact_lanes.cpp). No -mfma: every lane rounds exactly as the plain kernel does, so the
-// two paths agree bitwise (tests/test_lane_kernels.cpp). Each expression below mirrors one line of
-// Simulation::pair_forces and yu2022_force, with the same association order.
+// is compiled for AVX2 (the pragma below, so that every target that compiles it does) and is
+// called only after a run-time check (engine/contact_lanes.cpp). It uses no standard-library
+// template: an inline function instantiated here would be compiled for AVX2, and the linker may
+// keep that copy for the whole program, which a CPU without AVX2 could not run. No -mfma: every
+// lane rounds exactly as the plain kernel does, so the two paths agree bitwise
+// (tests/test_lane_kernels.cpp). Each expression below mirrors one line of Simulation::pair_forces
+// and yu2022_force, with the same association order.
+#pragma GCC target("avx2")
 #include <immintrin.h>
 
+#include <cstddef>
 #include <cstdint>
 
 #include "engine/contact_lanes.hpp"
@@ -125,18 +130,11 @@ __m256d lookup(__m256d set, __m256i index) {
 
 template <bool kFriction, bool kPeriodic, bool kOneSpecies>
 void yu2022_lanes(const LaneInput& in) {
-  TouchingContacts& c = *in.scratch;
   const std::size_t pairs = in.pairs;
-  if (c.i.size() < pairs + kLaneBlock) {
-    c.i.resize(pairs + kLaneBlock);
-    c.j.resize(pairs + kLaneBlock);
-    c.k.resize(pairs + kLaneBlock);
-    c.miss.resize(pairs + kLaneBlock);
-  }
-  std::uint32_t* __restrict ci = c.i.data();
-  std::uint32_t* __restrict cj = c.j.data();
-  std::uint32_t* __restrict ck = c.k.data();
-  std::uint32_t* __restrict miss = c.miss.data();
+  std::uint32_t* __restrict ci = in.contact_i;
+  std::uint32_t* __restrict cj = in.contact_j;
+  std::uint32_t* __restrict ck = in.contact_k;
+  std::uint32_t* __restrict miss = in.miss;
   const __m256d one = _mm256_set1_pd(1.0), dt = _mm256_set1_pd(in.dt);
   const __m256d period = _mm256_set1_pd(in.period);
   const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
