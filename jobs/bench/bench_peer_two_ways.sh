@@ -88,7 +88,7 @@ VARIANTS=(tumble_generic)
 [ -n "${TUMBLE_NATIVE_BUILD:-}" ] && VARIANTS+=(tumble_native)
 if [ -n "$LIGGGHTS" ]; then
   VARIANTS+=(liggghts_a liggghts_b)
-  echo "# LIGGGHTS: $("$LIGGGHTS" -h < /dev/null 2>&1 | head -n 1) ($LIGGGHTS)"
+  echo "# LIGGGHTS: $("$LIGGGHTS" -log none -h < /dev/null 2>&1 | head -n 1) ($LIGGGHTS)"
   echo "#   liggghts_a: static mesh, facets within 0.05 mm, surface_ang_vel;" \
        "liggghts_b: mesh within 0.085 mm turned by move/mesh"
 else

@@ -130,7 +130,7 @@ else
   KEY="warm_w${WARMUP}_tol${MESH_TOL}_mm${MOVEMESH}"
   RFILE="$RDIR/$KEY.restart"
   META="$RDIR/$KEY.meta"
-  VERSION=$("$BIN" -h < /dev/null 2>&1 || true)   # (-h exits with status 1)
+  VERSION=$("$BIN" -log none -h < /dev/null 2>&1 || true)   # (-h exits with status 1; -log none: no log.liggghts here)
   VERSION=${VERSION%%$'\n'*}
   FPRINT="fingerprint $( { sha256sum < "$HERE/in.tumbler"; sha256sum < "$DATA"; sha256sum < "$STL"
                            echo "$VERSION"; } | sha256sum | cut -c1-16)"
