@@ -7,6 +7,9 @@
 #   (processor grid NPROCS x 1 x 1, i.e. slabs along the rotation axis) and
 #   prints as its last line:
 #   LIGGGHTS nprocs=P particles=N steps=S wall_s=T psteps_per_s=X peak_rss_mb=M
+#   With LIGGGHTS_RESTART_DIR set, STEPS = 0 only makes sure the warmed state
+#   is in the cache (runs the warm-up if it is not there) and prints
+#   LIGGGHTS warm state: FILE
 #
 # environment (all optional):
 #   LIGGGHTS_WORKDIR    scratch dir (kept); default: a mktemp dir, removed at exit
@@ -18,14 +21,33 @@
 #   LIGGGHTS_DUMP_EVERY dump particles every N steps into WORKDIR/dump.tumbler (default 0 = off)
 #   LIGGGHTS_THERMO     thermo interval (default 1000)
 #   LIGGGHTS_MPIRUN_ARGS extra mpirun arguments
+#   LIGGGHTS_RESTART_DIR cache of warmed states (made if missing). Unset: the
+#                       warm-up and the timed run share one process. Set: the
+#                       warm-up runs once, in a process of its own, and ends
+#                       with write_restart into
+#                       DIR/warm_w<WARMUP>_tol<MESH_TOL>_mm<MOVEMESH>.restart;
+#                       every call with the same three values then starts from
+#                       that file (read_restart) and runs only the STEPS timed
+#                       steps. DIR/<same name>.meta holds a fingerprint of the
+#                       deck, data file, STL and LIGGGHTS version; a state whose
+#                       fingerprint does not match is made again.
 set -euo pipefail
 
-if [ $# -ne 2 ]; then
-  echo "usage: $0 NPROCS STEPS" >&2
+usage() {
+  echo "usage: $0 NPROCS STEPS    (STEPS = 0: only warm up into \$LIGGGHTS_RESTART_DIR)" >&2
+  echo "  environment variables: see the header of this script and README.md beside it" >&2
   exit 2
-fi
+}
+[ $# -eq 2 ] || usage
 NP=$1
 STEPS=$2
+case "$NP$STEPS" in *[!0-9]*) usage ;; esac
+[ "$NP" -ge 1 ] || usage
+RESTART_DIR=${LIGGGHTS_RESTART_DIR:-}
+if [ "$STEPS" -eq 0 ] && [ -z "$RESTART_DIR" ]; then
+  echo "$0: STEPS = 0 needs LIGGGHTS_RESTART_DIR (nothing to time and nothing to save)" >&2
+  exit 2
+fi
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 
 BIN=${LIGGGHTS_BIN:-$(command -v liggghts || echo /usr/bin/liggghts)}
@@ -67,7 +89,6 @@ fi
 MPIARGS+=(${LIGGGHTS_MPIRUN_ARGS:-})
 
 # per-rank peak RSS via GNU time (each rank writes WORKDIR/time.RANK)
-rm -f "$W"/time.*
 WRAP=()
 if [ -x /usr/bin/time ]; then
   cat > "$W/rank_wrap.sh" <<'EOF'
@@ -81,17 +102,58 @@ EOF
   WRAP=("$W/rank_wrap.sh")
 fi
 
+# launch PHASE LOG RESTARTFILE: one LIGGGHTS job; phases (in.tumbler):
+#   0 = warm-up + timed run, 1 = warm-up + write_restart, 2 = read_restart + timed run
 # (no "-screen none": the 3.8 STL reader prints to the screen and crashes without one)
+launch() {
+  local phase=$1 log=$2 rfile=$3
+  rm -f "$W"/time.*
+  if ! (cd "$W" && mpirun "${MPIARGS[@]}" "${WRAP[@]}" "$BIN" -in "$HERE/in.tumbler" -log "$log" \
+        -var phase "$phase" -var restartfile "$rfile" \
+        -var datafile "$DATA" -var stlfile "$STL" -var px "$NP" \
+        -var warmup "$WARMUP" -var steps "$STEPS" -var omega "$OMEGA" -var movemesh "$MOVEMESH" \
+        -var dumpevery "$DUMP_EVERY" -var dumpfile "$W/dump.tumbler" -var thermoevery "$THERMO" \
+        > "$W/mpirun.out" 2>&1); then
+    echo "LIGGGHTS run failed; tail of $log and mpirun output:" >&2
+    tail -n 20 "$log" "$W/mpirun.out" >&2 || true
+    exit 1
+  fi
+}
+
 LOG="$W/log.liggghts"
-cd "$W"
-if ! mpirun "${MPIARGS[@]}" "${WRAP[@]}" "$BIN" -in "$HERE/in.tumbler" -log "$LOG" \
-      -var datafile "$DATA" -var stlfile "$STL" -var px "$NP" \
-      -var warmup "$WARMUP" -var steps "$STEPS" -var omega "$OMEGA" -var movemesh "$MOVEMESH" \
-      -var dumpevery "$DUMP_EVERY" -var dumpfile "$W/dump.tumbler" -var thermoevery "$THERMO" \
-      > "$W/mpirun.out" 2>&1; then
-  echo "LIGGGHTS run failed; tail of $LOG and mpirun output:" >&2
-  tail -n 20 "$LOG" "$W/mpirun.out" >&2 || true
-  exit 1
+if [ -z "$RESTART_DIR" ]; then
+  launch 0 "$LOG" none
+  FROM="after $WARMUP warm-up steps in the same process"
+else
+  # the warmed state, keyed by warm-up length, mesh tolerance and mesh motion
+  RDIR=$(mkdir -p "$RESTART_DIR" && cd "$RESTART_DIR" && pwd)
+  KEY="warm_w${WARMUP}_tol${MESH_TOL}_mm${MOVEMESH}"
+  RFILE="$RDIR/$KEY.restart"
+  META="$RDIR/$KEY.meta"
+  VERSION=$("$BIN" -log none -h < /dev/null 2>&1 || true)   # (-h exits with status 1; -log none: no log.liggghts here)
+  VERSION=${VERSION%%$'\n'*}
+  FPRINT="fingerprint $( { sha256sum < "$HERE/in.tumbler"; sha256sum < "$DATA"; sha256sum < "$STL"
+                           echo "$VERSION"; } | sha256sum | cut -c1-16)"
+  if [ -s "$RFILE" ] && [ -s "$META" ] && grep -qx "$FPRINT" "$META"; then
+    echo "LIGGGHTS: warmed state found: $RFILE" >&2
+  else
+    echo "LIGGGHTS: warming up ($WARMUP steps, mesh tol $MESH_TOL, movemesh $MOVEMESH) into $RFILE" >&2
+    TMPR="$RDIR/.$KEY.$$.restart"
+    launch 1 "$W/log.warmup" "$TMPR"
+    WT=$(awk '/^Loop time of/ {t=$4} END {print t}' "$W/log.warmup")
+    mv -f "$TMPR" "$RFILE"
+    { echo "$FPRINT"
+      echo "warmup=$WARMUP mesh_tol=$MESH_TOL movemesh=$MOVEMESH nprocs=$NP loop_time_s=$WT"
+      echo "$VERSION"
+      echo "written $(date -u +%Y-%m-%dT%H:%M:%SZ)"; } > "$META"
+    echo "LIGGGHTS: warm-up done, loop time $WT s" >&2
+  fi
+  if [ "$STEPS" -eq 0 ]; then
+    echo "LIGGGHTS warm state: $RFILE"
+    exit 0
+  fi
+  launch 2 "$LOG" "$RFILE"
+  FROM="from the saved state after $WARMUP warm-up steps ($RFILE)"
 fi
 
 # timed run = last "Loop time of T on P procs for S steps with N atoms" line
@@ -106,7 +168,7 @@ if ls "$W"/time.* > /dev/null 2>&1; then
   echo "LIGGGHTS memory: peak RSS summed over $NR ranks = $RSS_SUM MB (largest rank $RSS_MAX MB);" \
        "LIGGGHTS own estimate = $MEMREP MB per rank" >&2
 fi
-echo "LIGGGHTS timed run: $S steps after $WARMUP warm-up steps, loop time $T s; workdir $W" >&2
+echo "LIGGGHTS timed run: $S steps $FROM, loop time $T s; workdir $W" >&2
 awk -v p="$P" -v n="$N" -v s="$S" -v t="$T" -v m="$RSS_SUM" 'BEGIN {
   printf "LIGGGHTS nprocs=%d particles=%d steps=%d wall_s=%.3f psteps_per_s=%.4g peak_rss_mb=%s\n",
          p, n, s, t, n * s / t, m }'
