@@ -3,8 +3,8 @@
 // does the plain kernel's operations in its order, without fused multiply-adds, so on a generic
 // build the two agree bitwise, step after step; a -march=native build lets the compiler fuse
 // multiply-adds differently in the two, so there they must agree to round-off in one force
-// evaluation. Only the Yu law has a lane kernel: the other laws run the plain loop, and the test
-// checks that they say so.
+// evaluation. The Yu and Rapaport laws have lane kernels; Hertz-Mindlin runs the plain loop, and
+// the test checks that it says so.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +14,7 @@
 
 #include "dem_helpers.hpp"
 #include "scene/fill.hpp"
+#include "scene/fill_cylinder.hpp"
 
 using namespace tumble;
 using namespace tumble::testing;
@@ -35,13 +36,16 @@ Scene bed_scene(const std::vector<std::string>& extra) {
   return parse_scene("", o, "lanes");
 }
 
+// Speeds of up to 5% of a diameter per collision time (0.05 m/s for the SI beds, 0.5 for the
+// MD-unit cylinder), spins of the same surface speed.
 Particles agitated(const Scene& s) {
-  Particles p = make_bed(s);
+  Particles p = s.cylinder() ? make_cylinder_bed(s).particles : make_bed(s);
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-1, 1);
+  const double speed = s.law == "rapaport2007" ? 0.5 : 0.05, spin = speed / (0.5 * s.d_small);
   for (std::size_t i = 0; i < p.size(); ++i) {
-    p.v[i] = {0.05 * u(rng), 0.05 * u(rng), 0.05 * u(rng)};
-    p.w[i] = {50 * u(rng), 50 * u(rng), 50 * u(rng)};
+    p.v[i] = {speed * u(rng), speed * u(rng), speed * u(rng)};
+    p.w[i] = {spin * u(rng), spin * u(rng), spin * u(rng)};
   }
   return p;
 }
@@ -133,6 +137,44 @@ TEST(LaneKernels, YuInAnAxiallyPeriodicCylinder) {  // nearest images across the
   expect_lanes_equal_plain(
       bed_scene({"tumbler.shape=cylinder", "tumbler.length=0.012", "tumbler.periodic=on",
                  "protocol.axis=z", "particles.count=600"}));
+}
+
+// The Rapaport cylinder's law in MD units (tests/test_cylinder.cpp's scene, filled and stirred).
+Scene rapaport_scene(const std::vector<std::string>& extra) {
+  std::vector<std::string> o = {"tumbler.shape=cylinder",
+                                "tumbler.radius=9",
+                                "tumbler.length=12",
+                                "particles.count=500",
+                                "particles.d_small=1.122",
+                                "particles.d_large=2.02",
+                                "particles.density=1.9099",
+                                "contact.law=rapaport2007",
+                                "time.dt=5e-3",
+                                "gravity.g=5",
+                                "protocol.mode=single_axis",
+                                "protocol.axis=z",
+                                "protocol.omega=0.2",
+                                "protocol.duration=100",
+                                "neighbor.skin=0.5",
+                                "particles.large_fraction=0.5"};
+  o.insert(o.end(), extra.begin(), extra.end());
+  return parse_scene("", o, "lanes_rapaport");
+}
+
+TEST(LaneKernels, RapaportWithFriction) {  // frictional damping and the restoring spring k_g
+  expect_lanes_equal_plain(rapaport_scene({"contact.kg=500"}));
+}
+
+TEST(LaneKernels, RapaportRatchetAndCapsActive) {  // a small ratchet resets u on many lanes
+  expect_lanes_equal_plain(rapaport_scene({"contact.kg=5000", "contact.ratchet=0.002"}));
+}
+
+TEST(LaneKernels, RapaportPeriodicWithoutRestoringSpring) {
+  expect_lanes_equal_plain(rapaport_scene({"tumbler.periodic=on", "contact.kg=0"}));
+}
+
+TEST(LaneKernels, RapaportFrictionless) {
+  expect_lanes_equal_plain(rapaport_scene({"contact.mu_max=0"}));
 }
 
 TEST(LaneKernels, OtherLawsRunThePlainLoop) {

@@ -39,12 +39,9 @@ struct LaneInput {
   double* f = nullptr;  // forces and torques, added to
   double* t = nullptr;
   double* history = nullptr;  // 3 doubles per list pair (the tangential spring)
-  // Coefficients per type 2 species(i) + species(j): the law's Pair, as arrays of 4.
-  const double* kn = nullptr;
-  const double* dn = nullptr;
-  const double* kt = nullptr;
-  const double* dt_tangential = nullptr;
-  const double* mu = nullptr;
+  // The law's coefficients per type 2 species(i) + species(j): each an array of 4 (which
+  // coefficient is which: the law's lane file).
+  const double* coefficient[8] = {};
   std::int32_t one_type = 0;  // one-species kernels: the type of every contact
   double dt = 0;              // time step
   double period = 0;          // axial period (periodic scenes), else unused
@@ -58,12 +55,12 @@ struct LaneInput {
 
 using LaneKernel = void (*)(const LaneInput&);
 
-// The Yu 2022 law's lane kernel for these options, or nullptr when this CPU cannot run one (no
-// AVX2) or TUMBLE_PLAIN_KERNELS=1 asks for the plain loop. `name` says which was chosen.
-LaneKernel yu2022_lane_kernel(bool friction, bool periodic, bool one_species, const char*& name);
+// Whether this CPU runs the lane kernels (AVX2) and TUMBLE_PLAIN_KERNELS=1 does not ask for the
+// plain loop.
+bool lanes_available();
 
-// The kernels themselves (engine/yu2022_lanes_avx2.cpp, compiled for AVX2): call only on a CPU
-// that has it.
+// The kernels (engine/*_lanes_avx2.cpp, compiled for AVX2): call only if lanes_available().
 LaneKernel yu2022_lanes_avx2(bool friction, bool periodic, bool one_species);
+LaneKernel rapaport2007_lanes_avx2(bool friction, bool periodic, bool one_species);
 
 }  // namespace tumble::engine

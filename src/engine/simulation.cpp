@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "base/error.hpp"
+#include "engine/law_lanes.hpp"
 
 namespace tumble {
 namespace {
@@ -167,16 +168,19 @@ void Simulation::select_kernels(bool friction, bool wall_friction, bool periodic
   else
     pair_kernel_ = periodic ? pair_kernel_for<Law, false, true>(one_species_)
                             : pair_kernel_for<Law, false, false>(one_species_);
-  // The Yu law has a lane kernel: used where the CPU runs it (TUMBLE_PLAIN_KERNELS=1: not).
-  if constexpr (std::is_same_v<Law, contact::Yu2022Law>) {
-    lane_kernel_ = engine::yu2022_lane_kernel(friction, periodic, one_species_, pair_kernel_name_);
-    if (lane_kernel_) {
+  // A law with a lane kernel uses it where the CPU runs it (TUMBLE_PLAIN_KERNELS=1: not).
+  if constexpr (engine::LawLanes<Law>::kHas) {
+    if (engine::lanes_available()) {
+      using Lanes = engine::LawLanes<Law>;
+      lane_kernel_ = Lanes::kernel(friction, periodic, one_species_);
+      pair_kernel_name_ = "avx2 lanes";
       const auto& pairs = tables<Law>().pair;
       for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b) {
-          const contact::Yu2022Pair& p = pairs[a][b];
-          const double values[5] = {p.kn, p.dn, p.kt, p.dt, p.mu};
-          for (int q = 0; q < 5; ++q) lane_coefficients_[q][2 * a + b] = values[q];
+          double values[Lanes::kCoefficients];
+          Lanes::coefficients(pairs[a][b], values);
+          for (int q = 0; q < Lanes::kCoefficients; ++q)
+            lane_coefficients_[q][2 * a + b] = values[q];
         }
       if (friction)
         pair_kernel_ = periodic ? lanes_kernel_for<true, true>(one_species_)
@@ -407,11 +411,7 @@ void Simulation::pair_forces_lanes() {
   in.f = &p_.f.data()->x;
   in.t = &p_.t.data()->x;
   in.history = list_.history.data();
-  in.kn = lane_coefficients_[0];
-  in.dn = lane_coefficients_[1];
-  in.kt = lane_coefficients_[2];
-  in.dt_tangential = lane_coefficients_[3];
-  in.mu = lane_coefficients_[4];
+  for (int q = 0; q < 8; ++q) in.coefficient[q] = lane_coefficients_[q];
   in.one_type = 3 * species0_;
   in.dt = dt_;
   in.period = 2 * cylinder_.half_length;

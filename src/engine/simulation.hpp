@@ -101,8 +101,8 @@ class Simulation {
   void pair_forces();
   template <class Law, bool kFriction, bool kPeriodic>
   static Kernel pair_kernel_for(bool one_species);
-  // The optimised pair loop of the Yu law: scan for touching pairs, lane kernel, accumulation
-  // (engine/contact_lanes.hpp); bitwise equal to pair_forces<Yu2022Law, ...>.
+  // The optimised pair loop of a law with a lane kernel (engine/law_lanes.hpp): scan for touching
+  // pairs, lane kernel, accumulation (engine/contact_lanes.hpp); bitwise equal to pair_forces.
   template <bool kFriction, bool kPeriodic, bool kOneSpecies>
   void pair_forces_lanes();
   template <bool kFriction, bool kPeriodic>
@@ -157,7 +157,7 @@ class Simulation {
   const char* pair_kernel_name_ = "plain";
   engine::LaneKernel lane_kernel_ = nullptr;  // pair_forces_lanes: the CPU's lane kernel
   engine::TouchingContacts touching_;         // pair_forces_lanes: this step's contacts
-  double lane_coefficients_[5][4] = {};       // kn, dn, kt, dt, mu per type 2 a + b
+  double lane_coefficients_[8][4] = {};       // the law's coefficients per type 2 a + b
   Kernel wall_kernel_ = nullptr;
   double (Simulation::*elastic_energy_)() const = nullptr;  // of the scene's law
 };

@@ -1,314 +1,72 @@
-// The Yu 2022 contact kernel (contact/yu2022.hpp) on four contacts at once, AVX2. This file alone
-// is compiled for AVX2 (the pragma below, so that every target that compiles it does) and is
-// called only after a run-time check (engine/contact_lanes.cpp). It uses no standard-library
-// template: an inline function instantiated here would be compiled for AVX2, and the linker may
-// keep that copy for the whole program, which a CPU without AVX2 could not run. No -mfma: every
-// lane rounds exactly as the plain kernel does, so the two paths agree bitwise
-// (tests/test_lane_kernels.cpp). Each expression below mirrors one line of Simulation::pair_forces
-// and yu2022_force, with the same association order.
+// The Yu 2022 contact kernel (contact/yu2022.hpp) on four contacts at once, AVX2: compiled for
+// AVX2 by the pragma (every target that builds this file does so) and called only after a
+// run-time check (engine/contact_lanes.cpp). No FMA: every lane rounds exactly as yu2022_force
+// does.
 #pragma GCC target("avx2")
-#include <immintrin.h>
-
-#include <cstddef>
-#include <cstdint>
-
-#include "engine/contact_lanes.hpp"
+#include "engine/lanes_avx2.hpp"
 
 namespace tumble::engine {
 namespace {
 
-// Three packed coordinates of four contacts.
-struct V {
-  __m256d x, y, z;
-};
-inline V operator+(V a, V b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline V operator-(V a, V b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline V operator*(__m256d s, V a) { return {s * a.x, s * a.y, s * a.z}; }
-inline V neg(V a) {
-  const __m256d sign = _mm256_set1_pd(-0.0);
-  return {_mm256_xor_pd(a.x, sign), _mm256_xor_pd(a.y, sign), _mm256_xor_pd(a.z, sign)};
-}
-inline __m256d dot(V a, V b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline V cross(V a, V b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-inline V select(__m256d mask, V if_set, V if_clear) {
-  return {_mm256_blendv_pd(if_clear.x, if_set.x, mask),
-          _mm256_blendv_pd(if_clear.y, if_set.y, mask),
-          _mm256_blendv_pd(if_clear.z, if_set.z, mask)};
-}
+using namespace avx2;
 
-// The first three doubles of each row: a masked load never touches the memory after the last
-// particle of an array.
-inline __m256i first_three() { return _mm256_setr_epi64x(-1, -1, -1, 0); }
-
-// Gathers base[3 idx[l] + 0..2] for the four lanes and transposes them into x, y, z.
-inline V load3(const double* base, const std::uint32_t* idx) {
-  const __m256i m = first_three();
-  const __m256d r0 = _mm256_maskload_pd(base + 3 * std::size_t{idx[0]}, m);
-  const __m256d r1 = _mm256_maskload_pd(base + 3 * std::size_t{idx[1]}, m);
-  const __m256d r2 = _mm256_maskload_pd(base + 3 * std::size_t{idx[2]}, m);
-  const __m256d r3 = _mm256_maskload_pd(base + 3 * std::size_t{idx[3]}, m);
-  const __m256d xz01 = _mm256_unpacklo_pd(r0, r1), y01 = _mm256_unpackhi_pd(r0, r1);
-  const __m256d xz23 = _mm256_unpacklo_pd(r2, r3), y23 = _mm256_unpackhi_pd(r2, r3);
-  return {_mm256_permute2f128_pd(xz01, xz23, 0x20), _mm256_permute2f128_pd(y01, y23, 0x20),
-          _mm256_permute2f128_pd(xz01, xz23, 0x31)};
-}
-
-// The inverse of load3. Lanes are written in order 0..3; padded lanes repeat a contact with the
-// same values.
-inline void store3(double* base, const std::uint32_t* idx, V a) {
-  const __m256i m = first_three();
-  const __m256d zero = _mm256_setzero_pd();
-  const __m256d xy02 = _mm256_unpacklo_pd(a.x, a.y), xy13 = _mm256_unpackhi_pd(a.x, a.y);
-  const __m256d z02 = _mm256_unpacklo_pd(a.z, zero), z13 = _mm256_unpackhi_pd(a.z, zero);
-  _mm256_maskstore_pd(base + 3 * std::size_t{idx[0]}, m, _mm256_permute2f128_pd(xy02, z02, 0x20));
-  _mm256_maskstore_pd(base + 3 * std::size_t{idx[1]}, m, _mm256_permute2f128_pd(xy13, z13, 0x20));
-  _mm256_maskstore_pd(base + 3 * std::size_t{idx[2]}, m, _mm256_permute2f128_pd(xy02, z02, 0x31));
-  _mm256_maskstore_pd(base + 3 * std::size_t{idx[3]}, m, _mm256_permute2f128_pd(xy13, z13, 0x31));
-}
-
-// table[idx[l]] for the four lanes (the masked form: GCC 12 warns about the unmasked one's
-// undefined source operand).
-inline __m256d gather(const double* table, const void* idx) {
-  const __m128i index = _mm_loadu_si128(static_cast<const __m128i*>(idx));
-  const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-  return _mm256_mask_i32gather_pd(_mm256_setzero_pd(), table, index, all, 8);
-}
-
-// Left-packing of four 32-bit lanes: kPack[mask] is the byte shuffle (_mm_shuffle_epi8) that moves
-// the lanes whose bit is set to the front, in order, and zeroes the rest. A constant table: built
-// at compile time, so that no AVX2 code runs at start-up on a CPU without it.
-struct PackTable {
-  alignas(16) std::uint8_t bytes[16][16];
-};
-constexpr PackTable make_pack_table() {
-  PackTable table{};
-  for (int mask = 0; mask < 16; ++mask) {
-    int out = 0;
-    for (int lane = 0; lane < 4; ++lane)
-      if (mask & (1 << lane)) {
-        for (int b = 0; b < 4; ++b)
-          table.bytes[mask][4 * out + b] = static_cast<std::uint8_t>(4 * lane + b);
-        ++out;
-      }
-    for (int b = 4 * out; b < 16; ++b) table.bytes[mask][b] = 0x80;
+struct Yu2022Lanes {
+  // The coefficients of Yu2022Pair (LaneInput::coefficient 0..4: kn, dn, kt, dt, mu), and -1/k_t,
+  // which yu2022_force computes for a sliding contact: the same value, divided once.
+  struct Table {
+    __m256d kn, dn, kt, dt_tangential, mu, neg_inv_kt;
+  };
+  template <bool kOneSpecies>
+  static Table make(const LaneInput& in) {
+    Table t;
+    t.kn = coefficient_set<kOneSpecies>(in.coefficient[0], in.one_type);
+    t.dn = coefficient_set<kOneSpecies>(in.coefficient[1], in.one_type);
+    t.kt = coefficient_set<kOneSpecies>(in.coefficient[2], in.one_type);
+    t.dt_tangential = coefficient_set<kOneSpecies>(in.coefficient[3], in.one_type);
+    t.mu = coefficient_set<kOneSpecies>(in.coefficient[4], in.one_type);
+    t.neg_inv_kt = (-_mm256_set1_pd(1.0)) / t.kt;
+    return t;
   }
-  return table;
-}
-constexpr PackTable kPack = make_pack_table();
-
-inline void pack_store(std::uint32_t* to, __m128i lanes, int mask) {
-  const __m128i shuffle = _mm_load_si128(reinterpret_cast<const __m128i*>(kPack.bytes[mask]));
-  _mm_storeu_si128(reinterpret_cast<__m128i*>(to), _mm_shuffle_epi8(lanes, shuffle));
-}
-inline __m128i load_index(const std::uint32_t* p) {
-  return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
-}
-
-// A coefficient for the four species pairs (types 0..3) in one register, or, with one species, the
-// one value in every lane.
-struct CoefficientTable {
-  __m256d kn, dn, kt, dt_tangential, mu, neg_inv_kt;
-};
-template <bool kOneSpecies>
-__m256d coefficient_set(const double* per_type, std::int32_t one_type) {
-  if constexpr (kOneSpecies) return _mm256_set1_pd(per_type[one_type]);
-  return _mm256_loadu_pd(per_type);
-}
-// The 32-bit lane indices that pick 64-bit element `type` of a register in each lane.
-inline __m256i pair_lookup_index(__m128i type) {
-  const __m256i twice = _mm256_slli_epi64(_mm256_cvtepu32_epi64(type), 1);
-  return _mm256_or_si256(twice,
-                         _mm256_slli_epi64(_mm256_add_epi64(twice, _mm256_set1_epi64x(1)), 32));
-}
-template <bool kOneSpecies>
-__m256d lookup(__m256d set, __m256i index) {
-  if constexpr (kOneSpecies) return set;
-  return _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(set), index));
-}
-
-template <bool kFriction, bool kPeriodic, bool kOneSpecies>
-void yu2022_lanes(const LaneInput& in) {
-  const std::size_t pairs = in.pairs;
-  std::uint32_t* __restrict ci = in.contact_i;
-  std::uint32_t* __restrict cj = in.contact_j;
-  std::uint32_t* __restrict ck = in.contact_k;
-  std::uint32_t* __restrict miss = in.miss;
-  const __m256d one = _mm256_set1_pd(1.0), dt = _mm256_set1_pd(in.dt);
-  const __m256d period = _mm256_set1_pd(in.period);
-  const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
-
-  // 1. Scan: a pair touches unless d² >= (r_i + r_j)² (as in pair_forces: a NaN distance counts
-  // as touching, so that it reaches the forces and the health check).
-  std::size_t m = 0, missed = 0;
-  std::size_t k0 = 0;
-  for (; k0 + 4 <= pairs; k0 += 4) {
-    const std::uint32_t* ii = in.row + k0;
-    const std::uint32_t* jj = in.nbr + k0;
-    V d = load3(in.x, ii) - load3(in.x, jj);
-    if constexpr (kPeriodic)
-      d.z = d.z - period * _mm256_round_pd(d.z / period, _MM_FROUND_CUR_DIRECTION);
-    const __m256d rsum = gather(in.radius, ii) + gather(in.radius, jj);
-    const int apart = _mm256_movemask_pd(_mm256_cmp_pd(dot(d, d), rsum * rsum, _CMP_GE_OQ));
-    const int touching = apart ^ 0xF;
-    const __m128i kv =
-        _mm_add_epi32(_mm_set1_epi32(static_cast<int>(k0)), _mm_setr_epi32(0, 1, 2, 3));
-    pack_store(ci + m, load_index(ii), touching);
-    pack_store(cj + m, load_index(jj), touching);
-    pack_store(ck + m, kv, touching);
-    m += static_cast<std::size_t>(__builtin_popcount(touching));
-    if constexpr (kFriction) {
-      pack_store(miss + missed, kv, apart);
-      missed += static_cast<std::size_t>(__builtin_popcount(apart));
-    }
+  // Yu2022Law::lever: the radii.
+  static void levers(__m256d ri, __m256d rj, __m256d, __m256d, __m256d& li, __m256d& lj) {
+    li = ri;
+    lj = rj;
   }
-  for (; k0 < pairs; ++k0) {  // the last pairs, one at a time
-    const std::uint32_t i = in.row[k0], j = in.nbr[k0];
-    double d[3];
-    for (int q = 0; q < 3; ++q) d[q] = in.x[3 * std::size_t{i} + q] - in.x[3 * std::size_t{j} + q];
-    if constexpr (kPeriodic) d[2] -= in.period * __builtin_nearbyint(d[2] / in.period);
-    const double rsum = in.radius[i] + in.radius[j];
-    const bool apart = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= rsum * rsum;
-    ci[m] = i;
-    cj[m] = j;
-    ck[m] = static_cast<std::uint32_t>(k0);
-    m += !apart;
-    miss[missed] = static_cast<std::uint32_t>(k0);
-    missed += apart;
-  }
-  // A pair that does not touch starts its spring afresh.
-  if constexpr (kFriction) {
-    const __m256i first3 = first_three();
-    for (std::size_t q = 0; q < missed; ++q)
-      _mm256_maskstore_pd(in.history + 3 * std::size_t{miss[q]}, first3, _mm256_setzero_pd());
-  }
-  if (m == 0) return;
-  const std::size_t count = m;
-  for (; m % kLaneBlock != 0; ++m) {  // pad the last block with the last contact
-    ci[m] = ci[count - 1];
-    cj[m] = cj[count - 1];
-    ck[m] = ck[count - 1];
-  }
-
-  // -1/k_t is what yu2022_force computes for a sliding contact: the same value, divided once.
-  CoefficientTable table;
-  table.kn = coefficient_set<kOneSpecies>(in.kn, in.one_type);
-  table.dn = coefficient_set<kOneSpecies>(in.dn, in.one_type);
-  table.kt = coefficient_set<kOneSpecies>(in.kt, in.one_type);
-  table.dt_tangential = coefficient_set<kOneSpecies>(in.dt_tangential, in.one_type);
-  table.mu = coefficient_set<kOneSpecies>(in.mu, in.one_type);
-  table.neg_inv_kt = (-one) / table.kt;
-
-  // 2 and 3. Forces and torques, four contacts at a time, then added to the particles in list
-  // order: the force on the row particle summed over its row first, as pair_forces does.
-  double* __restrict f = in.f;
-  double* __restrict t = in.t;
-  std::uint32_t row = ci[0];
-  double f_row[3] = {0, 0, 0}, t_row[3] = {0, 0, 0};
-  for (std::size_t b = 0; b < m; b += kLaneBlock) {
-    const std::uint32_t* ii = ci + b;
-    const std::uint32_t* jj = cj + b;
-    // d = x_i - x_j (nearest image along a periodic axis)
-    V d = load3(in.x, ii) - load3(in.x, jj);
-    if constexpr (kPeriodic)
-      d.z = d.z - period * _mm256_round_pd(d.z / period, _MM_FROUND_CUR_DIRECTION);
-    const __m256d ri = gather(in.radius, ii), rj = gather(in.radius, jj);
-    const __m256d rsum = ri + rj;
-    const __m256d dist = _mm256_sqrt_pd(dot(d, d));
-    const V nrm = (one / dist) * d;
-    // Lever arms are the radii (Yu2022Law::lever).
-    const V vrel = (load3(in.v, ii) - load3(in.v, jj)) -
-                   cross(ri * load3(in.w, ii) + rj * load3(in.w, jj), nrm);
-    const __m256d overlap = rsum - dist;
-    // The coefficients of each lane's species pair: four-entry tables held in registers, looked
-    // up with a permutation (a gather from memory costs several times more on current CPUs).
-    __m256i type = _mm256_setzero_si256();
-    if constexpr (!kOneSpecies) {
-      const __m128i si = _mm_i32gather_epi32(in.species, load_index(ii), 4);
-      const __m128i sj = _mm_i32gather_epi32(in.species, load_index(jj), 4);
-      type = pair_lookup_index(_mm_add_epi32(_mm_add_epi32(si, si), sj));
-    }
-    const __m256d kn = lookup<kOneSpecies>(table.kn, type),
-                  dn = lookup<kOneSpecies>(table.dn, type);
-    // yu2022_force
+  // yu2022_force, line by line.
+  template <bool kFriction, bool kOneSpecies>
+  static V force(const Table& t, __m256i type, V nrm, __m256d overlap, V vrel, V& spring,
+                 __m256d dt, V& ft) {
+    const __m256d kn = lookup<kOneSpecies>(t.kn, type), dn = lookup<kOneSpecies>(t.dn, type);
     const __m256d vn = dot(vrel, nrm);
     const __m256d fn_mag = kn * overlap - dn * vn;
     V force = fn_mag * nrm;
-    alignas(32) double lanes[9][4];
     if constexpr (kFriction) {
-      const __m256d kt = lookup<kOneSpecies>(table.kt, type);
-      const __m256d dtt = lookup<kOneSpecies>(table.dt_tangential, type);
-      const __m256d mu = lookup<kOneSpecies>(table.mu, type);
-      const __m256d neg_inv_kt = lookup<kOneSpecies>(table.neg_inv_kt, type);
-      const std::uint32_t* kk = ck + b;
+      const __m256d kt = lookup<kOneSpecies>(t.kt, type);
+      const __m256d dtt = lookup<kOneSpecies>(t.dt_tangential, type);
+      const __m256d mu = lookup<kOneSpecies>(t.mu, type);
       const V vt = vrel - vn * nrm;
-      V spring = load3(in.history, kk);
       spring = spring - dot(spring, nrm) * nrm;
       spring = spring + dt * vt;
-      V ft = neg(kt * spring + dtt * vt);
+      ft = neg(kt * spring + dtt * vt);
       const __m256d ft2 = dot(ft, ft);
-      const __m256d cap = mu * _mm256_and_pd(fn_mag, abs_mask);
+      const __m256d cap = mu * abs(fn_mag);
       const __m256d sliding = _mm256_cmp_pd(ft2, cap * cap, _CMP_GT_OQ);
-      if (_mm256_movemask_pd(sliding) != 0) {  // Coulomb cap on some lane
+      if (_mm256_movemask_pd(sliding) != 0) {  // the Coulomb cap on some lane
         const V capped = (cap / _mm256_sqrt_pd(ft2)) * ft;
-        const V capped_spring = neg_inv_kt * (capped + dtt * vt);
+        const V capped_spring = lookup<kOneSpecies>(t.neg_inv_kt, type) * (capped + dtt * vt);
         ft = select(sliding, capped, ft);
         spring = select(sliding, capped_spring, spring);
       }
-      store3(in.history, kk, spring);
       force = force + ft;
-      const V tq = cross(ft, nrm);
-      const V tq_i = ri * tq, tq_j = rj * tq;
-      _mm256_store_pd(lanes[3], tq_i.x);
-      _mm256_store_pd(lanes[4], tq_i.y);
-      _mm256_store_pd(lanes[5], tq_i.z);
-      _mm256_store_pd(lanes[6], tq_j.x);
-      _mm256_store_pd(lanes[7], tq_j.y);
-      _mm256_store_pd(lanes[8], tq_j.z);
     }
-    _mm256_store_pd(lanes[0], force.x);
-    _mm256_store_pd(lanes[1], force.y);
-    _mm256_store_pd(lanes[2], force.z);
-    const std::size_t real = count - b < kLaneBlock ? count - b : kLaneBlock;
-    for (std::size_t l = 0; l < real; ++l) {
-      const std::uint32_t i = ii[l], j = jj[l];
-      if (i != row) {  // the previous row is complete
-        for (int q = 0; q < 3; ++q) {
-          f[3 * std::size_t{row} + q] += f_row[q];
-          t[3 * std::size_t{row} + q] += t_row[q];
-          f_row[q] = t_row[q] = 0;
-        }
-        row = i;
-      }
-      for (int q = 0; q < 3; ++q) {
-        f_row[q] += lanes[q][l];
-        f[3 * std::size_t{j} + q] -= lanes[q][l];
-      }
-      if constexpr (kFriction)
-        for (int q = 0; q < 3; ++q) {
-          t_row[q] += lanes[3 + q][l];
-          t[3 * std::size_t{j} + q] += lanes[6 + q][l];
-        }
-    }
+    return force;
   }
-  for (int q = 0; q < 3; ++q) {
-    f[3 * std::size_t{row} + q] += f_row[q];
-    t[3 * std::size_t{row} + q] += t_row[q];
-  }
-}
+};
 
 }  // namespace
 
 LaneKernel yu2022_lanes_avx2(bool friction, bool periodic, bool one_species) {
-  if (friction) {
-    if (periodic)
-      return one_species ? &yu2022_lanes<true, true, true> : &yu2022_lanes<true, true, false>;
-    return one_species ? &yu2022_lanes<true, false, true> : &yu2022_lanes<true, false, false>;
-  }
-  if (periodic)
-    return one_species ? &yu2022_lanes<false, true, true> : &yu2022_lanes<false, true, false>;
-  return one_species ? &yu2022_lanes<false, false, true> : &yu2022_lanes<false, false, false>;
+  return lanes_for<Yu2022Lanes>(friction, periodic, one_species);
 }
 
 }  // namespace tumble::engine
