@@ -55,11 +55,8 @@ struct LaneInput {
 
 using LaneKernel = void (*)(const LaneInput&);
 
-// Whether this CPU runs the lane kernels (AVX2) and TUMBLE_PLAIN_KERNELS=1 does not ask for the
-// plain loop.
-bool lanes_available();
-
-// The kernels (engine/*_lanes_avx2.cpp, compiled for AVX2): call only if lanes_available().
+// The kernels (engine/*_lanes_avx2.cpp, compiled for AVX2): call only if lanes_available()
+// (base/cpu_lanes.hpp).
 LaneKernel yu2022_lanes_avx2(bool friction, bool periodic, bool one_species);
 LaneKernel rapaport2007_lanes_avx2(bool friction, bool periodic, bool one_species);
 

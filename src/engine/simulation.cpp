@@ -7,6 +7,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "base/cpu_lanes.hpp"
 #include "base/error.hpp"
 #include "engine/law_lanes.hpp"
 
@@ -170,7 +171,7 @@ void Simulation::select_kernels(bool friction, bool wall_friction, bool periodic
                             : pair_kernel_for<Law, false, false>(one_species_);
   // A law with a lane kernel uses it where the CPU runs it (TUMBLE_PLAIN_KERNELS=1: not).
   if constexpr (engine::LawLanes<Law>::kHas) {
-    if (engine::lanes_available()) {
+    if (lanes_available()) {
       using Lanes = engine::LawLanes<Law>;
       lane_kernel_ = Lanes::kernel(friction, periodic, one_species_);
       pair_kernel_name_ = "avx2 lanes";

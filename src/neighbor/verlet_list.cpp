@@ -22,16 +22,16 @@ void VerletList::set_period_z(double period) {
   period_z_ = period;
 }
 
-void VerletList::add_row(const Particles& p, std::size_t i, bool with_ghosts) {
+std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_ghosts,
+                                std::size_t count) {
   int ci, cj, ck;
   grid_.coords(grid_.cell_of(p.x[i]), ci, cj, ck);
   const Vec3 xi = p.x[i];
   const double ri = p.radius[i] + skin_;
-  auto consider = [&](std::uint32_t j) {
-    const double cut = ri + p.radius[j];
-    Vec3 d = xi - p.x[j];
-    if (period_z_ > 0) d.z -= period_z_ * std::nearbyint(d.z / period_z_);
-    if (norm2(d) < cut * cut) nbr.push_back(j);
+  const double* x = &p.x.data()->x;
+  // Room for `more` entries after the first `count` (the filter writes up to 4 beyond its hits).
+  auto room = [&](std::size_t more) {
+    if (nbr.size() < count + more) nbr.resize(std::max(count + more, 2 * nbr.size()));
   };
   // Cells in increasing index order and particles in increasing order within a cell: each row
   // comes out sorted by partner index without a sort.
@@ -45,13 +45,21 @@ void VerletList::add_row(const Particles& p, std::size_t i, bool with_ghosts) {
       for (int cc = c_lo; cc <= c_hi; ++cc) {
         const int c = (cc + grid_.nz()) % grid_.nz();
         const std::uint32_t cell = grid_.index(a, b, c);
-        for (std::uint32_t j = std::max<std::uint32_t>(cell_start_[cell], i + 1);
-             j < cell_start_[cell + 1]; ++j)
-          consider(j);
+        const std::uint32_t lo = std::max<std::uint32_t>(cell_start_[cell], i + 1);
+        const std::uint32_t hi = cell_start_[cell + 1];
+        if (lo < hi) {
+          room(hi - lo + 4);
+          count += near_(x, p.radius.data(), lo, hi, &xi.x, ri, period_z_, nbr.data() + count);
+        }
         if (with_ghosts)
-          for (std::uint32_t g = ghost_start_[cell]; g < ghost_start_[cell + 1]; ++g)
-            consider(ghost_of_cell_[g]);
+          for (std::uint32_t g = ghost_start_[cell]; g < ghost_start_[cell + 1]; ++g) {
+            const std::uint32_t j = ghost_of_cell_[g];
+            room(1);
+            count += near_filter_plain(x, p.radius.data(), j, j + 1, &xi.x, ri, period_z_,
+                                       nbr.data() + count);
+          }
       }
+  return count;
 }
 
 void VerletList::fill_rows() {
@@ -83,12 +91,13 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
     ghost_of_cell_[fill[cell[g - n_local]]++] = static_cast<std::uint32_t>(g);
 
   start.assign(n_local + 1, 0);
-  nbr.clear();
+  std::size_t count = 0;
   for (std::size_t i = 0; i < n_local; ++i) {
-    start[i] = static_cast<std::uint32_t>(nbr.size());
-    add_row(p, i, true);
+    start[i] = static_cast<std::uint32_t>(count);
+    count = add_row(p, i, true, count);
   }
-  start[n_local] = static_cast<std::uint32_t>(nbr.size());
+  nbr.resize(count);
+  start[n_local] = static_cast<std::uint32_t>(count);
   fill_rows();
   const std::size_t w = static_cast<std::size_t>(layout_.width);
   history.assign(w * nbr.size(), 0.0);
@@ -114,13 +123,14 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved) {
   p.permute(perm_);
 
   start.assign(n + 1, 0);
-  nbr.clear();
-  nbr.reserve(old_nbr_.size() + old_nbr_.size() / 8 + 16);
+  nbr.resize(old_nbr_.size() + old_nbr_.size() / 8 + 16);
+  std::size_t count = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    start[i] = static_cast<std::uint32_t>(nbr.size());
-    add_row(p, i, false);
+    start[i] = static_cast<std::uint32_t>(count);
+    count = add_row(p, i, false, count);
   }
-  start[n] = static_cast<std::uint32_t>(nbr.size());
+  nbr.resize(count);
+  start[n] = static_cast<std::uint32_t>(count);
   fill_rows();
 
   const std::size_t w = static_cast<std::size_t>(layout_.width);

@@ -9,6 +9,7 @@
 #include "base/particles.hpp"
 #include "neighbor/cell_grid.hpp"
 #include "neighbor/contact_history.hpp"
+#include "neighbor/near_filter.hpp"
 
 namespace tumble::neighbor {
 
@@ -17,7 +18,7 @@ class VerletList {
   VerletList() = default;
   // `layout`: the doubles of history per pair and their sign pattern (the scene's law).
   VerletList(const CellGrid& grid, double skin, HistoryLayout layout = {})
-      : grid_(grid), skin_(skin), layout_(layout) {}
+      : grid_(grid), skin_(skin), layout_(layout), near_(near_filter()) {}
 
   // Sorts `p` by cell (permuting every per-particle field), rebuilds the list, and carries the
   // histories over (by old index; negated per the layout where the pair is now seen from its
@@ -55,8 +56,10 @@ class VerletList {
   double skin_ = 0;
   double period_z_ = 0;  // 0: not periodic
   HistoryLayout layout_;
-  // Appends the partners of row i: owned j > i from the sorted cells, and ghosts if binned.
-  void add_row(const Particles& p, std::size_t i, bool with_ghosts);
+  // Writes the partners of row i after the first `count` entries of nbr (growing it as needed):
+  // owned j > i from the sorted cells, and ghosts if binned. Returns the new count.
+  std::size_t add_row(const Particles& p, std::size_t i, bool with_ghosts, std::size_t count);
+  NearFilter near_ = &near_filter_plain;  // the distance filter this CPU runs
   // Fills `row` from `start`.
   void fill_rows();
   // The list is valid for local carry-over when it describes the current particles.
