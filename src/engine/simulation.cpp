@@ -9,6 +9,7 @@
 
 #include "base/cpu_lanes.hpp"
 #include "base/error.hpp"
+#include "base/growth.hpp"
 #include "engine/law_lanes.hpp"
 
 namespace tumble {
@@ -418,7 +419,8 @@ void Simulation::pair_forces_lanes() {
   in.period = 2 * cylinder_.half_length;
   engine::TouchingContacts& c = touching_;
   if (c.i.size() < in.pairs + engine::kLaneBlock)
-    for (auto* v : {&c.i, &c.j, &c.k, &c.miss}) v->resize(in.pairs + engine::kLaneBlock);
+    for (auto* v : {&c.i, &c.j, &c.k, &c.miss})
+      resize_with_headroom(*v, in.pairs + engine::kLaneBlock);
   in.contact_i = c.i.data();
   in.contact_j = c.j.data();
   in.contact_k = c.k.data();

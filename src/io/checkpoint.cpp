@@ -169,6 +169,9 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   std::vector<std::int64_t> pairs;
   std::vector<double> springs, anchors;
   const int width = h.width();  // the law's doubles of history per contact: the columns
+  pairs.reserve(2 * h.records().size());
+  springs.reserve(static_cast<std::size_t>(width) * h.records().size());
+  anchors.reserve(3 * h.records().size());
   for (const auto& r : h.records()) {
     pairs.push_back(r.lo);
     pairs.push_back(r.hi);

@@ -62,6 +62,9 @@ class ContactHistory {
   // (skips all-zero histories); `anchor` is where the pair is (the ranks whose domains lie near
   // it receive the record).
   void save(std::int64_t id_i, std::int64_t id_j, const double* h, const Vec3& anchor = {});
+  // Room for n records (a checkpoint saves every live spring: reserving them avoids keeping
+  // twice their memory, the vector's doubling, at the checkpoint's peak).
+  void reserve(std::size_t n) { saved_.reserve(n); }
   // Sort the saved records for lookup (call between the phases).
   void finalize();
   // Phase 2: the history of (id_i, id_j) as seen from i into out[0, width), or zeros if the pair

@@ -4,12 +4,21 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "base/growth.hpp"
+
 namespace tumble::neighbor {
 
 void VerletList::save_history(const Particles& p, ContactHistory& out) const {
   out = ContactHistory(layout_);
   const std::size_t n = start.empty() ? 0 : start.size() - 1;
   const std::size_t w = static_cast<std::size_t>(layout_.width);
+  std::size_t live = 0;
+  for (std::size_t k = 0; k < nbr.size(); ++k) {
+    bool any = false;
+    for (std::size_t d = 0; d < w; ++d) any = any || history[w * k + d] != 0.0;
+    live += any;
+  }
+  out.reserve(live);
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
       out.save(p.id[i], p.id[nbr[k]], history.data() + w * k, p.x[i]);
@@ -31,7 +40,7 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
   const double* x = &p.x.data()->x;
   // Room for `more` entries after the first `count` (the filter writes up to 4 beyond its hits).
   auto room = [&](std::size_t more) {
-    if (nbr.size() < count + more) nbr.resize(std::max(count + more, 2 * nbr.size()));
+    if (nbr.size() < count + more) resize_with_headroom(nbr, count + more);
   };
   // Cells in increasing index order and particles in increasing order within a cell: each row
   // comes out sorted by partner index without a sort.
@@ -63,7 +72,7 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
 }
 
 void VerletList::fill_rows() {
-  row.resize(nbr.size());
+  resize_with_headroom(row, nbr.size());
   const std::size_t n = start.empty() ? 0 : start.size() - 1;
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) row[k] = static_cast<std::uint32_t>(i);
@@ -123,7 +132,7 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved) {
   p.permute(perm_);
 
   start.assign(n + 1, 0);
-  nbr.resize(old_nbr_.size() + old_nbr_.size() / 8 + 16);
+  resize_with_headroom(nbr, old_nbr_.size() + old_nbr_.size() / 8 + 16);
   std::size_t count = 0;
   for (std::size_t i = 0; i < n; ++i) {
     start[i] = static_cast<std::uint32_t>(count);
