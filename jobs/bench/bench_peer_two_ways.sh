@@ -7,6 +7,9 @@
 #
 # Variants:
 #   tumble_generic  $TUMBLE_BUILD/tumble (default build/; built with jobs/build.sh if missing)
+#   tumble_plain    the generic binary with TUMBLE_PLAIN_KERNELS=1 (the plain pair loop and neighbour
+#                   filter, the reference the lane kernels are checked against), if BENCH_PLAIN=1;
+#                   it starts from tumble_generic's warmed state (the two loops agree bitwise)
 #   tumble_native   $TUMBLE_NATIVE_BUILD/tumble, only if TUMBLE_NATIVE_BUILD is set
 #   liggghts_a      LIGGGHTS, static STL sphere (facets within 0.05 mm) carrying the wall velocity
 #                   (surface_ang_vel): LIGGGHTS_MESH_TOL=5e-5 LIGGGHTS_MOVEMESH=0
@@ -25,6 +28,7 @@
 # environment (all optional):
 #   TUMBLE_BUILD          build directory of the generic binary (default build)
 #   TUMBLE_NATIVE_BUILD   build directory of a -DTUMBLE_NATIVE=ON binary (default: not timed)
+#   BENCH_PLAIN           1: also time the plain loops (tumble_plain)
 #   BENCH_CORE            the core every run is pinned to (default 0)
 #   BENCH_WORKDIR         scratch directory, kept (default: a mktemp directory removed at exit)
 #   LIGGGHTS_RESTART_DIR  where LIGGGHTS' warmed states are kept (default: in the scratch directory);
@@ -85,6 +89,7 @@ echo "# git: $(git describe --always --dirty --abbrev=12 2>/dev/null || echo unk
 echo "# command: $COMMAND (TUMBLE_BUILD=$BUILD TUMBLE_NATIVE_BUILD=${TUMBLE_NATIVE_BUILD:-})"
 echo "# $STEPS timed steps after $WARMUP warm-up steps, $ROUNDS rounds, every run pinned to core $CORE"
 VARIANTS=(tumble_generic)
+[ "${BENCH_PLAIN:-0}" = 1 ] && VARIANTS+=(tumble_plain)
 [ -n "${TUMBLE_NATIVE_BUILD:-}" ] && VARIANTS+=(tumble_native)
 if [ -n "$LIGGGHTS" ]; then
   VARIANTS+=(liggghts_a liggghts_b)
@@ -98,7 +103,7 @@ echo "# variants in run order: ${VARIANTS[*]}"
 
 tumble_bin() {  # $1 = variant
   case $1 in
-    tumble_generic) echo "$BUILD/tumble" ;;
+    tumble_generic | tumble_plain) echo "$BUILD/tumble" ;;
     tumble_native) echo "$TUMBLE_NATIVE_BUILD/tumble" ;;
   esac
 }
@@ -121,6 +126,12 @@ warm() {  # $1 = variant
   local v=$1 t0 t1
   t0=$(date +%s)
   case $v in
+    tumble_plain)  # the plain loops give tumble_generic's warm state bitwise
+      rm -rf "$WORK/warm_$v"
+      cp -a "$WORK/warm_tumble_generic" "$WORK/warm_$v"
+      echo "warm-up $v: tumble_generic's state"
+      return
+      ;;
     tumble_*)
       rm -rf "$WORK/warm_$v"
       pinned "$(tumble_bin "$v")" run jobs/bench/bst_R35_bench.toml --set scene.output_dir="$WORK/warm_$v" \
@@ -153,7 +164,9 @@ timed() {  # $1 = round, $2 = variant
       local TIMER=()
       [ "$HAVE_TIME" = 1 ] && TIMER=(/usr/bin/time -v -o "$WORK/time_$v")
       rm -f "$WORK/time_$v"
-      pinned "${TIMER[@]}" "$(tumble_bin "$v")" run jobs/bench/bst_R35_bench.toml \
+      local plain=0
+      [ "$v" = tumble_plain ] && plain=1
+      TUMBLE_PLAIN_KERNELS=$plain pinned "${TIMER[@]}" "$(tumble_bin "$v")" run jobs/bench/bst_R35_bench.toml \
         --set scene.output_dir="$out" --resume --max-steps "$STEPS" > "$log" 2>&1 \
         || { echo "timed run of $v failed, see $log" >&2; tail -n 5 "$log" >&2; exit 1; }
       grep -q '^\[run\] restarting from' "$log" || { echo "$v did not resume from the warm state" >&2; exit 1; }
@@ -200,10 +213,12 @@ for v in variants:
     print(f"  {v:15s} n={len(x)}  median {statistics.median(x):.4g}  min {min(x):.4g}  max {max(x):.4g}"
           f"  peak RSS {rss}")
 rounds = list(dict.fromkeys(r["round"] for r in rows))
-for num in ("tumble_generic", "tumble_native"):
-    for den in ("liggghts_a", "liggghts_b"):
-        q = [rate[k, num] / rate[k, den] for k in rounds if (k, num) in rate and (k, den) in rate]
-        if q:
-            print(f"ratio {num} / {den}: median {statistics.median(q):.3f}  (min {min(q):.3f}, max {max(q):.3f},"
-                  f" {len(q)} rounds)")
+pairs = [(num, den) for num in ("tumble_generic", "tumble_native")
+         for den in ("liggghts_a", "liggghts_b")]
+pairs += [("tumble_generic", "tumble_plain"), ("tumble_native", "tumble_generic")]
+for num, den in pairs:
+    q = [rate[k, num] / rate[k, den] for k in rounds if (k, num) in rate and (k, den) in rate]
+    if q:
+        print(f"ratio {num} / {den}: median {statistics.median(q):.3f}  (min {min(q):.3f}, max {max(q):.3f},"
+              f" {len(q)} rounds)")
 PY
