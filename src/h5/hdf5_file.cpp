@@ -428,10 +428,25 @@ std::string H5File::attr_string(const std::string& obj, const std::string& name)
     H5Aclose(a);
     corrupt(path_, "attribute '" + name + "' of '" + obj + "' is not a string");
   }
-  std::string out(size, '\0');
+  // Tumble writes fixed-length, null-terminated strings; other writers (h5py) use variable-length
+  // strings or fixed-length null-padded ones that fill every byte, so the memory type keeps one
+  // byte more than the file's for the terminator (else HDF5 drops the last character). The
+  // character set is the file's: HDF5 converts no string between ASCII and UTF-8 (h5py's).
+  std::string out;
   hid_t mtype = H5Tcopy(H5T_C_S1);
-  H5Tset_size(mtype, size);
-  const herr_t st = H5Aread(a, mtype, out.data());
+  H5Tset_cset(mtype, H5Tget_cset(ftype));
+  herr_t st = -1;
+  if (H5Tis_variable_str(ftype) > 0) {
+    H5Tset_size(mtype, H5T_VARIABLE);
+    char* text = nullptr;
+    st = H5Aread(a, mtype, &text);
+    if (st >= 0 && text) out = text;
+    if (st >= 0) H5free_memory(text);
+  } else {
+    out.assign(size + 1, '\0');
+    H5Tset_size(mtype, size + 1);
+    st = H5Aread(a, mtype, out.data());
+  }
   H5Tclose(mtype);
   H5Tclose(ftype);
   H5Aclose(a);
