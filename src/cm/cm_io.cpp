@@ -3,19 +3,14 @@
 #include <Eigen/LU>
 #include <cmath>
 
-#include "base/version.hpp"
+#include "base/error.hpp"
+#include "cm/file_protocol.hpp"
 #include "h5/hdf5_file.hpp"
 
 namespace tumble::cm {
 namespace {
 
 using io::H5File;
-
-constexpr const char* kConvention =
-    "lab frame, R = 1, time 1/omega; y up, free surface y = 0; z phase u_b = (y,-x,0) "
-    "(Omega_z = -z), x phase = z field conjugated by R_y(-90 deg) (Omega_x = +x); "
-    "chart: Lambert viewed from below (X,Z) = (x,z)/sqrt(1-y) of bulk directions, layer cap "
-    "in the ring rim < |v| < outer (docs/cm.md)";
 
 template <int N>
 std::vector<double> flat(const std::vector<Eigen::Matrix<double, N, 1>>& v) {
@@ -40,27 +35,14 @@ void write_vecs(H5File& f, const std::string& name,
   f.write(name, flat<N>(v), {static_cast<hsize_t>(v.size()), static_cast<hsize_t>(N)});
 }
 
-const char* model_name(FlowModel m) {
-  switch (m) {
-    case FlowModel::Exact:
-      return "exact";
-    case FlowModel::Integrated:
-      return "integrated";
-    case FlowModel::Pwi:
-      return "pwi";
-  }
-  return "?";
-}
-
-void write_header(H5File& f, const Protocol& pr, const std::string& kind) {
-  f.set_attr("/", "kind", kind);
-  f.set_attr("/", "theta_z_deg", pr.theta_z * 180.0 / kPi);
-  f.set_attr("/", "theta_x_deg", pr.theta_x * 180.0 / kPi);
-  f.set_attr("/", "eps", pr.layer_eps());
-  f.set_attr("/", "model", std::string(model_name(pr.model)));
-  f.set_attr("/", "convention", std::string(kConvention));
-  f.set_attr("/", "tumble_version", std::string(kVersion));
-  f.set_attr("/", "git_hash", std::string(kGitHash));
+// A table read back from an orbits file must have the rows the others say, or an index past its
+// end would be read: a damaged or hand-edited file is refused with the dataset named.
+void require_rows(const std::string& path, const std::string& name, std::size_t rows,
+                  std::size_t want) {
+  if (rows != want)
+    throw CorruptInputError("'" + path + "': " + name + " has " + std::to_string(rows) +
+                            " rows where the other tables of its group say " +
+                            std::to_string(want));
 }
 
 void write_chart_attrs(H5File& f, const ShellChart& chart) {
@@ -75,7 +57,7 @@ void write_poincare(const std::string& path, const Protocol& pr, const PoincareO
                     const std::vector<PoincareSet>& sets) {
   io::AtomicH5Writer w(path);
   H5File& f = w.file();
-  write_header(f, pr, "poincare");
+  write_file_protocol(f, pr, "poincare");
   write_chart_attrs(f, ShellChart(opt.r, pr.layer_eps()));
   f.set_attr("/", "periods", static_cast<std::int64_t>(opt.periods));
   f.set_attr("/", "seeding", std::string(opt.seeding == Seeding::Shell ? "shell" : "interface"));
@@ -101,7 +83,7 @@ void write_orbits(const std::string& path, const Protocol& pr, double r,
                   const std::vector<PeriodicPoint>& points, const std::vector<Island>& islands) {
   io::AtomicH5Writer w(path);
   H5File& f = w.file();
-  write_header(f, pr, "orbits");
+  write_file_protocol(f, pr, "orbits");
   write_chart_attrs(f, ShellChart(r, pr.layer_eps()));
 
   std::vector<Vec2> chart, unstable, stable;
@@ -181,7 +163,23 @@ std::vector<PeriodicPoint> read_periodic_points(const std::string& path) {
   const auto jac = f.read_double("/points/jacobian");
   const auto unstable = unflat<2>(f.read_double("/points/unstable"));
   const auto stable = unflat<2>(f.read_double("/points/stable"));
-  std::vector<PeriodicPoint> out(chart.size());
+  const std::size_t n = chart.size();
+  require_rows(path, "/points/xyz", xyz.size(), n);
+  require_rows(path, "/points/period", period.size(), n);
+  require_rows(path, "/points/type", type.size(), n);
+  require_rows(path, "/points/orbit", orbit.size(), n);
+  require_rows(path, "/points/trace", trace.size(), n);
+  require_rows(path, "/points/rotation", rotation.size(), n);
+  require_rows(path, "/points/lambda", lambda.size(), n);
+  require_rows(path, "/points/jacobian", jac.size() / 4, n);
+  require_rows(path, "/points/unstable", unstable.size(), n);
+  require_rows(path, "/points/stable", stable.size(), n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (type[i] < 0 || type[i] > 2 || period[i] < 1)
+      throw CorruptInputError("'" + path + "': periodic point " + std::to_string(i) + " has type " +
+                              std::to_string(type[i]) + " and period " + std::to_string(period[i]) +
+                              " (types are 0, 1, 2; periods >= 1)");
+  std::vector<PeriodicPoint> out(n);
   for (std::size_t i = 0; i < out.size(); ++i) {
     auto& p = out[i];
     p.v = chart[i];
@@ -211,7 +209,22 @@ std::vector<Island> read_islands(const std::string& path) {
   const auto period = f.read_int32("/islands/period");
   const auto orbit = f.read_int32("/islands/orbit");
   const auto point = f.read_int32("/islands/point");
-  std::vector<Island> out(r.size());
+  const std::size_t n = r.size();
+  require_rows(path, "/islands/offsets", offsets.size(), n + 1);
+  require_rows(path, "/islands/center", center.size(), n);
+  require_rows(path, "/islands/launch", launch.size(), n);
+  require_rows(path, "/islands/period", period.size(), n);
+  require_rows(path, "/islands/orbit", orbit.size(), n);
+  require_rows(path, "/islands/point", point.size(), n);
+  for (std::size_t k = 0; k <= n; ++k) {
+    const std::int64_t lo = k ? offsets[k - 1] : 0;
+    if (offsets[k] < lo || offsets[k] > static_cast<std::int64_t>(vertices.size()))
+      throw CorruptInputError("'" + path + "': /islands/offsets[" + std::to_string(k) +
+                              "] = " + std::to_string(offsets[k]) +
+                              " is not in order within the vertices (0 .. " +
+                              std::to_string(vertices.size()) + ")");
+  }
+  std::vector<Island> out(n);
   for (std::size_t k = 0; k < out.size(); ++k) {
     auto& isl = out[k];
     isl.boundary.vertices.assign(vertices.begin() + offsets[k], vertices.begin() + offsets[k + 1]);
@@ -233,30 +246,42 @@ std::vector<Island> islands_on_shell(const std::vector<Island>& all, double r) {
   return out;
 }
 
-void write_manifolds(const std::string& path, const Protocol& pr, double r,
-                     const std::vector<PeriodicPoint>& points, const std::vector<Manifold>& ms) {
-  io::AtomicH5Writer w(path);
-  H5File& f = w.file();
-  write_header(f, pr, "manifolds");
+ManifoldsWriter::ManifoldsWriter(const std::string& path, const Protocol& pr, double r,
+                                 const std::vector<PeriodicPoint>& points)
+    : writer_(path) {
+  H5File& f = writer_.file();
+  write_file_protocol(f, pr, "manifolds");
   write_chart_attrs(f, ShellChart(r, pr.layer_eps()));
   std::vector<Vec2> pts;
-  for (const auto& p : points) pts.push_back(p.v);
-  write_vecs<2>(f, "/points/chart", pts);
-  for (std::size_t k = 0; k < ms.size(); ++k) {
-    const auto& m = ms[k];
-    const std::string g = "/manifolds/" + std::to_string(k);
-    f.create_group(g);
-    f.set_attr(g, "point", static_cast<std::int64_t>(m.point));
-    f.set_attr(g, "kind", std::string(m.unstable ? "unstable" : "stable"));
-    f.set_attr(g, "period", static_cast<std::int64_t>(points[m.point].period));
-    f.set_attr(g, "iterations_done", static_cast<std::int64_t>(m.iterations_done));
-    f.set_attr(g, "truncated", static_cast<std::int64_t>(m.truncated));
-    write_vecs<3>(f, g + "/xyz", m.xyz);
-    write_vecs<2>(f, g + "/chart", m.chart);
-    std::vector<std::int32_t> it(m.iteration.begin(), m.iteration.end());
-    f.write(g + "/iteration", it);
-    f.write(g + "/param", m.param);
+  for (const auto& p : points) {
+    pts.push_back(p.v);
+    periods_.push_back(p.period);
   }
+  write_vecs<2>(f, "/points/chart", pts);
+}
+
+void ManifoldsWriter::add(const Manifold& m) {
+  H5File& f = writer_.file();
+  const std::string g = "/manifolds/" + std::to_string(next_++);
+  f.create_group(g);
+  f.set_attr(g, "point", static_cast<std::int64_t>(m.point));
+  f.set_attr(g, "kind", std::string(m.unstable ? "unstable" : "stable"));
+  f.set_attr(g, "period", static_cast<std::int64_t>(periods_.at(m.point)));
+  f.set_attr(g, "iterations_done", static_cast<std::int64_t>(m.iterations_done));
+  f.set_attr(g, "truncated", static_cast<std::int64_t>(m.truncated));
+  write_vecs<3>(f, g + "/xyz", m.xyz);
+  write_vecs<2>(f, g + "/chart", m.chart);
+  std::vector<std::int32_t> it(m.iteration.begin(), m.iteration.end());
+  f.write(g + "/iteration", it);
+  f.write(g + "/param", m.param);
+}
+
+void ManifoldsWriter::commit() { writer_.commit(); }
+
+void write_manifolds(const std::string& path, const Protocol& pr, double r,
+                     const std::vector<PeriodicPoint>& points, const std::vector<Manifold>& ms) {
+  ManifoldsWriter w(path, pr, r, points);
+  for (const auto& m : ms) w.add(m);
   w.commit();
 }
 
@@ -264,7 +289,7 @@ void write_mcm(const std::string& path, const Protocol& pr, const McmOptions& op
                const DriftGrid& grid, const McmResult& res, const McmSummary& s) {
   io::AtomicH5Writer w(path);
   H5File& f = w.file();
-  write_header(f, pr, "mcm");
+  write_file_protocol(f, pr, "mcm");
   const ShellChart chart(opt.r, pr.layer_eps());
   write_chart_attrs(f, chart);
   f.set_attr("/", "c", opt.c);
@@ -275,7 +300,10 @@ void write_mcm(const std::string& path, const Protocol& pr, const McmOptions& op
   f.set_attr("/", "seed", static_cast<std::int64_t>(opt.seed));
   f.set_attr("/", "tracers", static_cast<std::int64_t>(opt.tracers));
   f.set_attr("/", "snapshot_iteration", static_cast<std::int64_t>(opt.snapshot));
+  // NaN ("none": neither drift nor diffusion) and +inf (drift without diffusion) are stored as
+  // such, IEEE values HDF5 keeps; the text says which, for readers that print it.
   f.set_attr("/", "peclet", s.peclet);
+  f.set_attr("/", "peclet_text", peclet_text(s.peclet));
   f.set_attr("/", "island_length", s.island_length);
   f.set_attr("/", "island_bulk_area_fraction", s.bulk_area_fraction);
   f.set_attr("/", "island_area_fraction", s.area_fraction);

@@ -1,7 +1,8 @@
 #pragma once
 // HDF5 files of the continuum model (layouts in docs/cm.md). Every file is written atomically
 // (io::AtomicH5Writer) and carries the protocol, the model, the sign convention and the Tumble
-// version as attributes of "/".
+// version as attributes of "/" (file_protocol.hpp). Tables read back are checked for consistent
+// lengths before use (a damaged file: CorruptInputError, exit 3).
 #include <string>
 #include <vector>
 
@@ -9,6 +10,7 @@
 #include "cm/manifold.hpp"
 #include "cm/mcm_summary.hpp"
 #include "cm/poincare.hpp"
+#include "h5/hdf5_file.hpp"
 
 namespace tumble::cm {
 
@@ -24,6 +26,20 @@ std::vector<Island> read_islands(const std::string& path);
 // The islands of one shell radius from an orbits file (|r - island.r| < 1e-9).
 std::vector<Island> islands_on_shell(const std::vector<Island>& all, double r);
 
+// The manifolds file, written one manifold at a time as each is traced, so that a run holds
+// only the manifold being traced (manifold_memory_bytes), however many hyperbolic orbits it has.
+class ManifoldsWriter {
+ public:
+  ManifoldsWriter(const std::string& path, const Protocol& pr, double r,
+                  const std::vector<PeriodicPoint>& points);
+  void add(const Manifold& m);  // as /manifolds/<k>, k = 0, 1, ... in call order
+  void commit();                // renames the finished file into place
+
+ private:
+  io::AtomicH5Writer writer_;
+  std::vector<int> periods_;  // of `points`, for each manifold's "period" attribute
+  int next_ = 0;
+};
 void write_manifolds(const std::string& path, const Protocol& pr, double r,
                      const std::vector<PeriodicPoint>& points, const std::vector<Manifold>& ms);
 

@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
+#include "base/error.hpp"
 #include "cm/flow_field.hpp"
 #include "h5/hdf5_file.hpp"
 
@@ -80,13 +82,22 @@ DriftGrid read_drift_grid(const std::string& path) {
   io::H5File f(path, io::H5File::Mode::Read);
   DriftGrid g;
   const auto shape = f.shape("/v_ax");
-  if (shape.size() != 2 || shape[0] != shape[1])
-    throw std::runtime_error(path + ": /v_ax must be a square [n][n] dataset");
+  if (shape.size() != 2 || shape[0] != shape[1] || shape[0] < 1 || shape[0] > kMaxDriftGridN)
+    throw InputError(
+        "drift grid '" + path +
+        "': /v_ax must be a square [n][n] dataset, 1 <= n <= " + std::to_string(kMaxDriftGridN));
   if (f.shape("/sigma_ax") != shape)
-    throw std::runtime_error(path + ": /sigma_ax must have the shape of /v_ax");
+    throw InputError("drift grid '" + path + "': /sigma_ax must have the shape of /v_ax");
   g.n = static_cast<int>(shape[0]);
   g.v_ax = f.read_double("/v_ax");
   g.sigma_ax = f.read_double("/sigma_ax");
+  // A NaN here would reach every tracer that enters its cell, and a negative sigma flips kicks.
+  for (std::size_t c = 0; c < g.v_ax.size(); ++c)
+    if (!std::isfinite(g.v_ax[c]) || !std::isfinite(g.sigma_ax[c]) || g.sigma_ax[c] < 0)
+      throw InputError("drift grid '" + path + "': cell [" + std::to_string(c / g.n) + "][" +
+                       std::to_string(c % g.n) + "] has v_ax = " + std::to_string(g.v_ax[c]) +
+                       ", sigma_ax = " + std::to_string(g.sigma_ax[c]) +
+                       " (both finite, sigma_ax >= 0)");
   g.source = f.has_attr("/", "source") ? f.attr_string("/", "source") : path;
   return g;
 }

@@ -46,8 +46,14 @@ struct SyntheticDrift {
 };
 DriftGrid synthetic_drift(const SyntheticDrift& s);
 
+// The largest grid read or made (`tumble cm drift --n`): 1000 x 1000 cells, 16 MB.
+inline constexpr int kMaxDriftGridN = 1000;
+// Bytes of an n x n grid (v_ax and sigma_ax).
+inline double drift_grid_memory_bytes(int n) { return 16.0 * n * n; }
+
 // HDF5: datasets /v_ax and /sigma_ax, shape [n][n]; attributes on "/": n (int64), source,
-// convention, units (strings).
+// convention, units (strings). A grid that is not square, larger than kMaxDriftGridN, or holds
+// a value that is not finite (or a negative sigma) is refused (InputError, the cell named).
 DriftGrid read_drift_grid(const std::string& path);
 void write_drift_grid(const std::string& path, const DriftGrid& grid);
 

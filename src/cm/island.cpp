@@ -199,26 +199,44 @@ std::vector<Island> orbit_islands(const SectionMap& map, const std::vector<Perio
 }  // namespace
 
 std::vector<Island> find_islands(const SectionMap& map, const std::vector<PeriodicPoint>& points,
-                                 const IslandOptions& opt) {
+                                 const IslandOptions& opt, const Progress& progress) {
   std::vector<Island> out;
   std::vector<bool> done(points.size(), false);
+  double work = 0, work_done = 0;
+  for (const auto& p : points)
+    if (p.type == Stability::Elliptic) work += p.period;
+  const auto count_done = [&](std::size_t k) {
+    if (done[k] || points[k].type != Stability::Elliptic) return;
+    done[k] = true;
+    work_done += points[k].period;
+    report(progress, work_done / work);
+  };
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (done[i] || points[i].type != Stability::Elliptic) continue;
     // Satellites (higher-period elliptic points inside a found island) are part of that island.
-    if (island_containing(out, points[i].v) >= 0) continue;
+    if (island_containing(out, points[i].v) >= 0) {
+      count_done(i);
+      continue;
+    }
     auto members = orbit_members(map, points, static_cast<int>(i));
     if (members.empty()) {  // orbit not complete in the list: this point alone
       if (auto isl = island_around(map, points[i], opt)) {
         isl->point = static_cast<int>(i);
         out.push_back(std::move(*isl));
       }
-      done[i] = true;
+      count_done(i);
       continue;
     }
-    for (int m : members) done[m] = true;
-    for (auto& isl : orbit_islands(map, points, members, opt)) out.push_back(std::move(isl));
+    auto islands = orbit_islands(map, points, members, opt);
+    for (int m : members) count_done(m);
+    for (auto& isl : islands) out.push_back(std::move(isl));
   }
+  report(progress, 1.0);
   return out;
+}
+
+double island_memory_bytes(const IslandOptions& opt) {
+  return 40.0 * std::max(opt.iterations, opt.final_iterations);
 }
 
 double island_area_fraction(const ShellChart& chart, const std::vector<Island>& islands) {

@@ -11,6 +11,7 @@
 
 #include "cm/periodic.hpp"
 #include "cm/polygon.hpp"
+#include "cm/progress.hpp"
 
 namespace tumble::cm {
 
@@ -61,8 +62,15 @@ std::optional<Island> island_around(const SectionMap& map, const PeriodicPoint& 
 // Islands around every elliptic point in `points` (indices refer to that list), skipping
 // points inside an island already found (pass points sorted by period). The islands of one orbit
 // are images of one boundary curve under P (island.cpp: orbit_islands).
+// Progress counts elliptic points, weighted by their period.
 std::vector<Island> find_islands(const SectionMap& map, const std::vector<PeriodicPoint>& points,
-                                 const IslandOptions& opt);
+                                 const IslandOptions& opt, const Progress& progress = {});
+
+// Bytes one island test holds at its peak, per iterate of the longer of `iterations` and
+// `final_iterations`: the orbit (16 B) with its angles and orderings (20 B), or the orbit and
+// the angle-sorted copy the polygon is drawn from (40 B). The islands themselves (`vertices`
+// points each) are small beside it.
+double island_memory_bytes(const IslandOptions& opt);
 
 // Fraction of the chart area (whole shell) covered by the islands (disjoint by construction).
 double island_area_fraction(const ShellChart& chart, const std::vector<Island>& islands);

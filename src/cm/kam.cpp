@@ -6,7 +6,8 @@
 namespace tumble::cm {
 
 std::vector<Island> kam_tubes(const Protocol& pr, const std::vector<PeriodicPoint>& points,
-                              double r0, const std::vector<double>& radii, const KamOptions& opt) {
+                              double r0, const std::vector<double>& radii, const KamOptions& opt,
+                              const Progress& progress) {
   // Walk outwards from r0 in both directions so each shell starts from its neighbour.
   std::vector<double> down, up;
   for (double r : radii) (r <= r0 ? down : up).push_back(r);
@@ -14,6 +15,8 @@ std::vector<Island> kam_tubes(const Protocol& pr, const std::vector<PeriodicPoin
   std::sort(up.begin(), up.end());
 
   std::vector<Island> out;
+  const double shells = std::max<double>(radii.size(), 1);
+  double shells_done = 0;
   for (const auto* walk : {&down, &up}) {
     std::vector<PeriodicPoint> tracked;  // elliptic points continued to the current shell
     std::vector<int> origin;             // their index in `points`
@@ -40,12 +43,15 @@ std::vector<Island> kam_tubes(const Protocol& pr, const std::vector<PeriodicPoin
       }
       tracked = next;
       origin = next_origin;
-      for (auto isl : find_islands(map, tracked, opt.islands)) {
+      const Progress shell_progress = sub_progress(progress, shells_done / shells, 1 / shells);
+      for (auto isl : find_islands(map, tracked, opt.islands, shell_progress)) {
         isl.point = origin[isl.point];
         out.push_back(std::move(isl));
       }
+      ++shells_done;
     }
   }
+  report(progress, 1.0);
   return out;
 }
 

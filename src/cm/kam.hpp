@@ -17,7 +17,9 @@ struct KamOptions {
 // Islands on each shell of `radii`, continuing the elliptic points of `points` (found on shell
 // r0). A tube ends where its point stops converging or stops being elliptic. Island::point
 // indexes `points` (the r0 point the tube continues).
+// Progress counts shells.
 std::vector<Island> kam_tubes(const Protocol& pr, const std::vector<PeriodicPoint>& points,
-                              double r0, const std::vector<double>& radii, const KamOptions& opt);
+                              double r0, const std::vector<double>& radii, const KamOptions& opt,
+                              const Progress& progress = {});
 
 }  // namespace tumble::cm

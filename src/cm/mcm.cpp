@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "cm/exact_map.hpp"
 #include "cm/shell_chart.hpp"
@@ -48,19 +49,29 @@ Vec3 mcm_flow_z(const Vec3& p0, double t, double eps, double q, const DriftGrid&
   return p;
 }
 
-McmResult run_mcm(const Protocol& pr, const DriftGrid& grid, const McmOptions& opt) {
+McmResult run_mcm(const Protocol& pr, const DriftGrid& grid, const McmOptions& opt,
+                  const Progress& progress) {
   const ShellChart chart(opt.r, pr.eps);
   std::mt19937_64 rng(opt.seed);
   McmResult res;
   res.initial = chart.random_seeds(opt.tracers, rng);
   std::vector<Vec3> x = res.initial;
   const int last = std::max(opt.snapshot, opt.cumulative_to);
+  // Reserved whole: growing by doubling would need up to three times the records at a copy.
+  const std::size_t records = static_cast<std::size_t>(mcm_cumulative_records(opt)) * x.size();
+  res.cumulative.reserve(records);
+  res.cumulative_iteration.reserve(records);
   const auto phase = [&](Axis a, const Vec3& p) {
     const Vec3 f = to_frame(a, p);
     return to_lab(a, mcm_flow_z(f, pr.theta(a), pr.eps, chart.footprint(), grid, opt, rng));
   };
+  const double work = static_cast<double>(last) * x.size();
   for (int n = 1; n <= last; ++n) {
-    for (auto& p : x) p = phase(Axis::X, phase(Axis::Z, p));
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      x[k] = phase(Axis::X, phase(Axis::Z, x[k]));
+      if ((k & 255) == 255) report(progress, ((n - 1.0) * x.size() + k + 1) / work);
+    }
+    report(progress, n * static_cast<double>(x.size()) / work);
     if (n == opt.snapshot) res.snapshot = x;
     if (n >= opt.cumulative_from && n <= opt.cumulative_to &&
         (n - opt.cumulative_from) % std::max(opt.cumulative_stride, 1) == 0) {
@@ -71,11 +82,29 @@ McmResult run_mcm(const Protocol& pr, const DriftGrid& grid, const McmOptions& o
   return res;
 }
 
+int mcm_cumulative_records(const McmOptions& opt) {
+  if (opt.cumulative_to < opt.cumulative_from) return 0;
+  return (opt.cumulative_to - opt.cumulative_from) / std::max(opt.cumulative_stride, 1) + 1;
+}
+
+double mcm_memory_bytes(const McmOptions& opt) {
+  const double tracers = opt.tracers;
+  return tracers * (3 * sizeof(Vec3) + mcm_cumulative_records(opt) * (28.0 + 60.0));
+}
+
 double mcm_peclet(const DriftGrid& grid, const McmOptions& opt, double island_length) {
   const double v = opt.drift ? grid.mean_abs_v() : 0.0;
   const double d = std::pow(opt.c * grid.mean_sigma(), 2) * opt.dt_ref;
   if (d > 0) return island_length * v / d;
   return v > 0 ? INFINITY : NAN;  // no diffusion: drift wins; neither: undefined
+}
+
+std::string peclet_text(double peclet) {
+  if (std::isnan(peclet)) return "none";
+  if (std::isinf(peclet)) return peclet > 0 ? "infinite" : "-infinite";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", peclet);
+  return buf;
 }
 
 }  // namespace tumble::cm

@@ -14,9 +14,11 @@
 // of the paper's Peclet number, independent of the integration step.
 #include <cstdint>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "cm/drift_grid.hpp"
+#include "cm/progress.hpp"
 #include "cm/protocol.hpp"
 
 namespace tumble::cm {
@@ -45,9 +47,24 @@ struct McmResult {
 Vec3 mcm_flow_z(const Vec3& p, double t, double eps, double q, const DriftGrid& grid,
                 const McmOptions& opt, std::mt19937_64& rng);
 
-McmResult run_mcm(const Protocol& pr, const DriftGrid& grid, const McmOptions& opt);
+// Progress counts tracer-iterations.
+McmResult run_mcm(const Protocol& pr, const DriftGrid& grid, const McmOptions& opt,
+                  const Progress& progress = {});
 
-// Peclet number of Yu 2022 Sec. III B: Pe = L <|v_ax|> / ((c <sigma_ax>)^2 dt_ref).
+// Iterations recorded in McmResult::cumulative (cumulative_from ... cumulative_to, every
+// cumulative_stride-th).
+int mcm_cumulative_records(const McmOptions& opt);
+// Bytes run_mcm and write_mcm hold at their peak: per tracer 72 B (initial, current and snapshot
+// positions), and per tracer and recorded iteration 28 B kept (position, iteration) and 60 B of
+// the writer's copies (flat positions, chart points, iterations; counted together, as the
+// allocator need not give one back to the system before the next).
+double mcm_memory_bytes(const McmOptions& opt);
+
+// Peclet number of Yu 2022 Sec. III B: Pe = L <|v_ax|> / ((c <sigma_ax>)^2 dt_ref). It is +inf
+// with drift but no diffusion (c = 0 or sigma = 0), 0 with diffusion but no drift, and NaN
+// ("none") with neither: 0/0, no transport to compare.
 double mcm_peclet(const DriftGrid& grid, const McmOptions& opt, double island_length);
+// Pe as printed and stored in text: "none" (NaN), "infinite" (+inf), else %.4g.
+std::string peclet_text(double peclet);
 
 }  // namespace tumble::cm

@@ -125,11 +125,16 @@ void group_orbits(const SectionMap& map, std::vector<PeriodicPoint>& pts, double
 
 }  // namespace
 
-std::vector<PeriodicPoint> find_periodic_points(const SectionMap& map, const PeriodicSearch& opt) {
+std::vector<PeriodicPoint> find_periodic_points(const SectionMap& map, const PeriodicSearch& opt,
+                                                const Progress& progress) {
   std::vector<PeriodicPoint> found;
   const double rim = map.chart().outer();
+  const double starts = static_cast<double>(opt.grid) * opt.grid;
+  const double work = starts * opt.max_period * (opt.max_period + 1) / 2.0;
   for (int n = 1; n <= opt.max_period; ++n) {
+    const double before = starts * n * (n - 1) / 2.0;  // work of periods 1 .. n-1
     for (int i = 0; i < opt.grid; ++i) {
+      report(progress, (before + static_cast<double>(n) * i * opt.grid) / work);
       for (int j = 0; j < opt.grid; ++j) {
         const Vec2 guess(rim * (-1 + (2 * i + 1.0) / opt.grid),
                          rim * (-1 + (2 * j + 1.0) / opt.grid));
@@ -150,6 +155,7 @@ std::vector<PeriodicPoint> find_periodic_points(const SectionMap& map, const Per
       }
     }
   }
+  report(progress, 1.0);
   std::stable_sort(found.begin(), found.end(), [](const PeriodicPoint& a, const PeriodicPoint& b) {
     return a.period < b.period;
   });
@@ -158,6 +164,11 @@ std::vector<PeriodicPoint> find_periodic_points(const SectionMap& map, const Per
     return a.period != b.period ? a.period < b.period : a.orbit < b.orbit;
   });
   return found;
+}
+
+double periodic_search_memory_bytes(const PeriodicSearch& opt) {
+  const double most_points = static_cast<double>(opt.grid) * opt.grid * opt.max_period;
+  return most_points * (sizeof(PeriodicPoint) + 164);
 }
 
 }  // namespace tumble::cm

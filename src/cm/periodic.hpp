@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "cm/progress.hpp"
 #include "cm/section_map.hpp"
 
 namespace tumble::cm {
@@ -46,7 +47,15 @@ bool newton_periodic(const SectionMap& map, Vec2 guess, int n, const PeriodicSea
 // Jacobian, trace, type, rotation angle or eigen-directions of a found point.
 void classify(const SectionMap& map, PeriodicPoint& pt, const PeriodicSearch& opt);
 // All periodic points of minimal period 1..max_period found from the grid, classified and
-// grouped into orbits (sorted by period, then orbit).
-std::vector<PeriodicPoint> find_periodic_points(const SectionMap& map, const PeriodicSearch& opt);
+// grouped into orbits (sorted by period, then orbit). Progress counts Newton starts, weighted by
+// their period (a start of period n maps n periods per Newton step).
+std::vector<PeriodicPoint> find_periodic_points(const SectionMap& map, const PeriodicSearch& opt,
+                                                const Progress& progress = {});
+
+// Bytes find_periodic_points and write_orbits may hold for the points found: at most one new
+// point per Newton start and period (grid^2 x max_period; far fewer in practice), each kept as a
+// PeriodicPoint and copied once more into the writer's columns (~164 B). An upper bound, so that
+// a search that cannot fit is refused before it starts.
+double periodic_search_memory_bytes(const PeriodicSearch& opt);
 
 }  // namespace tumble::cm

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cm/progress.hpp"
 #include "cm/protocol.hpp"
 #include "cm/shell_chart.hpp"
 
@@ -34,6 +35,16 @@ struct PoincareSet {
   std::vector<std::int64_t> layer_seed, layer_period;
 };
 
-std::vector<PoincareSet> poincare_section(const Protocol& pr, const PoincareOptions& opt);
+std::vector<PoincareSet> poincare_section(const Protocol& pr, const PoincareOptions& opt,
+                                          const Progress& progress = {});
+
+// Bytes poincare_section and write_poincare hold at their peak, so that a run that cannot fit is
+// refused before it starts. Per iterate: 32 B reserved for a bulk iterate (chart point, seed,
+// period) and the 16 B copy the writer makes of its chart point; for a layer iterate, 56 B
+// (position, chart point, seed, period) doubled for vector growth and 40 B of writer's copies,
+// times the layer's share of the shell's invariant measure (the chart's ring: iterates of a long
+// orbit visit the layer in that proportion). The writer's copies are counted together: the
+// allocator need not give freed blocks back to the system before the next. Seeds: 24 B each.
+double poincare_memory_bytes(const Protocol& pr, const PoincareOptions& opt);
 
 }  // namespace tumble::cm

@@ -5,6 +5,18 @@
 
 namespace tumble::cm {
 
+const char* to_string(FlowModel m) {
+  switch (m) {
+    case FlowModel::Exact:
+      return "exact";
+    case FlowModel::Integrated:
+      return "integrated";
+    case FlowModel::Pwi:
+      return "pwi";
+  }
+  return "?";
+}
+
 Protocol Protocol::degrees(double theta_z_deg, double theta_x_deg, double eps, FlowModel model) {
   return {theta_z_deg * kPi / 180.0, theta_x_deg * kPi / 180.0, eps, model};
 }

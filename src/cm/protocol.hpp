@@ -17,6 +17,7 @@ namespace tumble::cm {
 
 enum class Axis { Z, X };
 enum class FlowModel { Exact, Integrated, Pwi };
+const char* to_string(FlowModel m);  // "exact", "integrated", "pwi" (the --model names)
 
 struct Protocol {
   double theta_z = 0, theta_x = 0;  // radians; a rotation by theta lasts t = theta

@@ -68,3 +68,28 @@ TEST(CmIo, PoincareFileSeparatesBulkAndLayer) {
 }
 
 }  // namespace
+
+namespace {
+using namespace tumble::cm;
+
+// The estimate a Poincaré run is refused by covers what the section holds (bulk reserved, layer
+// grown by doubling) for a shell whose layer share is large (r near eps) and a usual one.
+TEST(CmIo, PoincareMemoryEstimateCoversTheSection) {
+  const Protocol pr = Protocol::degrees(57, 57);
+  for (double r : {0.95, 0.3}) {
+    PoincareOptions opt;
+    opt.r = r;
+    opt.seeds = 40;
+    opt.periods = 300;
+    double held = 0;
+    for (const auto& s : poincare_section(pr, opt))
+      held += s.seeds.capacity() * sizeof(Vec3) + s.bulk.capacity() * sizeof(Vec2) +
+              (s.bulk_seed.capacity() + s.bulk_period.capacity()) * 8 +
+              s.layer.capacity() * sizeof(Vec3) + s.layer_chart.capacity() * sizeof(Vec2) +
+              (s.layer_seed.capacity() + s.layer_period.capacity()) * 8;
+    EXPECT_GE(poincare_memory_bytes(pr, opt), held) << "r = " << r;
+    EXPECT_LE(poincare_memory_bytes(pr, opt), 4 * held) << "r = " << r;
+  }
+}
+
+}  // namespace

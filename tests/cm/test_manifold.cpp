@@ -66,3 +66,43 @@ TEST_F(Manifold57, StableManifoldPointsConvergeForwardInTime) {
 }
 
 }  // namespace
+
+namespace {
+
+// --max-points bounds the whole manifold (all iterations together), so its memory is known before
+// a run: a strongly stretching manifold stops before the iteration that would exceed it, even
+// when one gap alone would (|lambda|^k growth).
+TEST_F(Manifold57, MaxPointsBoundsTheWholeManifold) {
+  mopt.iterations = 14;
+  mopt.max_points = 3000;
+  const Manifold m = trace_manifold(map, h, true, mopt);
+  EXPECT_TRUE(m.truncated);
+  EXPECT_LE(m.xyz.size(), mopt.max_points);
+  EXPECT_EQ(m.chart.size(), m.xyz.size());
+  EXPECT_GE(m.iterations_done, 2);
+  EXPECT_LT(m.iterations_done, mopt.iterations);
+  EXPECT_EQ(m.iteration.back(), m.iterations_done);
+  // One more iteration would not have fit.
+  mopt.iterations = m.iterations_done + 1;
+  mopt.max_points = 100000000;
+  const Manifold more = trace_manifold(map, h, true, mopt);
+  EXPECT_GT(more.xyz.size(), 3000u);
+  // The estimate covers what the manifold holds (vectors grow by doubling).
+  const double held = m.xyz.capacity() * sizeof(Vec3) + m.chart.capacity() * sizeof(Vec2) +
+                      m.iteration.capacity() * sizeof(int) + m.param.capacity() * sizeof(double);
+  mopt.max_points = 3000;
+  EXPECT_GE(manifold_memory_bytes(mopt), held);
+}
+
+// Progress goes from 0 to 1 without going back.
+TEST_F(Manifold57, ProgressIsMonotoneAndEndsAtOne) {
+  std::vector<double> seen;
+  mopt.iterations = 5;
+  trace_manifold(map, h, false, mopt, [&](double d) { seen.push_back(d); });
+  ASSERT_FALSE(seen.empty());
+  for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GE(seen[i], seen[i - 1]);
+  EXPECT_GE(seen.front(), 0.0);
+  EXPECT_EQ(seen.back(), 1.0);
+}
+
+}  // namespace

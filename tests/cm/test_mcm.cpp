@@ -1,6 +1,7 @@
 // The modified continuum model (Yu 2022 Sec. III B, App. A).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "cm/exact_map.hpp"
@@ -103,6 +104,52 @@ TEST(Mcm, Protocol57DriftFillsTheIslands) {
   EXPECT_GT(d1.peclet, 50);
   EXPECT_LT(d20.peclet, 1);
   EXPECT_NEAR(d1.peclet / d20.peclet, 400, 1e-9);  // Pe ~ 1/c^2
+}
+
+}  // namespace
+
+namespace {
+using namespace tumble::cm;
+
+// Pe with neither drift nor diffusion is 0/0: "none", never "nan"; drift alone is infinite;
+// diffusion alone is 0 (docs/cm.md, Sec. 5).
+TEST(Mcm, PecletWithoutTransportIsNoneNotNan) {
+  const DriftGrid grid = synthetic_drift({});
+  McmOptions opt;
+  opt.drift = false;
+  opt.c = 0;
+  const double none = mcm_peclet(grid, opt, 0.143);
+  EXPECT_TRUE(std::isnan(none));
+  EXPECT_EQ(peclet_text(none), "none");
+  opt.drift = true;
+  const double drift_only = mcm_peclet(grid, opt, 0.143);
+  EXPECT_TRUE(std::isinf(drift_only));
+  EXPECT_EQ(peclet_text(drift_only), "infinite");
+  opt.drift = false;
+  opt.c = 1;
+  EXPECT_EQ(mcm_peclet(grid, opt, 0.143), 0.0);
+  EXPECT_EQ(peclet_text(0.0), "0");
+  EXPECT_EQ(peclet_text(106.1234), "106.1");
+}
+
+// The cumulative records are reserved whole, and the memory estimate covers what a run keeps.
+TEST(Mcm, MemoryEstimateCoversTheRecordedPositions) {
+  const Protocol pr = Protocol::degrees(57, 57);
+  McmOptions opt;
+  opt.tracers = 300;
+  opt.snapshot = 4;
+  opt.cumulative_from = 1;
+  opt.cumulative_to = 7;
+  opt.cumulative_stride = 2;  // iterations 1, 3, 5, 7
+  ASSERT_EQ(mcm_cumulative_records(opt), 4);
+  const auto res = run_mcm(pr, synthetic_drift({}), opt);
+  ASSERT_EQ(res.cumulative.size(), 4u * 300u);
+  EXPECT_EQ(res.cumulative.capacity(), res.cumulative.size());  // no growth slack
+  const double kept = sizeof(Vec3) * (res.initial.capacity() + res.snapshot.capacity() +
+                                      res.cumulative.capacity() + opt.tracers) +
+                      sizeof(int) * res.cumulative_iteration.capacity();
+  EXPECT_GE(mcm_memory_bytes(opt), kept);
+  EXPECT_LE(mcm_memory_bytes(opt), 3 * kept);  // an estimate, not a blanket refusal
 }
 
 }  // namespace
