@@ -57,6 +57,15 @@ def protocol_title(f):
         f.attrs["theta_z_deg"], f.attrs["theta_x_deg"], f.attrs["eps"], f.attrs["r"])
 
 
+def peclet_text(pe):
+    """Pe as `tumble cm mcm` prints it: NaN (neither drift nor diffusion) is "none"."""
+    if np.isnan(pe):
+        return "none"
+    if np.isinf(pe):
+        return "infinite"
+    return "%.3g" % pe
+
+
 def overlay(ax, orbits, r, with_points=True):
     if not orbits:
         return
@@ -128,9 +137,10 @@ def cmd_mcm(a):
             ax.plot(c[:, 0], c[:, 1], ".", ms=1.5, color="tab:blue")
             frame(ax, f, label)
             overlay(ax, a.orbits, f.attrs["r"], with_points=False)
-        fig.suptitle("MCM %s, c = %g, drift %s: in islands %.3f (island area %.3f), Pe = %.3g" % (
+        fig.suptitle("MCM %s, c = %g, drift %s: in islands %.3f (island area %.3f), Pe = %s" % (
             protocol_title(f), f.attrs["c"], "on" if f.attrs["drift"] else "off",
-            f.attrs["bulk_inside_fraction"], f.attrs["island_bulk_area_fraction"], f.attrs["peclet"]))
+            f.attrs["bulk_inside_fraction"], f.attrs["island_bulk_area_fraction"],
+            peclet_text(f.attrs["peclet"])))
     fig.tight_layout()
     fig.savefig(a.output, dpi=a.dpi)
 

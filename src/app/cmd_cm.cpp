@@ -1,6 +1,7 @@
 // `tumble cm poincare|orbits|manifolds|mcm|drift`: the continuum model (docs/cm.md). Thin: parse,
-// validate every option against its allowed range before any work, call src/cm, say where the
-// results went.
+// validate every option against its allowed range, every input file against this run's protocol
+// and the memory the run's arrays need against what is available, all before any work; call
+// src/cm with a progress line for long runs; say where the results went.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,10 +13,14 @@
 #include <vector>
 
 #include "app/commands.hpp"
+#include "app/progress_line.hpp"
+#include "base/error.hpp"
 #include "base/memory.hpp"
 #include "cm/cm_io.hpp"
+#include "cm/file_protocol.hpp"
 #include "cm/kam.hpp"
 #include "cm/mcm_summary.hpp"
+#include "h5/hdf5_file.hpp"
 
 namespace tumble::app {
 namespace {
@@ -31,15 +36,85 @@ void require(bool ok, const std::string& option, const std::string& allowed, T v
   throw CLI::ValidationError(option, msg.str());
 }
 
-// Refuses a run whose arrays would not fit in the machine's available memory, before they are
-// allocated (a reservation of that size ends in std::bad_alloc, or in swapping for hours).
-// `options` names what sets the size; `what` says what is stored.
-void require_memory(double bytes, const std::string& options, const std::string& what) {
-  const double avail = available_memory_bytes();
-  if (avail <= 0 || bytes <= avail) return;
-  throw CLI::ValidationError(options, "need about " + format_bytes(bytes) + " for " + what +
-                                          ", more than the " + format_bytes(avail) +
-                                          " available on this machine");
+// What a run's arrays need: bytes, the options that set them, what is stored.
+struct Need {
+  double bytes;
+  std::string keys, what;
+};
+
+// Options every subcommand shares: the memory a run may use and how often it says how far it is.
+struct RunArgs {
+  std::string max_memory;
+  double progress_interval = 10;
+
+  void add(CLI::App* cmd) {
+    cmd->add_option("--max-memory", max_memory,
+                    "refuse a run estimated to need more memory than this (e.g. 2G; default: "
+                    "the machine's available memory)");
+    cmd->add_option("--progress-interval", progress_interval,
+                    "seconds between progress lines of a long run (0: none)");
+  }
+  void validate() const {
+    require(progress_interval >= 0 && progress_interval <= 1e6, "--progress-interval",
+            "in [0, 1e6] seconds", progress_interval);
+  }
+
+  // Refuses a run whose arrays would not fit in --max-memory or the machine's available memory,
+  // before they are allocated (a reservation of that size ends in std::bad_alloc, or in swapping
+  // for hours). The message gives the estimate, its parts and the options to lower.
+  void require_memory(const std::vector<Need>& needs) const {
+    double limit = 0;
+    std::string origin;
+    if (!max_memory.empty()) {
+      limit = parse_memory_size(max_memory, "--max-memory");
+      origin = "--max-memory " + max_memory;
+    } else {
+      limit = available_memory_bytes();
+      origin = "the " + format_bytes(limit) + " available on this machine";
+    }
+    double total = 0;
+    for (const auto& n : needs) total += n.bytes;
+    if (limit <= 0 || total <= limit) return;
+    const Need& largest = *std::max_element(
+        needs.begin(), needs.end(), [](const Need& a, const Need& b) { return a.bytes < b.bytes; });
+    std::string parts;
+    for (const auto& n : needs)
+      if (n.bytes >= 0.01 * total)
+        parts += (parts.empty() ? "" : "; ") + format_bytes(n.bytes) + " for " + n.what;
+    if (needs.size() == 1) parts = "for " + needs[0].what;
+    throw CLI::ValidationError(largest.keys, "need about " + format_bytes(total) + " (" + parts +
+                                                 "), more than " + origin + "; lower " +
+                                                 largest.keys);
+  }
+};
+
+// A file given as input must exist before any work is done (bad input, exit 2).
+void require_file(const std::string& path, const std::string& option) {
+  if (!std::filesystem::exists(path)) throw InputError(option + " '" + path + "': no such file");
+  if (!std::filesystem::is_regular_file(path))
+    throw InputError(option + " '" + path + "' is not a file (a directory?)");
+}
+
+// The drift grid of --drift. A file that is no HDF5 or lacks the grid's datasets is the wrong
+// file (bad input, exit 2), like a grid with a bad cell (read_drift_grid); a grid whose data fail
+// their checksums is a damaged file (exit 3).
+DriftGrid read_drift_file(const std::string& path) {
+  require_file(path, "--drift");
+  bool grid = false;
+  try {
+    const io::H5File f(path, io::H5File::Mode::Read);
+    grid = f.exists("/v_ax") && f.exists("/sigma_ax");
+  } catch (const std::exception& e) {
+    throw InputError("--drift '" + path + "' cannot be read as HDF5: " + e.what());
+  }
+  if (!grid)
+    throw InputError("--drift '" + path +
+                     "' is not a drift grid: it has no /v_ax and /sigma_ax (docs/cm.md)");
+  return read_drift_grid(path);
+}
+
+void warn(const std::string& text) {
+  if (!text.empty()) std::fprintf(stderr, "tumble: warning: %s\n", text.c_str());
 }
 
 std::string tag(double a, double b) {
@@ -101,6 +176,7 @@ void print_points(const std::vector<PeriodicPoint>& pts, int max_period) {
 void register_poincare(CLI::App& cm) {
   struct Args {
     ProtocolArgs proto;
+    RunArgs run;
     PoincareOptions opt;
     std::string seeding = "shell", phase = "first", out;
   };
@@ -114,6 +190,7 @@ void register_poincare(CLI::App& cm) {
   cmd->add_option("--seed-phase", args->phase,
                   "seed at the start of the first | second rotation, or both (Fig. 12(a))");
   cmd->add_option("-o,--output", args->out, "HDF5 output (default results/cm/poincare_TZ_TX.h5)");
+  args->run.add(cmd);
   cmd->callback([args] {
     const Protocol pr = args->proto.validate();
     auto& o = args->opt;
@@ -124,19 +201,19 @@ void register_poincare(CLI::App& cm) {
             "shell or interface", args->seeding);
     require(args->phase == "first" || args->phase == "second" || args->phase == "both",
             "--seed-phase", "first, second or both", args->phase);
+    args->run.validate();
     o.seeding = args->seeding == "shell" ? Seeding::Shell : Seeding::Interface;
     o.first_rotation = args->phase != "second";
     o.second_rotation = args->phase != "first";
-    // poincare_section reserves seeds x periods iterates per seed set (chart point, seed, period).
-    const double n_sets = (o.first_rotation ? 1.0 : 0.0) + (o.second_rotation ? 1.0 : 0.0);
-    require_memory(n_sets * o.seeds * static_cast<double>(o.periods) * (sizeof(Vec2) + 16),
-                   "--seeds x --periods", "the iterates of the section");
+    args->run.require_memory({{poincare_memory_bytes(pr, o), "--seeds or --periods",
+                               "the iterates of the section (seed sets x --seeds x --periods)"}});
     const std::string out =
         args->out.empty()
             ? "results/cm/poincare_" + tag(args->proto.theta_z, args->proto.theta_x) + ".h5"
             : args->out;
     prepare_output(out);
-    const auto sets = poincare_section(pr, o);
+    ProgressLine progress("cm poincare", args->run.progress_interval);
+    const auto sets = poincare_section(pr, o, progress.stage("iterating the seeds"));
     write_poincare(out, pr, o, sets);
     for (const auto& s : sets)
       std::printf("%s rotation seeds: %zu bulk and %zu layer iterates\n", s.name.c_str(),
@@ -165,11 +242,25 @@ struct OrbitArgs {
     require(islands.final_iterations >= 50 && islands.final_iterations <= 1000000,
             "--boundary-iterations", "in [50, 1e6]", islands.final_iterations);
   }
+  // What the periodic-point search and the island search hold (upper bounds).
+  Need search_need() const {
+    return {periodic_search_memory_bytes(search), "--grid or --max-period",
+            "the periodic points (at most one per Newton start: --grid^2 x --max-period)"};
+  }
+  Need island_need() const {
+    return {island_memory_bytes(islands), "--island-iterations or --boundary-iterations",
+            "an island test orbit"};
+  }
+  std::string search_stage() const {
+    return "periodic points, period <= " + std::to_string(search.max_period) + ", grid " +
+           std::to_string(search.grid);
+  }
 };
 
 void register_orbits(CLI::App& cm) {
   struct Args {
     ProtocolArgs proto;
+    RunArgs run;
     OrbitArgs orbits;
     double r = 0.95;
     std::vector<double> kam = default_kam_radii();
@@ -186,21 +277,28 @@ void register_orbits(CLI::App& cm) {
       ->delimiter(',');
   cmd->add_flag("--no-kam", args->no_kam, "islands on the shell --r only");
   cmd->add_option("-o,--output", args->out, "HDF5 output (default results/cm/orbits_TZ_TX.h5)");
+  args->run.add(cmd);
   cmd->callback([args] {
     const Protocol pr = args->proto.validate();
     check_radius(args->r, pr);
     args->orbits.validate();
+    args->run.validate();
     if (args->no_kam) args->kam.clear();
     for (double r : args->kam)
       require(r > pr.layer_eps() && r < 1, "--kam-radii", "in (eps, 1)", r);
+    args->run.require_memory({args->orbits.search_need(), args->orbits.island_need()});
     const std::string out =
         args->out.empty()
             ? "results/cm/orbits_" + tag(args->proto.theta_z, args->proto.theta_x) + ".h5"
             : args->out;
     prepare_output(out);
+    ProgressLine progress("cm orbits", args->run.progress_interval);
     const SectionMap map(pr, ShellChart(args->r, pr.layer_eps()));
-    const auto points = find_periodic_points(map, args->orbits.search);
-    auto islands = find_islands(map, points, args->orbits.islands);
+    const auto points =
+        find_periodic_points(map, args->orbits.search, progress.stage(args->orbits.search_stage()));
+    std::ostringstream shell;
+    shell << "islands on r = " << args->r;
+    auto islands = find_islands(map, points, args->orbits.islands, progress.stage(shell.str()));
     std::printf("periodic points on r = %g:\n", args->r);
     print_points(points, args->orbits.search.max_period);
     std::printf("islands on r = %g: %zu, covering %.4f of the bulk (view from below)\n", args->r,
@@ -210,7 +308,8 @@ void register_orbits(CLI::App& cm) {
       if (std::abs(r - args->r) > 1e-9) kam.push_back(r);
     if (!kam.empty()) {
       const auto tubes =
-          kam_tubes(pr, points, args->r, kam, {args->orbits.search, args->orbits.islands});
+          kam_tubes(pr, points, args->r, kam, {args->orbits.search, args->orbits.islands},
+                    progress.stage("KAM tubes on " + std::to_string(kam.size()) + " shells"));
       std::printf("KAM-tube islands on %zu other shells: %zu\n", kam.size(), tubes.size());
       islands.insert(islands.end(), tubes.begin(), tubes.end());
     }
@@ -222,6 +321,7 @@ void register_orbits(CLI::App& cm) {
 void register_manifolds(CLI::App& cm) {
   struct Args {
     ProtocolArgs proto;
+    RunArgs run;
     OrbitArgs orbits;
     ManifoldOptions opt;
     double r = 0.95;
@@ -234,17 +334,22 @@ void register_manifolds(CLI::App& cm) {
   cmd->add_option("--r", args->r, "shell radius");
   args->orbits.search.max_period = 3;
   args->orbits.add(cmd);
-  cmd->add_option("--orbits", args->orbits_file, "read the periodic points from this orbits file");
+  cmd->add_option("--orbits", args->orbits_file,
+                  "read the periodic points from this orbits file (same protocol and --r)");
   cmd->add_option("--kind", args->which, "stable | unstable | both");
   cmd->add_option("--iterations", args->opt.iterations, "protocol iterations");
   cmd->add_option("--length", args->opt.length, "initial segment length (R)");
   cmd->add_option("--spacing", args->opt.spacing, "re-insertion distance (R)");
-  cmd->add_option("--max-points", args->opt.max_points, "points per manifold before stopping");
+  cmd->add_option("--max-points", args->opt.max_points,
+                  "points recorded per manifold, all iterations together; tracing stops before "
+                  "an iteration that would exceed them");
   cmd->add_option("-o,--output", args->out, "HDF5 output (default results/cm/manifolds_TZ_TX.h5)");
+  args->run.add(cmd);
   cmd->callback([args] {
     const Protocol pr = args->proto.validate();
     check_radius(args->r, pr);
     args->orbits.validate();
+    args->run.validate();
     auto& o = args->opt;
     require(args->which == "stable" || args->which == "unstable" || args->which == "both", "--kind",
             "stable, unstable or both", args->which);
@@ -253,41 +358,86 @@ void register_manifolds(CLI::App& cm) {
     require(o.spacing > 0 && o.spacing < o.length, "--spacing", "in (0, length)", o.spacing);
     require(o.max_points >= 100 && o.max_points <= 100000000, "--max-points", "in [100, 1e8]",
             o.max_points);
+    if (!args->orbits_file.empty()) {
+      std::string warning;
+      const FileProtocol fp = require_orbits_file_of(args->orbits_file, "--orbits", pr, &warning);
+      warn(warning);
+      // The points' chart coordinates belong to the shell they were found on.
+      if (fp.r && std::abs(*fp.r - args->r) > 1e-9) {
+        std::ostringstream msg;
+        msg << "--orbits '" << args->orbits_file
+            << "' holds the periodic points of the shell r = " << *fp.r << ", this run's --r is "
+            << args->r << ": give --r " << *fp.r << " or the orbits file of r = " << args->r;
+        throw InputError(msg.str());
+      }
+    }
+    // Manifolds are traced and written one at a time (ManifoldsWriter): one is in memory.
+    std::vector<Need> needs{{manifold_memory_bytes(o), "--max-points", "one manifold's points"}};
+    if (args->orbits_file.empty()) needs.push_back(args->orbits.search_need());
+    args->run.require_memory(needs);
     const std::string out =
         args->out.empty()
             ? "results/cm/manifolds_" + tag(args->proto.theta_z, args->proto.theta_x) + ".h5"
             : args->out;
     prepare_output(out);
+    ProgressLine progress("cm manifolds", args->run.progress_interval);
     const SectionMap map(pr, ShellChart(args->r, pr.layer_eps()));
-    const auto points = args->orbits_file.empty() ? find_periodic_points(map, args->orbits.search)
-                                                  : read_periodic_points(args->orbits_file);
-    std::vector<Manifold> ms;
+    const auto points = args->orbits_file.empty()
+                            ? find_periodic_points(map, args->orbits.search,
+                                                   progress.stage(args->orbits.search_stage()))
+                            : read_periodic_points(args->orbits_file);
+    // One point per orbit: the manifolds of the others are its images under P.
+    std::vector<std::size_t> traced;
     std::vector<int> done_orbit;
     for (std::size_t i = 0; i < points.size(); ++i) {
       const auto& h = points[i];
       if (h.type != Stability::Hyperbolic) continue;
-      // One point per orbit: the manifolds of the others are its images under P.
       if (std::find(done_orbit.begin(), done_orbit.end(), h.orbit) != done_orbit.end()) continue;
       done_orbit.push_back(h.orbit);
+      traced.push_back(i);
+    }
+    const int kinds = args->which == "both" ? 2 : 1;
+    const std::size_t total = traced.size() * kinds;
+    ManifoldsWriter writer(out, pr, args->r, points);
+    std::size_t count = 0;
+    for (std::size_t i : traced) {
+      const auto& h = points[i];
       for (bool unstable : {true, false}) {
         if ((unstable && args->which == "stable") || (!unstable && args->which == "unstable"))
           continue;
-        auto m = trace_manifold(map, h, unstable, o);
+        ++count;
+        const std::string name = "manifold " + std::to_string(count) + "/" + std::to_string(total) +
+                                 " (" + (unstable ? "unstable" : "stable") + ", period-" +
+                                 std::to_string(h.period) + " point " + std::to_string(i) + ")";
+        auto m = trace_manifold(map, h, unstable, o, progress.stage(name));
         m.point = static_cast<int>(i);
         std::printf("  period-%d point %zu: %s manifold, %zu points over %d iterations%s\n",
                     h.period, i, unstable ? "unstable" : "stable", m.xyz.size(), m.iterations_done,
                     m.truncated ? " (stopped at --max-points)" : "");
-        ms.push_back(std::move(m));
+        writer.add(m);
       }
     }
-    write_manifolds(out, pr, args->r, points, ms);
+    writer.commit();
     std::printf("wrote %s\n", out.c_str());
   });
+}
+
+// Pe as a sentence: "none" and "infinite" say why (mcm.hpp, mcm_peclet).
+std::string peclet_line(const McmSummary& s) {
+  char buf[160];
+  if (std::isnan(s.peclet))
+    return "Pe = none (neither drift nor diffusion: no drift, and c = 0 or sigma_ax = 0)";
+  if (std::isinf(s.peclet)) return "Pe = infinite (drift without diffusion: c = 0 or sigma_ax = 0)";
+  if (s.peclet == 0) return "Pe = 0 (diffusion without drift)";
+  std::snprintf(buf, sizeof buf, "Pe = L<|v_ax|>/((c sigma)^2 dt_ref) = %s  (L = %.4g R)",
+                peclet_text(s.peclet).c_str(), s.island_length);
+  return buf;
 }
 
 void register_mcm(CLI::App& cm) {
   struct Args {
     ProtocolArgs proto;
+    RunArgs run;
     OrbitArgs orbits;
     McmOptions opt;
     std::string drift = "synthetic", islands_file, out;
@@ -316,14 +466,17 @@ void register_mcm(CLI::App& cm) {
   cmd->add_option("--dt-ref", args->opt.dt_ref, "diffusion time step of the paper (1/omega)");
   cmd->add_option("--seed", args->opt.seed, "random seed");
   cmd->add_option("--islands", args->islands_file,
-                  "orbits file with the CM islands (default: computed on the shell --r)");
+                  "orbits file with the CM islands of this protocol and shell (default: computed "
+                  "on the shell --r)");
   cmd->add_option("--island-length", args->island_length, "L_island of the Peclet number (R)");
   cmd->add_option("-o,--output", args->out, "HDF5 output (default results/cm/mcm_TZ_TX_cC.h5)");
+  args->run.add(cmd);
   cmd->callback([args] {
     const Protocol pr = args->proto.validate();
     auto& o = args->opt;
     check_radius(o.r, pr);
     args->orbits.validate();
+    args->run.validate();
     require(o.tracers >= 1 && o.tracers <= 10000000, "--tracers", "in [1, 1e7]", o.tracers);
     require(o.c >= 0 && o.c <= 1000, "--c", "in [0, 1000]", o.c);
     require(o.snapshot >= 0 && o.snapshot <= 100000, "--snapshot", "in [0, 1e5]", o.snapshot);
@@ -337,15 +490,35 @@ void register_mcm(CLI::App& cm) {
             args->island_length);
     o.cumulative_from = args->cumulative[0];
     o.cumulative_to = args->cumulative[1];
-    // Every tracer's position at each recorded iteration (and the iteration), plus the initial
-    // and snapshot positions.
-    const double records =
-        std::floor((o.cumulative_to - o.cumulative_from) / o.cumulative_stride) + 1.0;
-    require_memory(o.tracers * (records * (sizeof(Vec3) + sizeof(int)) + 2.0 * sizeof(Vec3)),
-                   "--tracers x --cumulative / --stride", "the recorded tracer positions");
     o.drift = !args->no_drift;
+    // Input files before any work: the drift grid (checked cell by cell, at most 16 MB) and
+    // the islands, which must be of this protocol and have this shell.
     const DriftGrid grid =
-        args->drift == "synthetic" ? synthetic_drift({}) : read_drift_grid(args->drift);
+        args->drift == "synthetic" ? synthetic_drift({}) : read_drift_file(args->drift);
+    std::vector<Island> islands;
+    if (!args->islands_file.empty()) {
+      std::string warning;
+      const FileProtocol fp = require_orbits_file_of(args->islands_file, "--islands", pr, &warning);
+      warn(warning);
+      const auto shells = island_shells(args->islands_file, fp);
+      if (!shells.empty() && std::none_of(shells.begin(), shells.end(),
+                                          [&](double r) { return std::abs(r - o.r) < 1e-9; })) {
+        std::ostringstream msg;
+        msg << "--islands '" << args->islands_file << "' has islands on the shells r =";
+        for (double r : shells) msg << " " << r;
+        msg << " only, this run's --r is " << o.r
+            << ": give one of those with --r, or compute the orbits of r = " << o.r;
+        throw InputError(msg.str());
+      }
+      islands = islands_on_shell(read_islands(args->islands_file), o.r);
+    }
+    std::vector<Need> needs{{mcm_memory_bytes(o), "--tracers, --cumulative or --stride",
+                             "the tracer positions (--tracers x recorded iterations)"}};
+    if (args->islands_file.empty()) {
+      needs.push_back(args->orbits.search_need());
+      needs.push_back(args->orbits.island_need());
+    }
+    args->run.require_memory(needs);
     std::ostringstream c;
     c << o.c;
     const std::string out =
@@ -353,23 +526,24 @@ void register_mcm(CLI::App& cm) {
                                 "_c" + c.str() + (o.drift ? "" : "_nodrift") + ".h5"
                           : args->out;
     prepare_output(out);
+    ProgressLine progress("cm mcm", args->run.progress_interval);
     const ShellChart chart(o.r, pr.layer_eps());
-    std::vector<Island> islands;
     if (args->islands_file.empty()) {
       const SectionMap map(pr, chart);
-      islands =
-          find_islands(map, find_periodic_points(map, args->orbits.search), args->orbits.islands);
-    } else {
-      islands = islands_on_shell(read_islands(args->islands_file), o.r);
+      const auto points = find_periodic_points(map, args->orbits.search,
+                                               progress.stage(args->orbits.search_stage()));
+      islands = find_islands(map, points, args->orbits.islands, progress.stage("islands"));
     }
-    const auto res = run_mcm(pr, grid, o);
+    const int last = std::max(o.snapshot, o.cumulative_to);
+    const auto res = run_mcm(pr, grid, o,
+                             progress.stage(std::to_string(o.tracers) + " tracers x " +
+                                            std::to_string(last) + " iterations"));
     const auto s = summarize_mcm(chart, islands, grid, o, res, args->island_length);
     write_mcm(out, pr, o, grid, res, s);
     std::printf("drift grid: %s%s, <|v_ax|> = %.4g, <sigma_ax> = %.4g (units omega R)\n",
                 grid.source.c_str(), o.drift ? "" : " (drift off)", grid.mean_abs_v(),
                 grid.mean_sigma());
-    std::printf("Pe = L<|v_ax|>/((c sigma)^2 dt_ref) = %.4g  (L = %.4g R)\n", s.peclet,
-                s.island_length);
+    std::printf("%s\n", peclet_line(s).c_str());
     std::printf("islands: %zu, %.4f of the bulk area\n", islands.size(), s.bulk_area_fraction);
     std::printf(
         "tracers in islands at N = %d: %.4f of %lld bulk tracers (initially %.4f); "
@@ -384,6 +558,7 @@ void register_mcm(CLI::App& cm) {
 void register_drift(CLI::App& cm) {
   struct Args {
     SyntheticDrift sd;
+    RunArgs run;
     std::string out = "results/cm/drift_synthetic.h5";
   };
   auto args = std::make_shared<Args>();
@@ -395,14 +570,18 @@ void register_drift(CLI::App& cm) {
   cmd->add_option("--sigma", args->sd.sigma, "sigma_ax (omega R)");
   cmd->add_option("--eps", args->sd.eps, "flowing-layer depth (sets the transit time pi eps)");
   cmd->add_option("-o,--output", args->out, "HDF5 output");
+  cmd->add_option("--max-memory", args->run.max_memory,
+                  "refuse a grid estimated to need more memory than this (e.g. 2G; default: the "
+                  "machine's available memory)");
   cmd->callback([args] {
     const auto& s = args->sd;
-    require(s.n >= 2 && s.n <= 1000, "--n", "in [2, 1000]", s.n);
+    require(s.n >= 2 && s.n <= kMaxDriftGridN, "--n", "in [2, 1000]", s.n);
     require(s.drift_per_pass >= 0 && s.drift_per_pass <= 0.5, "--drift-per-pass", "in [0, 0.5]",
             s.drift_per_pass);
     require(s.z_reversal > 0 && s.z_reversal <= 2, "--z-reversal", "in (0, 2]", s.z_reversal);
     require(s.sigma >= 0 && s.sigma <= 100, "--sigma", "in [0, 100]", s.sigma);
     require(s.eps > 0 && s.eps <= 0.5, "--eps", "in (0, 0.5]", s.eps);
+    args->run.require_memory({{drift_grid_memory_bytes(s.n), "--n", "the n x n grid"}});
     prepare_output(args->out);
     const auto grid = synthetic_drift(s);
     write_drift_grid(args->out, grid);

@@ -4,7 +4,8 @@
 Each row of bad_inputs.tsv is one command line that Tumble must refuse before any work: the exit
 code it must end with (src/base/exit_codes.hpp: 2 = bad input) and a word its message must hold.
 Placeholders in a row: {scenes} (the shipped scenes), {fx} (fixture files this script writes:
-empty and comment-only scenes, bad campaigns, directories; see FIXTURES). A row is
+empty and comment-only scenes, bad campaigns, directories, see FIXTURES; and files tumble writes
+for it, orbits files of two protocols, see TUMBLE_FIXTURES). A row is
 
   refused as expected  the exit code and the word match;
   crash                killed by a signal, an uncaught C++ exception (std::bad_alloc,
@@ -79,6 +80,24 @@ FIXTURES = {
 }
 
 
+# name -> the tumble command that writes it (OUT: its path): input files only Tumble makes, such
+# as the orbits files of two protocols for the `cm --islands/--orbits` protocol checks.
+TUMBLE_FIXTURES = {
+    "orbits_57.h5": "cm orbits --theta-z 57 --theta-x 57 --max-period 1 --grid 8 --no-kam -o OUT",
+    "orbits_68.h5": "cm orbits --theta-z 68 --theta-x 68 --max-period 1 --grid 8 --no-kam -o OUT",
+    "mcm_57.h5": "cm mcm --theta-z 57 --theta-x 57 --islands {fx}/orbits_57.h5 --tracers 10 "
+                 "--snapshot 1 --cumulative 1,1 -o OUT",
+}
+
+
+def make_tumble_fixtures(tumble, fx, limit):
+    for name, cmd in TUMBLE_FIXTURES.items():
+        args = shlex.split(cmd.replace("{fx}", fx).replace("OUT", os.path.join(fx, name)))
+        rc, out, _ = run(tumble, args, limit)
+        if rc != 0:
+            sys.exit("fixture %s: tumble %s failed (rc %s):\n%s" % (name, " ".join(args), rc, out))
+
+
 def write_fixtures(fx, scenes):
     for name, text in FIXTURES.items():
         path = os.path.join(fx, name)
@@ -135,6 +154,7 @@ def main():
     fx = os.path.join(work, "fx")
     os.makedirs(fx, exist_ok=True)
     write_fixtures(fx, scenes)
+    make_tumble_fixtures(a.tumble, fx, 60)
     failures = []
 
     # Controls: good input is still accepted (a binary that refuses everything must not pass).
