@@ -18,6 +18,21 @@ inline Scene test_scene(const std::vector<std::string>& overrides = {}) {
   return parse_scene("", o, "test");
 }
 
+// A small bidisperse bed (1 and 2 mm) in a 12 mm sphere turning at 30 rpm about z, filled to
+// `fill_level` as a loose lattice (make_bed): the kernel-equivalence tests run it.
+inline Scene rotating_bed_scene(const std::vector<std::string>& extra, double fill_level = 0.3) {
+  std::vector<std::string> o = {"tumbler.radius=0.012",
+                                "particles.d_small=0.001",
+                                "particles.d_large=0.002",
+                                "particles.fill_level=" + std::to_string(fill_level),
+                                "contact.collision_time=1e-3",
+                                "protocol.mode=single_axis",
+                                "protocol.axis=z",
+                                "protocol.rpm=30"};
+  o.insert(o.end(), extra.begin(), extra.end());
+  return parse_scene("", o, "bed");
+}
+
 struct Placed {
   Vec3 x, v, w;
   int species = 0;

@@ -23,18 +23,7 @@ namespace {
 
 // A dense bed filled as a loose lattice, dropped and stirred: every particle gets a random
 // velocity and spin, so that contacts open, close and slide during the run.
-Scene bed_scene(const std::vector<std::string>& extra) {
-  std::vector<std::string> o = {"tumbler.radius=0.012",
-                                "particles.d_small=0.001",
-                                "particles.d_large=0.002",
-                                "particles.fill_level=0.35",
-                                "contact.collision_time=1e-3",
-                                "protocol.mode=single_axis",
-                                "protocol.axis=z",
-                                "protocol.rpm=30"};
-  o.insert(o.end(), extra.begin(), extra.end());
-  return parse_scene("", o, "lanes");
-}
+Scene bed_scene(const std::vector<std::string>& extra) { return rotating_bed_scene(extra, 0.35); }
 
 // Speeds of up to 5% of a diameter per collision time (0.05 m/s for the SI beds, 0.5 for the
 // MD-unit cylinder), spins of the same surface speed.

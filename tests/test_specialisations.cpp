@@ -13,18 +13,7 @@ using namespace tumble::testing;
 
 namespace {
 
-Scene bed_scene(const std::vector<std::string>& extra) {
-  std::vector<std::string> o = {"tumbler.radius=0.012",
-                                "particles.d_small=0.001",
-                                "particles.d_large=0.002",
-                                "particles.fill_level=0.3",
-                                "contact.collision_time=1e-3",
-                                "protocol.mode=single_axis",
-                                "protocol.axis=z",
-                                "protocol.rpm=30"};
-  o.insert(o.end(), extra.begin(), extra.end());
-  return parse_scene("", o, "spec");
-}
+Scene bed_scene(const std::vector<std::string>& extra) { return rotating_bed_scene(extra); }
 
 // Runs 1,500 steps from the loose lattice; `general` forces the general kernels.
 Particles run(const Scene& s, bool general, bool& one_species, bool& rotation) {

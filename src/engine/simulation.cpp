@@ -156,12 +156,6 @@ Simulation::Kernel Simulation::pair_kernel_for(bool one_species) {
                      : &Simulation::pair_forces<Law, kFriction, kPeriodic, false>;
 }
 
-template <bool kFriction, bool kPeriodic>
-Simulation::Kernel Simulation::lanes_kernel_for(bool one_species) {
-  return one_species ? &Simulation::pair_forces_lanes<kFriction, kPeriodic, true>
-                     : &Simulation::pair_forces_lanes<kFriction, kPeriodic, false>;
-}
-
 template <class Law>
 void Simulation::select_kernels(bool friction, bool wall_friction, bool periodic) {
   if (friction)
@@ -184,12 +178,7 @@ void Simulation::select_kernels(bool friction, bool wall_friction, bool periodic
           for (int q = 0; q < Lanes::kCoefficients; ++q)
             lane_coefficients_[q][2 * a + b] = values[q];
         }
-      if (friction)
-        pair_kernel_ = periodic ? lanes_kernel_for<true, true>(one_species_)
-                                : lanes_kernel_for<true, false>(one_species_);
-      else
-        pair_kernel_ = periodic ? lanes_kernel_for<false, true>(one_species_)
-                                : lanes_kernel_for<false, false>(one_species_);
+      pair_kernel_ = &Simulation::pair_forces_lanes;
     }
   }
   if (is_cylinder_)
@@ -397,10 +386,7 @@ void Simulation::pair_forces() {
   }
 }
 
-template <bool kFriction, bool kPeriodic, bool kOneSpecies>
 void Simulation::pair_forces_lanes() {
-  // The template options are those the lane kernel was chosen for (select_kernels); they name
-  // this instantiation so that pair_kernel_ says which one runs.
   engine::LaneInput in;
   in.pairs = list_.nbr.size();
   in.row = list_.row.data();
@@ -426,7 +412,6 @@ void Simulation::pair_forces_lanes() {
   in.contact_k = c.k.data();
   in.miss = c.miss.data();
   static_assert(sizeof(Vec3) == 3 * sizeof(double), "the lane kernels read Vec3 arrays as doubles");
-  (void)kFriction, (void)kPeriodic, (void)kOneSpecies;
   lane_kernel_(in);
 }
 

@@ -103,10 +103,8 @@ class Simulation {
   static Kernel pair_kernel_for(bool one_species);
   // The optimised pair loop of a law with a lane kernel (engine/law_lanes.hpp): scan for touching
   // pairs, lane kernel, accumulation (engine/contact_lanes.hpp); bitwise equal to pair_forces.
-  template <bool kFriction, bool kPeriodic, bool kOneSpecies>
+  // The scene's options (friction, periodic, one species) are in lane_kernel_, chosen once.
   void pair_forces_lanes();
-  template <bool kFriction, bool kPeriodic>
-  static Kernel lanes_kernel_for(bool one_species);
   template <bool kRotation>
   double kick_drift(double kick);
   template <bool kRotation>
