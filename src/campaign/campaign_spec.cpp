@@ -54,11 +54,18 @@ std::string CollectSpec::canonical() const {
   std::ostringstream os;
   os << "fields=" << (concentration ? "c" : "") << (displacement ? "d" : "") << (series ? "s" : "")
      << ";from=" << canonical_number(from) << ";to=" << canonical_number(to)
-     << ";n=" << samples_per_iteration << ";k=" << canonical_number(displacement_periods)
-     << ";grid=" << grid << ";frame=" << frame << ";shell=" << canonical_number(shell_inner)
+     << ";n=" << samples_per_iteration << ";k=";
+  // One lag prints as before, so the case ids of single-lag campaigns do not change.
+  for (std::size_t i = 0; i < displacement_periods.size(); ++i)
+    os << (i ? "," : "") << canonical_number(displacement_periods[i]);
+  os << ";grid=" << grid << ";frame=" << frame << ";shell=" << canonical_number(shell_inner)
      << ";dinner=" << canonical_number(displacement_inner);
   if (cylinder) os << ";cylinder";
   return os.str();
+}
+
+std::string CollectSpec::displacement_group(std::size_t i) const {
+  return i == 0 ? "displacement" : "displacement_k" + canonical_number(displacement_periods.at(i));
 }
 
 namespace {
@@ -331,7 +338,21 @@ void parse_collect(const Ctx& c, const toml::table& t, CollectSpec& cs) {
     } else if (key == "collect.samples_per_iteration") {
       cs.samples_per_iteration = static_cast<int>(integer(c, key, node, 1, 1e7));
     } else if (key == "collect.displacement_periods") {
-      cs.displacement_periods = real(c, key, node, 1e-9, 1e6);
+      // A number, or a list of distinct lags: [1, 6, 18] gives a Δψ map per lag.
+      cs.displacement_periods.clear();
+      if (const auto* arr = node.as_array()) {
+        if (arr->empty() || arr->size() > 8)
+          c.fail(key, "must be a number or a list of 1 to 8 numbers (periods), not " +
+                          std::to_string(arr->size()));
+        for (const auto& item : *arr) {
+          const double k = real(c, key, item, 1e-9, 1e6);
+          for (const double prev : cs.displacement_periods)
+            if (prev == k) c.fail(key, "lists " + display_number(k) + " twice");
+          cs.displacement_periods.push_back(k);
+        }
+      } else {
+        cs.displacement_periods.push_back(real(c, key, node, 1e-9, 1e6));
+      }
     } else if (key == "collect.grid") {
       cs.grid = static_cast<int>(integer(c, key, node, 2, 1024));
     } else if (key == "collect.frame") {
@@ -345,12 +366,14 @@ void parse_collect(const Ctx& c, const toml::table& t, CollectSpec& cs) {
     }
   }
   // Δψ pairs samples k periods apart: k must be a whole number of sample spacings.
-  const double m = cs.displacement_periods * cs.samples_per_iteration;
-  if (cs.displacement && (std::fabs(m - std::round(m)) > 1e-9 * std::max(1.0, m) || m < 0.5))
-    c.fail("collect.displacement_periods",
-           "= " + display_number(cs.displacement_periods) +
-               " must be a whole multiple of 1 / collect.samples_per_iteration (= " +
-               display_number(1.0 / cs.samples_per_iteration) + ")");
+  for (const double k : cs.displacement_periods) {
+    const double m = k * cs.samples_per_iteration;
+    if (cs.displacement && (std::fabs(m - std::round(m)) > 1e-9 * std::max(1.0, m) || m < 0.5))
+      c.fail("collect.displacement_periods",
+             "= " + display_number(k) +
+                 " must be a whole multiple of 1 / collect.samples_per_iteration (= " +
+                 display_number(1.0 / cs.samples_per_iteration) + ")");
+  }
 }
 
 }  // namespace

@@ -29,9 +29,12 @@ struct Sweep {
 
 struct CollectSpec {
   bool concentration = true, displacement = true, series = true;
-  double from = 0, to = -1;         // protocol iterations averaged over; to < 0: end of run
-  int samples_per_iteration = 1;    // 1: stroboscopic, at the end of every iteration
-  double displacement_periods = 1;  // k of Δψ over k periods
+  double from = 0, to = -1;       // protocol iterations averaged over; to < 0: end of run
+  int samples_per_iteration = 1;  // 1: stroboscopic, at the end of every iteration
+  // k of Δψ over k periods, one map per lag (Yu 2022 Figs. 6-7 use 6 and 18 iterations for
+  // period-3 islands). The first is the primary lag (fields group "displacement"); the others
+  // are written as "displacement_k<k>" (displacement_group()).
+  std::vector<double> displacement_periods = {1};
   int grid = 24;                    // N of the N x N equal-area Lambert grid
   std::string frame = "lab";        // lab | tumbler
   double shell_inner = 0.9;         // c_L shell: shell_inner < r/R < 1
@@ -41,6 +44,8 @@ struct CollectSpec {
   // (S_a, S_r, band count against revolutions) and no sphere fields.
   bool cylinder = false;
   std::string canonical() const;  // enters the case id: different collection, different output
+  // The fields-file group of lag i: "displacement" for the first, "displacement_k6" for k = 6.
+  std::string displacement_group(std::size_t i) const;
 };
 
 struct CampaignSpec {

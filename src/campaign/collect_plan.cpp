@@ -46,12 +46,14 @@ CollectPlan make_collect_plan(const CollectSpec& spec, const Scene& scene) {
   p.window_last = std::min<std::int64_t>(std::llround(to * n), p.last_sample);
   if (p.window_last < p.window_first)
     fail("collect.iterations", "holds no sample: widen it or raise collect.samples_per_iteration");
-  p.lag = std::llround(spec.displacement_periods * n);
-  if (spec.displacement && p.window_first + p.lag > p.window_last)
-    fail("collect.displacement_periods", "= " + display_number(spec.displacement_periods) +
-                                             " periods do not fit in the window " +
-                                             "collect.iterations = [" + display_number(spec.from) +
-                                             ", " + display_number(to) + "]");
+  for (const double k : spec.displacement_periods) {
+    p.lags.push_back(std::llround(k * n));
+    if (spec.displacement && p.window_first + p.lags.back() > p.window_last)
+      fail("collect.displacement_periods",
+           "= " + display_number(k) + " periods do not fit in the window " +
+               "collect.iterations = [" + display_number(spec.from) + ", " + display_number(to) +
+               "]: lengthen the run or the window, or drop this lag");
+  }
   return p;
 }
 

@@ -18,7 +18,11 @@ std::vector<std::string> field_names(const CollectSpec& s) {
   std::vector<std::string> n;
   if (s.concentration)
     n.insert(n.end(), {"concentration/c_L", "concentration/c_S", "concentration/solid_fraction"});
-  if (s.displacement) n.insert(n.end(), {"displacement/dpsi_large", "displacement/dpsi_small"});
+  if (s.displacement)
+    for (std::size_t i = 0; i < s.displacement_periods.size(); ++i) {
+      const std::string g = s.displacement_group(i);
+      n.insert(n.end(), {g + "/dpsi_large", g + "/dpsi_small"});
+    }
   if (s.series)
     n.insert(n.end(),
              {"series/shell_large_fraction", "series/radial_segregation", "series/mixing_index"});
@@ -45,8 +49,8 @@ FieldCollector::FieldCollector(const CollectPlan& plan, std::string state_path)
       grid_(plan.spec.grid),
       state_path_(std::move(state_path)),
       conc_(grid_.cells()),
-      disp_(grid_.cells()),
-      ring_j_(std::max<std::int64_t>(plan.lag, 1), -1),
+      disp_(std::max<std::size_t>(plan.lags.size(), 1), analysis::DisplacementMap(grid_.cells())),
+      ring_j_(std::max<std::int64_t>(plan.max_lag(), 1), -1),
       ring_(ring_j_.size()) {}
 
 void FieldCollector::ensure_slots(const Particles& p) {
@@ -129,16 +133,22 @@ void FieldCollector::sample(const Particles& p, std::int64_t j, double time, dou
     if (s.displacement) {
       analysis::ShellDirections dirs = analysis::shell_directions(
           p, slot_of_, to_frame, grid_, plan_.radius, s.displacement_inner);
-      const std::size_t slot = static_cast<std::size_t>(j % plan_.lag);
-      if (j - plan_.lag >= plan_.window_first && ring_j_[slot] == j - plan_.lag) {
+      // One ring of start directions serves every lag: slot j % max_lag holds sample j until
+      // the longest lag has used it (this sample overwrites j - max_lag, used just below).
+      const std::int64_t ring = plan_.max_lag();
+      for (std::size_t k = 0; k < plan_.lags.size(); ++k) {
+        const std::int64_t start = j - plan_.lags[k];
+        const std::size_t from = static_cast<std::size_t>(start % ring);
+        if (start < plan_.window_first || ring_j_[from] != start) continue;
         // A loaded ring of another particle count (a damaged state file) must not be indexed.
-        if (ring_[slot].cell.size() != dirs.u.size())
+        if (ring_[from].cell.size() != dirs.u.size())
           throw CorruptInputError("collector state '" + state_path_ + "': its ring holds " +
-                                  std::to_string(ring_[slot].cell.size()) + " particles, the bed " +
+                                  std::to_string(ring_[from].cell.size()) + " particles, the bed " +
                                   std::to_string(dirs.u.size()));
-        disp_.add_interval(ring_[slot], dirs.u, species_);
+        disp_[k].add_interval(ring_[from], dirs.u, species_);
       }
-      if (j + plan_.lag <= plan_.window_last) {
+      const std::size_t slot = static_cast<std::size_t>(j % ring);
+      if (j + plan_.min_lag() <= plan_.window_last) {
         ring_[slot] = std::move(dirs);
         ring_j_[slot] = j;
       } else {
@@ -149,6 +159,11 @@ void FieldCollector::sample(const Particles& p, std::int64_t j, double time, dou
   }
   next_j_ = j + 1;
   persist();
+}
+
+std::string FieldCollector::group_of_lag(std::size_t k) const {
+  return plan_.spec.displacement_periods.empty() ? "displacement"
+                                                 : plan_.spec.displacement_group(k);
 }
 
 void FieldCollector::persist() const {
@@ -165,11 +180,14 @@ void FieldCollector::persist() const {
   f.write("concentration/volume_large", conc_.volume_large);
   f.write("concentration/volume_small", conc_.volume_small);
   f.set_attr("/", "concentration_samples", static_cast<std::int64_t>(conc_.samples));
-  f.write("displacement/sum_large", disp_.sum_large);
-  f.write("displacement/sum_small", disp_.sum_small);
-  f.write("displacement/count_large", disp_.count_large);
-  f.write("displacement/count_small", disp_.count_small);
-  f.set_attr("/", "displacement_intervals", static_cast<std::int64_t>(disp_.intervals));
+  for (std::size_t k = 0; k < disp_.size(); ++k) {
+    const std::string g = group_of_lag(k);
+    f.write(g + "/sum_large", disp_[k].sum_large);
+    f.write(g + "/sum_small", disp_[k].sum_small);
+    f.write(g + "/count_large", disp_[k].count_large);
+    f.write(g + "/count_small", disp_[k].count_small);
+    f.set_attr("/", g + "_intervals", static_cast<std::int64_t>(disp_[k].intervals));
+  }
   f.write("ring/j", std::vector<std::int64_t>(ring_j_.begin(), ring_j_.end()));
   for (std::size_t k = 0; k < ring_.size(); ++k) {
     if (ring_j_[k] < 0) continue;
@@ -197,11 +215,14 @@ bool FieldCollector::load() {
   conc_.volume_large = f.read_double("concentration/volume_large");
   conc_.volume_small = f.read_double("concentration/volume_small");
   conc_.samples = f.attr_int64("/", "concentration_samples");
-  disp_.sum_large = f.read_double("displacement/sum_large");
-  disp_.sum_small = f.read_double("displacement/sum_small");
-  disp_.count_large = f.read_double("displacement/count_large");
-  disp_.count_small = f.read_double("displacement/count_small");
-  disp_.intervals = f.attr_int64("/", "displacement_intervals");
+  for (std::size_t k = 0; k < disp_.size(); ++k) {
+    const std::string g = group_of_lag(k);
+    disp_[k].sum_large = f.read_double(g + "/sum_large");
+    disp_[k].sum_small = f.read_double(g + "/sum_small");
+    disp_[k].count_large = f.read_double(g + "/count_large");
+    disp_[k].count_small = f.read_double(g + "/count_small");
+    disp_[k].intervals = f.attr_int64("/", g + "_intervals");
+  }
   const auto rj = f.read_int64("ring/j");
   if (rj.size() != ring_j_.size()) return false;
   for (std::size_t k = 0; k < rj.size(); ++k) {
@@ -231,12 +252,16 @@ void FieldCollector::check_loaded(std::size_t cells) const {
                         &series_.radial_segregation, &series_.mixing_index})
     if (v->size() != len) corrupt("the series datasets have different lengths");
   if (len > static_cast<std::size_t>(next_j_)) corrupt("more series samples than samples taken");
-  for (const auto* v : {&conc_.volume_large, &conc_.volume_small, &disp_.sum_large,
-                        &disp_.sum_small, &disp_.count_large, &disp_.count_small})
+  std::vector<const std::vector<double>*> maps = {&conc_.volume_large, &conc_.volume_small};
+  for (const auto& d : disp_) {
+    maps.insert(maps.end(), {&d.sum_large, &d.sum_small, &d.count_large, &d.count_small});
+    if (d.intervals < 0) corrupt("a negative interval count");
+  }
+  for (const auto* v : maps)
     if (v->size() != cells)
       corrupt("a map has " + std::to_string(v->size()) + " cells, the grid " +
               std::to_string(cells));
-  if (conc_.samples < 0 || disp_.intervals < 0) corrupt("a negative sample count");
+  if (conc_.samples < 0) corrupt("a negative sample count");
   std::size_t slots = 0;
   for (std::size_t k = 0; k < ring_.size(); ++k) {
     if (ring_j_[k] < 0) continue;
@@ -287,15 +312,17 @@ void FieldCollector::write_fields(const std::string& path, const FieldsMeta& m) 
     f.set_attr("concentration", "samples", static_cast<std::int64_t>(conc_.samples));
     f.set_attr("concentration", "shell_inner", s.shell_inner);
   }
-  if (s.displacement) {
-    f.write("displacement/dpsi_large", disp_.mean_large(), {n, n});
-    f.write("displacement/dpsi_small", disp_.mean_small(), {n, n});
-    f.write("displacement/count_large", disp_.count_large, {n, n});
-    f.write("displacement/count_small", disp_.count_small, {n, n});
-    f.set_attr("displacement", "intervals", static_cast<std::int64_t>(disp_.intervals));
-    f.set_attr("displacement", "periods", s.displacement_periods);
-    f.set_attr("displacement", "inner", s.displacement_inner);
-  }
+  if (s.displacement)
+    for (std::size_t k = 0; k < s.displacement_periods.size(); ++k) {
+      const std::string g = s.displacement_group(k);
+      f.write(g + "/dpsi_large", disp_[k].mean_large(), {n, n});
+      f.write(g + "/dpsi_small", disp_[k].mean_small(), {n, n});
+      f.write(g + "/count_large", disp_[k].count_large, {n, n});
+      f.write(g + "/count_small", disp_[k].count_small, {n, n});
+      f.set_attr(g, "intervals", static_cast<std::int64_t>(disp_[k].intervals));
+      f.set_attr(g, "periods", s.displacement_periods[k]);
+      f.set_attr(g, "inner", s.displacement_inner);
+    }
   if (s.series) {
     f.write("series/time", series_.time);
     f.write("series/iteration", series_.iteration);

@@ -59,7 +59,8 @@ class FieldCollector : public CaseCollector {
   void write_fields(const std::string& path, const FieldsMeta& meta) const override;
 
   const analysis::ConcentrationMap& concentration() const { return conc_; }
-  const analysis::DisplacementMap& displacement() const { return disp_; }
+  // The Δψ map of lag k (in the order of collect.displacement_periods).
+  const analysis::DisplacementMap& displacement(std::size_t k = 0) const { return disp_.at(k); }
   struct Series {
     std::vector<double> time, iteration, shell_large_fraction, radial_segregation, mixing_index;
   };
@@ -78,8 +79,10 @@ class FieldCollector : public CaseCollector {
   std::int64_t next_j_ = 0;
   Series series_;
   analysis::ConcentrationMap conc_;
-  analysis::DisplacementMap disp_;
-  // Ring of start directions for Δψ: slot j % lag holds sample ring_j_[..] (-1: empty).
+  std::vector<analysis::DisplacementMap> disp_;   // one per lag
+  std::string group_of_lag(std::size_t k) const;  // its group in the state and fields files
+  // Ring of start directions for Δψ, shared by the lags: slot j % max_lag holds sample
+  // ring_j_[..] (-1: empty).
   std::vector<std::int64_t> ring_j_;
   std::vector<analysis::ShellDirections> ring_;
   // Particle slots: position in global-id order (the engine reorders particles in memory).

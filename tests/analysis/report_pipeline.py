@@ -173,10 +173,24 @@ with h5py.File(os.path.join(d, "analysis.h5"), "r") as f:
             fail(f"coverage mean {share} vs island_area_fraction {g.attrs['island_area_fraction']}")
         ids = text(g.attrs["cases"]).split("\n")
         check_map_enrichment(d, ids, g["enrichment_map"][:], cover, "enrichment")
-        fates = {k: g["fates/" + k][:] for k in ("persistent", "captured", "dispersed", "other")}
+        classes = ("persistent", "switched", "captured", "dispersed", "other")
+        fates = {k: g["fates/" + k][:] for k in classes}
+        chance = {k: g["fates/chance/" + k][:] for k in classes}
         for j, cid in enumerate(ids):
             if fates["persistent"][j] < 0:
                 continue
+            # The chance counts redistribute the same particles with the same island occupancy
+            # at the start (persistent + switched + dispersed) and at the end.
+            for name, obs, exp in (
+                    ("total", sum(fates[k][j] for k in classes), sum(chance[k][j] for k in classes)),
+                    ("inside at the start", fates["persistent"][j] + fates["switched"][j]
+                     + fates["dispersed"][j], chance["persistent"][j] + chance["switched"][j]
+                     + chance["dispersed"][j]),
+                    ("inside at the end", fates["persistent"][j] + fates["switched"][j]
+                     + fates["captured"][j], chance["persistent"][j] + chance["switched"][j]
+                     + chance["captured"][j])):
+                if abs(obs - exp) > 1e-9 * max(1, obs):
+                    fail(f"case {cid}: Fig. 8 by chance, {name}: {exp} against {obs} observed")
             snaps = sorted(glob.glob(os.path.join(d, "cases", cid, "snap_*.h5")))
             with h5py.File(snaps[0], "r") as s:
                 n_large = int(np.sum(s["species"][:] == 1))
@@ -213,6 +227,47 @@ for name in ("maps.csv", "series.csv", "case_scalars.csv", "scalar_summary.csv",
              "difference_tests.csv", "mixing_random.csv"):
     if not os.path.exists(os.path.join(rep, name)):
         fail(f"{name} missing")
+# Δψ over every lag the campaign collected (its collect text: ";k=0.0015,0.003;"): each lag has
+# its group and maps, and the inside/outside contrast table holds each lag's mean, recomputed
+# here from the fields files and the island coverage.
+lags = []
+for f in sorted(glob.glob(os.path.join(d, "cases", "*", "fields.h5")))[:1]:
+    with h5py.File(f, "r") as h:
+        ks = re.search(r"(?:^|;)k=([^;]+)", text(h.attrs["collect"])).group(1).split(",")
+        lags = [("displacement" if i == 0 else f"displacement_k{k}", k) for i, k in enumerate(ks)]
+        for grp, k in lags:
+            if grp not in h or abs(h[grp].attrs["periods"] - float(k)) > 1e-15:
+                fail(f"{f}: no Δψ group {grp} over {k} periods")
+print("Δψ lags collected: " + ", ".join(k for _, k in lags))
+for grp, _ in lags[1:]:
+    if not os.path.exists(os.path.join(rep, f"map_{grp}_dpsi_large.png")):
+        fail(f"map_{grp}_dpsi_large.png missing (lag collected)")
+if lags and not os.path.exists(os.path.join(rep, "dpsi_contrast.csv")):
+    fail("dpsi_contrast.csv missing")
+with h5py.File(os.path.join(d, "analysis.h5"), "r") as h:
+    for pid, g in h["points"].items():
+        if g.attrs["n_islands"] == 0:
+            continue
+        cover = g["coverage"][:].ravel()
+        for grp, lag in lags:
+            vals = []
+            for cid in text(g.attrs["cases"]).split("\n"):
+                with h5py.File(os.path.join(d, "cases", cid, "fields.h5"), "r") as c:
+                    m = c[grp + "/dpsi_large"][:].ravel() * 180 / np.pi
+                    w = c[grp + "/count_large"][:].ravel()
+                ok = np.isfinite(m) & (w > 0)
+                wi, wo = (w * cover)[ok], (w * (1 - cover))[ok]
+                if wi.sum() > 0 and wo.sum() > 0:
+                    vals.append(np.sum(wo * m[ok]) / wo.sum() - np.sum(wi * m[ok]) / wi.sum())
+            rows = [r for r in csv.DictReader(open(os.path.join(rep, "dpsi_contrast.csv")))
+                    if r["point"].startswith("A") and r["lag [periods]"] == lag
+                    and r["species"] == "large"]
+            if vals:
+                got = [float(r["contrast outside − inside [deg]"].split()[0]) for r in rows]
+                if not any(abs(x - np.mean(vals)) <= 0.0051 for x in got):
+                    fail(f"Δψ contrast of {pid}, lag {lag}: report {got}, recomputed "
+                         f"{np.mean(vals):.3f}")
+                print(f"Δψ contrast of {pid} over {lag} periods (large): {np.mean(vals):.2f} deg")
 # The random-bed reference of the mixing index bins the last snapshot in Python
 # (postproc/report_mixing.py); its index of the unshuffled snapshot must be the C++ series'
 # value where the last series sample is taken at the last snapshot (1e-9).

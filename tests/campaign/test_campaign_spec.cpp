@@ -99,6 +99,43 @@ TEST(CampaignSpec, DisplacementLagMustBeWholeSamples) {
       << e;
 }
 
+TEST(CampaignSpec, SeveralDisplacementLagsAreListedAndChecked) {
+  const CampaignSpec s = parse_campaign(
+      with_campaign("[collect]\ndisplacement_periods = [1, 6, 18]\n"), "test.toml", ".");
+  EXPECT_EQ(s.collect.displacement_periods, (std::vector<double>{1, 6, 18}));
+  EXPECT_EQ(s.collect.displacement_group(0), "displacement");
+  EXPECT_EQ(s.collect.displacement_group(2), "displacement_k18");
+  // One lag keeps the canonical text (and so the case ids) of before; a list is another plan.
+  const CampaignSpec one =
+      parse_campaign(with_campaign("[collect]\ndisplacement_periods = 1\n"), "test.toml", ".");
+  EXPECT_NE(one.collect.canonical().find(";k=1;"), std::string::npos) << one.collect.canonical();
+  EXPECT_NE(s.collect.canonical().find(";k=1,6,18;"), std::string::npos);
+  EXPECT_NE(error_of(with_campaign("[collect]\ndisplacement_periods = [6, 6]\n")).find("twice"),
+            std::string::npos);
+  EXPECT_NE(error_of(with_campaign("[collect]\ndisplacement_periods = []\n"))
+                .find("key 'collect.displacement_periods' must be a number or a list of 1 to 8"),
+            std::string::npos);
+  const std::string e = error_of(
+      with_campaign("[collect]\nsamples_per_iteration = 2\ndisplacement_periods = [1, 0.75]\n"));
+  EXPECT_NE(e.find("key 'collect.displacement_periods' = 0.75 must be a whole multiple"),
+            std::string::npos)
+      << e;
+  // A lag longer than the window is refused when the cases are expanded, naming it.
+  const CampaignSpec longer =
+      parse_campaign(with_campaign("[overrides]\n\"protocol.iterations\" = 8\n[collect]\n"
+                                   "iterations = [2, 8]\ndisplacement_periods = [1, 6, 18]\n"),
+                     "test.toml", ".");
+  try {
+    (void)expand(longer);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& x) {
+    EXPECT_NE(std::string(x.what()).find("key 'collect.displacement_periods' = 18 periods do not "
+                                         "fit in the window collect.iterations = [2, 8]"),
+              std::string::npos)
+        << x.what();
+  }
+}
+
 TEST(CampaignSpec, CollectionWindowBeyondTheRunIsACampaignError) {
   const CampaignSpec s = parse_campaign(
       with_campaign("[overrides]\n\"protocol.iterations\" = 2\n[collect]\niterations = [1, 3]\n"),
