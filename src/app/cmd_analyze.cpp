@@ -1,6 +1,7 @@
 // `tumble analyze classify|section|light|enrichment|campaign`: the analyses of Yu 2022 that
 // compare DEM particles with the CM islands, on snapshots or a campaign directory
 // (docs/report.md). Thin: parse, validate, call src/analysis, print and write.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -79,13 +80,17 @@ void register_classify(CLI::App& an) {
     const auto& c = r.counts;
     std::printf("islands: %d covering %.4f of the view from below\n", mask.size(),
                 mask.area_fraction());
+    const FateExpectation e = chance_fates(r);
     std::printf(
-        "iterations %.3g -> %.3g, %lld large particles: persistent %lld (same island "
-        "%lld), captured %lld, dispersed %lld, other %lld\n",
+        "iterations %.3g -> %.3g, %lld large particles: persistent (same island) %lld, switched "
+        "island %lld, captured %lld, dispersed %lld, other %lld\n"
+        "by chance (end positions relabelled at random): persistent %.1f, switched %.1f, "
+        "captured %.1f, dispersed %.1f, other %.1f\n",
         s0.iteration, s1.iteration, static_cast<long long>(c.total()),
-        static_cast<long long>(c.persistent), static_cast<long long>(c.same_island),
+        static_cast<long long>(c.persistent), static_cast<long long>(c.switched),
         static_cast<long long>(c.captured), static_cast<long long>(c.dispersed),
-        static_cast<long long>(c.other));
+        static_cast<long long>(c.other), e.persistent, e.switched, e.captured, e.dispersed,
+        e.other);
     if (!a->out.empty()) {
       prepare_output(a->out);
       write_fates(a->out, s0, s1, r);
@@ -276,6 +281,33 @@ void register_campaign_analysis(CLI::App& an) {
           "%.3f (N = %d)\n",
           p.point_id.c_str(), p.params.c_str(), p.cases.size(), p.islands.size(),
           p.island_area_fraction, p.enrichment_map.mean, p.enrichment_map.ci95, p.enrichment_map.n);
+    for (const auto& p : points) {
+      if (p.fates[0].n == 0) continue;
+      const MeanCI* f = p.fates;
+      const MeanCI* c = p.fates_by_chance;
+      std::printf(
+          "point %s Fig. 8 (mean +- 95%% CI, N = %d): persistent %.1f +- %.1f (chance %.1f), "
+          "switched %.1f +- %.1f (chance %.1f), captured %.1f +- %.1f (chance %.1f), dispersed "
+          "%.1f +- %.1f (chance %.1f), other %.1f +- %.1f (chance %.1f)\n",
+          p.point_id.c_str(), f[0].n, f[0].mean, f[0].ci95, c[0].mean, f[4].mean, f[4].ci95,
+          c[4].mean, f[1].mean, f[1].ci95, c[1].mean, f[2].mean, f[2].ci95, c[2].mean, f[3].mean,
+          f[3].ci95, c[3].mean);
+      // "The same island" holds only over whole periods: a period-3 island sits elsewhere after
+      // 1 or 2 iterations, and its particles would be counted as switched.
+      for (const auto& cs : p.cases) {
+        const double span = cs.fates_to - cs.fates_from;
+        // Snapshot times sit within a time step of whole iterations: 1e-3 iterations is slack.
+        if (cs.has_fates && p.island_period > 0 &&
+            std::fabs(span - p.island_period * std::round(span / p.island_period)) > 1e-3) {
+          std::printf(
+              "warning: point %s: the Fig. 8 window %g -> %g is not a whole number of the "
+              "islands' period (%d iterations): persistent and switched mix islands that "
+              "trade places; choose --from/--to %d iterations apart (or a multiple)\n",
+              p.point_id.c_str(), cs.fates_from, cs.fates_to, p.island_period, p.island_period);
+          break;
+        }
+      }
+    }
     for (const auto& p : points)
       for (const auto& [qid, m] : p.enrichment_vs)
         if (qid != p.point_id)

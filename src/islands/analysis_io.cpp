@@ -28,13 +28,21 @@ void write_fates(const std::string& path, const SnapshotData& start, const Snaps
   provenance(f, "tumble fates (Yu 2022 Fig. 8)", {start.path, end.path});
   f.set_attr("/", "from_iteration", start.iteration);
   f.set_attr("/", "to_iteration", end.iteration);
-  f.set_attr("/", "fate_codes", std::string("0 persistent, 1 captured, 2 dispersed, 3 other"));
+  f.set_attr("/", "fate_codes",
+             std::string("0 persistent (same island), 1 captured, 2 dispersed, 3 other, "
+                         "4 switched (another island)"));
   const auto& c = r.counts;
   f.set_attr("/", "persistent", c.persistent);
   f.set_attr("/", "captured", c.captured);
   f.set_attr("/", "dispersed", c.dispersed);
   f.set_attr("/", "other", c.other);
-  f.set_attr("/", "same_island", c.same_island);
+  f.set_attr("/", "switched", c.switched);
+  const FateExpectation e = chance_fates(r);
+  f.set_attr("/", "chance_persistent", e.persistent);
+  f.set_attr("/", "chance_switched", e.switched);
+  f.set_attr("/", "chance_captured", e.captured);
+  f.set_attr("/", "chance_dispersed", e.dispersed);
+  f.set_attr("/", "chance_other", e.other);
   f.set_attr("/", "total", c.total());
   const hsize_t n = r.id.size();
   f.write("id", r.id);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <numeric>
 
 #include "analysis/light_concentration.hpp"
 #include "analysis/snapshot_data.hpp"
@@ -101,6 +102,7 @@ void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMas
     ca.has_fates = true;
     ca.fate_detail = classify_fates(snaps[a], snaps[b], mask);
     ca.fates = ca.fate_detail.counts;
+    ca.fates_by_chance = chance_fates(ca.fate_detail);
     ca.fates_from = iters[a];
     ca.fates_to = iters[b];
   }
@@ -134,10 +136,21 @@ double largest_radius(const std::string& dir) {
   return r;
 }
 
-std::vector<double> fate_column(const std::vector<CaseAnalysis>& cases,
-                                std::int64_t FateCounts::*m) {
+// Class k (kFateNames order) of a case's counts, observed or by chance.
+double fate_value(const CaseAnalysis& c, int k, bool chance) {
+  if (chance) {
+    const FateExpectation& e = c.fates_by_chance;
+    const double v[5] = {e.persistent, e.captured, e.dispersed, e.other, e.switched};
+    return v[k];
+  }
+  const FateCounts& f = c.fates;
+  const std::int64_t v[5] = {f.persistent, f.captured, f.dispersed, f.other, f.switched};
+  return static_cast<double>(v[k]);
+}
+
+std::vector<double> fate_column(const std::vector<CaseAnalysis>& cases, int k, bool chance) {
   std::vector<double> v;
-  for (const auto& c : cases) v.push_back(c.has_fates ? static_cast<double>(c.fates.*m) : kNaN);
+  for (const auto& c : cases) v.push_back(c.has_fates ? fate_value(c, k, chance) : kNaN);
   return v;
 }
 
@@ -169,6 +182,8 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
     p.islands = cm::islands_on_shell(protocol_islands(p.theta_z, p.theta_x, opt.islands, cache),
                                      opt.islands.r);
     p.light_species = lighter_species(p.density_ratio);
+    for (const auto& is : p.islands)
+      p.island_period = p.island_period == 0 ? is.period : std::lcm(p.island_period, is.period);
     std::vector<cm::Polygon> polys;
     for (const auto& is : p.islands) polys.push_back(is.boundary);
     const IslandMask mask(polys);
@@ -255,11 +270,10 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
     p.enrichment_map = mean_ci95(em);
     p.enrichment_snap = mean_ci95(es);
     for (const auto& [qid, v] : vs) p.enrichment_vs[qid] = mean_ci95(v);
-    p.persistent = mean_ci95(fate_column(p.cases, &FateCounts::persistent));
-    p.captured = mean_ci95(fate_column(p.cases, &FateCounts::captured));
-    p.dispersed = mean_ci95(fate_column(p.cases, &FateCounts::dispersed));
-    p.other = mean_ci95(fate_column(p.cases, &FateCounts::other));
-    p.same_island = mean_ci95(fate_column(p.cases, &FateCounts::same_island));
+    for (int k = 0; k < 5; ++k) {
+      p.fates[k] = mean_ci95(fate_column(p.cases, k, false));
+      p.fates_by_chance[k] = mean_ci95(fate_column(p.cases, k, true));
+    }
     if (p.light_species >= 0)
       fold_maps(light, static_cast<std::size_t>(p.grid_n) * p.grid_n, p.light_mean, p.light_ci95);
     if (!section.empty()) {
@@ -341,18 +355,17 @@ void write_campaign_analysis(const std::string& path, const std::string& dir,
     f.write(g + "/coverage", p.coverage, {n, n});
     std::string ids;
     std::vector<std::int64_t> replica, fates[5];
-    std::vector<double> em, es, from, to;
+    std::vector<double> em, es, from, to, chance[5];
     for (const auto& c : p.cases) {
       ids += (ids.empty() ? "" : "\n") + c.case_id;
       replica.push_back(c.replica);
       em.push_back(c.enrichment_map);
       es.push_back(c.enrichment_snap);
       const std::int64_t none = -1;
-      fates[0].push_back(c.has_fates ? c.fates.persistent : none);
-      fates[1].push_back(c.has_fates ? c.fates.captured : none);
-      fates[2].push_back(c.has_fates ? c.fates.dispersed : none);
-      fates[3].push_back(c.has_fates ? c.fates.other : none);
-      fates[4].push_back(c.has_fates ? c.fates.same_island : none);
+      for (int k = 0; k < 5; ++k) {
+        fates[k].push_back(c.has_fates ? std::llround(fate_value(c, k, false)) : none);
+        chance[k].push_back(c.has_fates ? fate_value(c, k, true) : kNaN);
+      }
       from.push_back(c.has_fates ? c.fates_from : kNaN);
       to.push_back(c.has_fates ? c.fates_to : kNaN);
     }
@@ -362,13 +375,19 @@ void write_campaign_analysis(const std::string& path, const std::string& dir,
     f.write(g + "/enrichment_snap", es);
     write_stat(f, g, "enrichment_map", p.enrichment_map);
     write_stat(f, g, "enrichment_snap", p.enrichment_snap);
-    const char* names[5] = {"persistent", "captured", "dispersed", "other", "same_island"};
-    const MeanCI* stats[5] = {&p.persistent, &p.captured, &p.dispersed, &p.other, &p.same_island};
     f.create_group(g + "/fates");
+    f.create_group(g + "/fates/chance");
     for (int k = 0; k < 5; ++k) {
-      f.write(g + "/fates/" + names[k], fates[k]);
-      write_stat(f, g + "/fates", names[k], *stats[k]);
+      f.write(g + "/fates/" + kFateNames[k], fates[k]);
+      write_stat(f, g + "/fates", kFateNames[k], p.fates[k]);
+      f.write(g + "/fates/chance/" + kFateNames[k], chance[k]);
+      write_stat(f, g + "/fates/chance", kFateNames[k], p.fates_by_chance[k]);
     }
+    f.set_attr(g + "/fates", "island_period", static_cast<std::int64_t>(p.island_period));
+    f.set_attr(g + "/fates", "definition",
+               std::string("persistent: the same CM island at both iterations; switched: another "
+                           "island; chance: the expected counts for end positions relabelled at "
+                           "random (fates.hpp)"));
     for (const auto& c : p.cases) {
       if (!c.has_fates) continue;  // the first case with fates, per particle, for the figure
       const FateResult& d = c.fate_detail;

@@ -28,6 +28,12 @@
 
 namespace tumble::analysis {
 
+// The Fig. 8 classes in the order of the Fate codes (fates.hpp) and of analysis.h5's columns.
+inline constexpr const char* kFateNames[5] = {"persistent", "captured", "dispersed", "other",
+                                              "switched"};
+static_assert(static_cast<int>(Fate::Captured) == 1 && static_cast<int>(Fate::Switched) == 4,
+              "kFateNames follows the Fate codes");
+
 struct CampaignAnalysisOptions {
   CmIslandOptions islands;
   double fates_from = -1, fates_to = -1;  // iterations; < 0: first / last snapshot
@@ -45,7 +51,8 @@ struct CaseAnalysis {
   double enrichment_snap = 0;  // from the last snapshot (NaN without snapshots or islands)
   bool has_fates = false;
   FateCounts fates;
-  FateResult fate_detail;  // per particle (the file keeps it for the point's first case)
+  FateExpectation fates_by_chance;  // the same counts for randomly relabelled end positions
+  FateResult fate_detail;           // per particle (the file keeps it for the point's first case)
   double fates_from = 0, fates_to = 0;          // iterations actually compared
   std::vector<double> light;                    // lighter-species map (density-bidisperse points)
   std::map<std::string, double> enrichment_vs;  // map enrichment against each island point's
@@ -62,7 +69,9 @@ struct PointAnalysis {
   std::vector<double> coverage;     // per cell of the fields grid
   std::vector<CaseAnalysis> cases;  // by replica
   MeanCI enrichment_map, enrichment_snap;
-  MeanCI persistent, captured, dispersed, other, same_island;
+  // Fig. 8 over replicas, observed and by chance (fates.hpp), in the order of kFateNames.
+  MeanCI fates[5], fates_by_chance[5];
+  int island_period = 0;     // least common multiple of the islands' periods (0: no islands)
   int light_species = -1;    // -1: not density-bidisperse
   std::string light_source;  // "snapshots r/R > 0.97" or "fields c_S, r/R > 0.9", ...
   std::vector<double> light_mean, light_ci95;

@@ -1,14 +1,17 @@
 #include "islands/fates.hpp"
 
 #include <algorithm>
+#include <map>
 
 namespace tumble::analysis {
 
-void FateCounts::add(Fate f, bool same) {
+void FateCounts::add(Fate f) {
   switch (f) {
     case Fate::Persistent:
       ++persistent;
-      if (same) ++same_island;
+      break;
+    case Fate::Switched:
+      ++switched;
       break;
     case Fate::Captured:
       ++captured;
@@ -40,9 +43,30 @@ FateResult classify_fates(const SnapshotData& start, const SnapshotData& end,
     r.fate.push_back(static_cast<std::int32_t>(f));
     r.x_start.push_back(start.x[i]);
     r.x_end.push_back(end.x[k]);
-    r.counts.add(f, a >= 0 && a == b);
+    r.counts.add(f);
   }
   return r;
+}
+
+FateExpectation chance_fates(const FateResult& r) {
+  FateExpectation e;
+  const double n = static_cast<double>(r.id.size());
+  if (n == 0) return e;
+  std::map<int, double> a, b;  // particles per island at the start and at the end
+  double in_a = 0, in_b = 0;
+  for (std::size_t i = 0; i < r.id.size(); ++i) {
+    if (r.island_start[i] >= 0) a[r.island_start[i]] += 1, in_a += 1;
+    if (r.island_end[i] >= 0) b[r.island_end[i]] += 1, in_b += 1;
+  }
+  double same = 0;
+  for (const auto& [k, count] : a)
+    if (const auto it = b.find(k); it != b.end()) same += count * it->second;
+  e.persistent = same / n;
+  e.switched = (in_a * in_b - same) / n;
+  e.captured = (n - in_a) * in_b / n;
+  e.dispersed = in_a * (n - in_b) / n;
+  e.other = (n - in_a) * (n - in_b) / n;
+  return e;
 }
 
 }  // namespace tumble::analysis

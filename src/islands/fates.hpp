@@ -1,14 +1,17 @@
 #pragma once
 // Yu 2022 Fig. 8 / Sec. III A: where large particles go between two protocol iterations relative
 // to the CM's non-mixing islands. Each large particle present at both times is one of
-//   persistent  in an island at the start and at the end,
+//   persistent  in the same island at the start and at the end (the paper's text: "start and end
+//               in the same CM-predicted nonmixing region"),
+//   switched    in an island at both times, but not the same one,
 //   captured    outside at the start (chaotic region), inside at the end,
 //   dispersed   inside at the start, outside at the end,
 //   other       outside at both times.
-// The paper's text counts as persistent the particles that "start and end in the same
-// CM-predicted nonmixing region"; `same_island` counts those among the persistent ones, so both
-// readings are available (for period-3 islands compare iterations a multiple of 3 apart, where
-// every island is back in place).
+// The islands of a period-p orbit trade places every iteration, so "the same island" is
+// meaningful only over a whole number of periods (campaign_analysis checks the window). The paper's
+// counts (124 + 241 = 365 inside at the start, 124 + 429 = 544 inside at the end) leave no room for
+// `switched`: either none switched there or its "persistent" is "inside at both"; both readings
+// are reported (persistent + switched is the second).
 #include <cstdint>
 #include <vector>
 
@@ -17,19 +20,36 @@
 
 namespace tumble::analysis {
 
-enum class Fate : std::int32_t { Persistent = 0, Captured = 1, Dispersed = 2, Other = 3 };
+enum class Fate : std::int32_t {
+  Persistent = 0,
+  Captured = 1,
+  Dispersed = 2,
+  Other = 3,
+  Switched = 4
+};
 
 // The class of a particle from its island index at the start and at the end (-1: none).
 constexpr Fate fate_of(int island_start, int island_end) {
   const bool a = island_start >= 0, b = island_end >= 0;
-  return a ? (b ? Fate::Persistent : Fate::Dispersed) : (b ? Fate::Captured : Fate::Other);
+  if (a && b) return island_start == island_end ? Fate::Persistent : Fate::Switched;
+  return a ? Fate::Dispersed : (b ? Fate::Captured : Fate::Other);
 }
 
 struct FateCounts {
-  std::int64_t persistent = 0, captured = 0, dispersed = 0, other = 0;
-  std::int64_t same_island = 0;  // persistent particles in the same island at both times
-  std::int64_t total() const { return persistent + captured + dispersed + other; }
-  void add(Fate f, bool same);
+  std::int64_t persistent = 0, captured = 0, dispersed = 0, other = 0, switched = 0;
+  std::int64_t total() const { return persistent + captured + dispersed + other + switched; }
+  void add(Fate f);
+};
+
+// What chance gives: the expected counts if the particles' end positions were handed out at
+// random among the same particles (a random relabelling of the end configuration, every
+// permutation equally likely), so that the islands' occupancy at the start and at the end is
+// kept and only the link between a particle's start and its end is broken. With a_k and b_k the
+// particles in island k at the start and at the end, A = sum a_k, B = sum b_k, of N:
+// persistent = sum a_k b_k / N, switched = (A B - sum a_k b_k) / N, captured = (N - A) B / N,
+// dispersed = A (N - B) / N, other = (N - A)(N - B) / N (the means of hypergeometric counts).
+struct FateExpectation {
+  double persistent = 0, captured = 0, dispersed = 0, other = 0, switched = 0;
 };
 
 struct FateResult {
@@ -44,5 +64,7 @@ struct FateResult {
 // notes").
 FateResult classify_fates(const SnapshotData& start, const SnapshotData& end,
                           const IslandMask& islands);
+
+FateExpectation chance_fates(const FateResult& r);
 
 }  // namespace tumble::analysis

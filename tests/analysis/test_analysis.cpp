@@ -3,8 +3,10 @@
 // the lighter species of a density-bidisperse bed, and replica confidence intervals.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "analysis/displacement.hpp"
 #include "analysis/light_concentration.hpp"
@@ -125,8 +127,8 @@ TEST(Fates, ConstructedTrajectoriesOfFig8) {
   const Vec3 out1 = at_disc(0.6, -0.5, 0.95 * R), out2 = at_disc(-0.6, 0.5, 0.95 * R);
   ta::SnapshotData s0 = empty_snapshot(R), s1 = empty_snapshot(R);
   // id: start -> end                         expected
-  add(s0, 1, 1, in_a), add(s1, 1, 1, in_a);  // persistent, same island
-  add(s0, 2, 1, in_a), add(s1, 2, 1, in_b);  // persistent, another island
+  add(s0, 1, 1, in_a), add(s1, 1, 1, in_a);  // persistent: the same island
+  add(s0, 2, 1, in_a), add(s1, 2, 1, in_b);  // switched: another island
   add(s0, 3, 1, out1), add(s1, 3, 1, in_b);  // captured
   add(s0, 4, 1, out2), add(s1, 4, 1, in_a);  // captured
   add(s0, 5, 1, in_b), add(s1, 5, 1, out1);  // dispersed
@@ -135,8 +137,8 @@ TEST(Fates, ConstructedTrajectoriesOfFig8) {
   add(s0, 8, 1, in_a);                       // absent at the end: not classified
   add(s0, 9, 1, out2), add(s1, 9, 1, out2);  // other
   const ta::FateResult r = ta::classify_fates(s0, s1, mask);
-  EXPECT_EQ(r.counts.persistent, 2);
-  EXPECT_EQ(r.counts.same_island, 1);
+  EXPECT_EQ(r.counts.persistent, 1);
+  EXPECT_EQ(r.counts.switched, 1);
   EXPECT_EQ(r.counts.captured, 2);
   EXPECT_EQ(r.counts.dispersed, 1);
   EXPECT_EQ(r.counts.other, 2);
@@ -146,8 +148,51 @@ TEST(Fates, ConstructedTrajectoriesOfFig8) {
   EXPECT_EQ(r.fate[2], static_cast<int>(ta::Fate::Captured));
   EXPECT_EQ(r.island_start[1], 0);
   EXPECT_EQ(r.island_end[1], 1);
+  EXPECT_EQ(r.fate[1], static_cast<int>(ta::Fate::Switched));
   static_assert(ta::fate_of(-1, -1) == ta::Fate::Other);
   static_assert(ta::fate_of(2, -1) == ta::Fate::Dispersed);
+  static_assert(ta::fate_of(1, 1) == ta::Fate::Persistent);
+  static_assert(ta::fate_of(1, 0) == ta::Fate::Switched);
+
+  // What chance gives for these 7: island A holds ids 1, 2 at the start (a_A = 2), B holds 5
+  // (a_B = 1); at the end A holds 1, 4 (b_A = 2), B holds 2, 3 (b_B = 2). A = 3, B = 4, N = 7.
+  const ta::FateExpectation e = ta::chance_fates(r);
+  EXPECT_NEAR(e.persistent, (2.0 * 2 + 1.0 * 2) / 7, 1e-15);
+  EXPECT_NEAR(e.switched, (3.0 * 4 - 6) / 7, 1e-15);
+  EXPECT_NEAR(e.captured, 4.0 * 4 / 7, 1e-15);
+  EXPECT_NEAR(e.dispersed, 3.0 * 3 / 7, 1e-15);
+  EXPECT_NEAR(e.other, 4.0 * 3 / 7, 1e-15);
+  EXPECT_NEAR(e.persistent + e.switched + e.captured + e.dispersed + e.other, 7.0, 1e-12);
+}
+
+// The chance expectation is the mean over random relabellings: check it against 20,000 random
+// permutations of the end islands of 40 particles in three islands (Monte Carlo, 5 sigma).
+TEST(Fates, ChanceExpectationIsTheMeanOverRandomRelabellings) {
+  ta::FateResult r;
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<int> pick(-1, 2);  // -1: outside, 0..2: islands
+  for (int i = 0; i < 40; ++i) {
+    r.id.push_back(i);
+    r.island_start.push_back(pick(rng));
+    r.island_end.push_back(pick(rng));
+  }
+  const ta::FateExpectation e = ta::chance_fates(r);
+  std::vector<int> end = r.island_end;
+  double sum[5] = {0, 0, 0, 0, 0}, sum2[5] = {0, 0, 0, 0, 0};
+  const int trials = 20000;
+  for (int t = 0; t < trials; ++t) {
+    std::shuffle(end.begin(), end.end(), rng);
+    ta::FateCounts c;
+    for (int i = 0; i < 40; ++i) c.add(ta::fate_of(r.island_start[i], end[i]));
+    const double v[5] = {double(c.persistent), double(c.captured), double(c.dispersed),
+                         double(c.other), double(c.switched)};
+    for (int k = 0; k < 5; ++k) sum[k] += v[k], sum2[k] += v[k] * v[k];
+  }
+  const double expect[5] = {e.persistent, e.captured, e.dispersed, e.other, e.switched};
+  for (int k = 0; k < 5; ++k) {
+    const double mean = sum[k] / trials, var = sum2[k] / trials - mean * mean;
+    EXPECT_NEAR(mean, expect[k], 5 * std::sqrt(var / trials) + 1e-12) << "class " << k;
+  }
 }
 
 // Δψ of a rigid rotation by theta about the x axis: a direction at angle beta from the axis
