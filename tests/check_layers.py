@@ -26,7 +26,7 @@ ALLOWED = {
     "analysis": {"base", "h5", "projection", "scene"},
     "cm": {"base", "h5", "projection"},
     "islands": {"base", "h5", "projection", "scene", "analysis", "cm"},
-    "io": {"base", "h5", "scene", "contact", "geometry", "engine", "analysis"},
+    "io": {"base", "h5", "scene", "contact", "geometry", "engine", "analysis", "cm"},
     "run": {"base", "h5", "scene", "contact", "geometry", "engine", "io", "analysis", "cm"},
     "campaign": {"base", "h5", "projection", "scene", "engine", "io", "analysis", "islands", "cm",
                  "run"},

@@ -56,8 +56,9 @@ TEST(DriftMeasure, CellStatisticsOfSelectedParticles) {
   // Another cell: (−0.5 R, −0.2 R), axial −0.2 ω R twice.
   add({-0.5 * R, 0.001, -0.2 * R}, {0.1 * u, 0, -0.2 * u}, 1);
   add({-0.5 * R, 0.001, -0.2 * R}, {0.1 * u, 0, -0.2 * u}, 1);
-  EXPECT_EQ(m.sample(p, wz), 6);
-  const cm::DriftGrid g = m.grid("test");
+  cm::DriftStatistics sums = m.zeros();
+  EXPECT_EQ(m.sample(p, wz, sums), 6);
+  const cm::DriftGrid g = m.grid(sums, "test");
   const int c1 = g.cell(0.1, 0.5), c2 = g.cell(-0.5, -0.2);
   ASSERT_GE(c1, 0);
   ASSERT_GE(c2, 0);

@@ -5,6 +5,7 @@
 
 #include "base/error.hpp"
 #include "bed_fixture.hpp"
+#include "h5/hdf5_file.hpp"
 #include "io/checkpoint.hpp"
 #include "run/realization.hpp"
 
@@ -55,6 +56,41 @@ TEST(Restart, ContinuesBitwiseIdentically) {
   }
   // The run actually moved (a restart of a frozen state would pass trivially).
   EXPECT_GT(a.history.records().size(), 100u);
+}
+
+// The drift grid's sums are part of the checkpoint: a run killed after one drift sample (every
+// 0.1 s = 5,000 steps) and resumed writes the grid of the uninterrupted run, bit for bit.
+TEST(Restart, DriftGridSumsSurviveAResume) {
+  const std::string base = test_dir("restart_drift");
+  std::filesystem::remove_all(base);
+  auto scene = [&](const std::string& out) {
+    return tiny_scene({"protocol.mode=single_axis", "protocol.rpm=30", "protocol.duration=0.31",
+                       "output.drift_grid=on", "scene.output_dir=" + base + "/" + out,
+                       "output.checkpoint_interval=0.152", "output.snapshot_interval=0.31"});
+  };
+  run_realization(scene("full"), RunOptions{});
+  RunOptions first;
+  first.max_steps = 7600;  // the first checkpoint; one drift sample (step 5,000) taken before it
+  run_realization(scene("split"), first);
+  const io::CheckpointData mid = io::read_checkpoint(base + "/split/checkpoint.h5");
+  ASSERT_EQ(mid.step, 7600);
+  ASSERT_FALSE(mid.drift.empty());
+  EXPECT_GT(mid.drift.samples(), 0);
+  RunOptions second;
+  second.resume = true;
+  run_realization(scene("split"), second);
+  io::H5File a(base + "/full/drift_grid.h5", io::H5File::Mode::Read);
+  io::H5File b(base + "/split/drift_grid.h5", io::H5File::Mode::Read);
+  double total = 0;
+  for (const char* name : {"/count", "/sum", "/sum2", "/v_ax", "/sigma_ax"}) {
+    const auto x = a.read_double(name), y = b.read_double(name);
+    ASSERT_EQ(x.size(), y.size()) << name;
+    for (std::size_t c = 0; c < x.size(); ++c) EXPECT_EQ(x[c], y[c]) << name << "[" << c << "]";
+    if (std::string(name) == "/count")
+      for (const double v : x) total += v;
+  }
+  // More samples at the end than at the kill: the resumed run added to the restored sums.
+  EXPECT_GT(total, mid.drift.samples());
 }
 
 TEST(Restart, RefusesACheckpointOfAnotherScene) {

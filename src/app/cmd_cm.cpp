@@ -560,9 +560,16 @@ void register_drift(CLI::App& cm) {
     SyntheticDrift sd;
     RunArgs run;
     std::string out = "results/cm/drift_synthetic.h5";
+    std::vector<std::string> merge;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = cm.add_subcommand("drift", "write the synthetic drift grid (docs/cm.md) to HDF5");
+  auto* cmd = cm.add_subcommand(
+      "drift",
+      "write the synthetic drift grid (docs/cm.md) to HDF5, or merge measured grids (--merge)");
+  cmd->add_option("--merge", args->merge,
+                  "measured drift grids (drift_grid.h5 of runs with output.drift_grid = on) to "
+                  "merge into one: their per-cell statistics summed")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--n", args->sd.n, "grid cells per side");
   cmd->add_option("--drift-per-pass", args->sd.drift_per_pass,
                   "largest axial displacement per layer transit (R)");
@@ -574,6 +581,25 @@ void register_drift(CLI::App& cm) {
                   "refuse a grid estimated to need more memory than this (e.g. 2G; default: the "
                   "machine's available memory)");
   cmd->callback([args] {
+    if (!args->merge.empty()) {
+      // Grids of several runs (replicas, or pieces of one run) as one field: exact, since each
+      // file keeps its per-cell sums.
+      std::vector<DriftGrid> grids;
+      std::string source = "merged:";
+      for (const auto& path : args->merge) {
+        grids.push_back(read_drift_grid(path));
+        grids.back().source = path;
+        source += " " + path;
+      }
+      const DriftGrid merged = merge_drift_grids(grids, source);
+      prepare_output(args->out);
+      write_drift_grid(args->out, merged);
+      std::printf(
+          "%zu grids, %.0f samples; <|v_ax|> = %.4g, <sigma_ax> = %.4g (omega R); wrote %s\n",
+          grids.size(), merged.statistics.samples(), merged.mean_abs_v(), merged.mean_sigma(),
+          args->out.c_str());
+      return;
+    }
     const auto& s = args->sd;
     require(s.n >= 2 && s.n <= kMaxDriftGridN, "--n", "in [2, 1000]", s.n);
     require(s.drift_per_pass >= 0 && s.drift_per_pass <= 0.5, "--drift-per-pass", "in [0, 0.5]",

@@ -1,5 +1,6 @@
 #include "cm/drift_grid.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -78,6 +79,54 @@ DriftGrid synthetic_drift(const SyntheticDrift& sd) {
   return g;
 }
 
+DriftGrid drift_grid_from_statistics(int n, DriftStatistics statistics, const std::string& source) {
+  const auto& count = statistics.count;
+  const auto& sum = statistics.sum;
+  const auto& sum2 = statistics.sum2;
+  DriftGrid g;
+  g.n = n;
+  g.source = source;
+  g.v_ax.assign(count.size(), 0.0);
+  g.sigma_ax.assign(count.size(), 0.0);
+  double sigma_sum = 0, sigma_cells = 0;
+  for (std::size_t c = 0; c < count.size(); ++c) {
+    if (count[c] < 2) continue;
+    const double mean = sum[c] / count[c];
+    const double var = std::max(0.0, (sum2[c] - count[c] * mean * mean) / (count[c] - 1));
+    g.v_ax[c] = mean;
+    g.sigma_ax[c] = std::sqrt(var);
+    sigma_sum += g.sigma_ax[c];
+    sigma_cells += 1;
+  }
+  const double fill = sigma_cells > 0 ? sigma_sum / sigma_cells : 0.0;
+  for (std::size_t c = 0; c < count.size(); ++c)
+    if (count[c] < 2) g.sigma_ax[c] = fill;
+  g.statistics = std::move(statistics);
+  return g;
+}
+
+DriftGrid merge_drift_grids(const std::vector<DriftGrid>& grids, const std::string& source) {
+  if (grids.empty()) throw InputError("merging drift grids: no grid given");
+  const int n = grids.front().n;
+  const std::size_t cells = static_cast<std::size_t>(n) * n;
+  DriftStatistics all = DriftStatistics::zeros(n);
+  for (const auto& g : grids) {
+    if (!g.has_statistics())
+      throw InputError("drift grid '" + g.source +
+                       "' holds no per-cell statistics (/count, /sum, /sum2): only measured "
+                       "grids (output.drift_grid = on) can be merged");
+    if (g.n != n)
+      throw InputError("drift grid '" + g.source + "' has n = " + std::to_string(g.n) +
+                       ", the first grid n = " + std::to_string(n) + ": merge grids of one n");
+    for (std::size_t c = 0; c < cells; ++c) {
+      all.count[c] += g.statistics.count[c];
+      all.sum[c] += g.statistics.sum[c];
+      all.sum2[c] += g.statistics.sum2[c];
+    }
+  }
+  return drift_grid_from_statistics(n, std::move(all), source);
+}
+
 DriftGrid read_drift_grid(const std::string& path) {
   io::H5File f(path, io::H5File::Mode::Read);
   DriftGrid g;
@@ -99,6 +148,22 @@ DriftGrid read_drift_grid(const std::string& path) {
                        ", sigma_ax = " + std::to_string(g.sigma_ax[c]) +
                        " (both finite, sigma_ax >= 0)");
   g.source = f.has_attr("/", "source") ? f.attr_string("/", "source") : path;
+  if (f.exists("/count")) {
+    for (const char* name : {"/count", "/sum", "/sum2"})
+      if (!f.exists(name) || f.shape(name) != shape)
+        throw InputError("drift grid '" + path + "': " + name +
+                         " must be present with the shape of /v_ax when /count is");
+    DriftStatistics& st = g.statistics;
+    st.count = f.read_double("/count");
+    st.sum = f.read_double("/sum");
+    st.sum2 = f.read_double("/sum2");
+    for (std::size_t c = 0; c < st.count.size(); ++c)
+      if (!(st.count[c] >= 0) || !std::isfinite(st.sum[c]) || !(st.sum2[c] >= 0) ||
+          !std::isfinite(st.sum2[c]))
+        throw InputError("drift grid '" + path + "': cell [" + std::to_string(c / g.n) + "][" +
+                         std::to_string(c % g.n) +
+                         "] has count < 0 or a sum that is not finite (or sum2 < 0)");
+  }
   return g;
 }
 
@@ -108,6 +173,11 @@ void write_drift_grid(const std::string& path, const DriftGrid& g) {
   const hsize_t n = static_cast<hsize_t>(g.n);
   f.write("/v_ax", g.v_ax, {n, n});
   f.write("/sigma_ax", g.sigma_ax, {n, n});
+  if (g.has_statistics()) {
+    f.write("/count", g.statistics.count, {n, n});
+    f.write("/sum", g.statistics.sum, {n, n});
+    f.write("/sum2", g.statistics.sum2, {n, n});
+  }
   f.set_attr("/", "n", static_cast<std::int64_t>(g.n));
   f.set_attr("/", "source", g.source);
   f.set_attr("/", "convention", std::string(kConvention));

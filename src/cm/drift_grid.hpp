@@ -14,10 +14,30 @@
 
 namespace tumble::cm {
 
+// The raw statistics of a measured grid: samples, sum and sum of squares of v_ax per cell
+// (n*n, [i][j]). What a run accumulates (run/drift_measure.hpp), what its checkpoints keep, and
+// what lets the grids of several runs be merged exactly (merge_drift_grids).
+struct DriftStatistics {
+  std::vector<double> count, sum, sum2;
+  static DriftStatistics zeros(int n) {
+    const std::size_t cells = static_cast<std::size_t>(n) * n;
+    return {std::vector<double>(cells, 0.0), std::vector<double>(cells, 0.0),
+            std::vector<double>(cells, 0.0)};
+  }
+  bool empty() const { return count.empty(); }
+  double samples() const {
+    double total = 0;
+    for (const double c : count) total += c;
+    return total;
+  }
+};
+
 struct DriftGrid {
   int n = 30;
   std::vector<double> v_ax, sigma_ax;  // n*n, [i][j]
   std::string source;                  // "synthetic" or where it was measured
+  DriftStatistics statistics;          // a measured grid's; empty for a synthetic one
+  bool has_statistics() const { return !statistics.empty(); }
 
   // Cell of a point of the layer's footprint, or -1 outside [-1,1]^2.
   int cell(double x, double z) const;
@@ -46,14 +66,25 @@ struct SyntheticDrift {
 };
 DriftGrid synthetic_drift(const SyntheticDrift& s);
 
+// The grid of raw per-cell statistics: v_ax = mean, sigma_ax = sample standard deviation where a
+// cell holds >= 2 samples; elsewhere v_ax = 0 and sigma_ax = the mean sigma of the sampled cells
+// (the MCM needs a sigma everywhere in the footprint). The statistics are kept in the grid.
+DriftGrid drift_grid_from_statistics(int n, DriftStatistics statistics, const std::string& source);
+
+// Several measured grids of one n as one: the statistics summed cell by cell (the grid of all
+// their samples together). Throws InputError naming the grid (by its source) that has no
+// statistics or another n.
+DriftGrid merge_drift_grids(const std::vector<DriftGrid>& grids, const std::string& source);
+
 // The largest grid read or made (`tumble cm drift --n`): 1000 x 1000 cells, 16 MB.
 inline constexpr int kMaxDriftGridN = 1000;
 // Bytes of an n x n grid (v_ax and sigma_ax).
 inline double drift_grid_memory_bytes(int n) { return 16.0 * n * n; }
 
-// HDF5: datasets /v_ax and /sigma_ax, shape [n][n]; attributes on "/": n (int64), source,
-// convention, units (strings). A grid that is not square, larger than kMaxDriftGridN, or holds
-// a value that is not finite (or a negative sigma) is refused (InputError, the cell named).
+// HDF5: datasets /v_ax and /sigma_ax, shape [n][n], and for a measured grid /count, /sum, /sum2
+// of the same shape; attributes on "/": n (int64), source, convention, units (strings). A grid that
+// is not square, larger than kMaxDriftGridN, or holds a value that is not finite (or a negative
+// sigma) is refused (InputError, the cell named).
 DriftGrid read_drift_grid(const std::string& path);
 void write_drift_grid(const std::string& path, const DriftGrid& grid);
 

@@ -154,7 +154,8 @@ void agree(MPI_Comm comm, const std::string& local_error, bool corrupt_kind) {
 }  // namespace
 
 void write_checkpoint(const std::string& path, const Simulation& sim, const Scene& scene,
-                      const analysis::Series& series, std::int64_t snapshots_written) {
+                      const analysis::Series& series, std::int64_t snapshots_written,
+                      const cm::DriftStatistics& drift) {
   // Owned particles only (ghosts are rebuilt on restart), in memory order.
   const Particles& p = sim.particles();
   const std::size_t n = sim.local_count();
@@ -182,6 +183,11 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   f.write_rows("contacts/spring", springs, static_cast<hsize_t>(width));
   f.write_rows("contacts/anchor", anchors, 3);
   write_series(f, series);
+  if (!drift.empty()) {  // rank 0's sums (the others hold none: the meter samples the gathered bed)
+    f.write("drift/count", drift.count);
+    f.write("drift/sum", drift.sum);
+    f.write("drift/sum2", drift.sum2);
+  }
   f.set_attr("/", "time", sim.time());
   f.set_attr("/", "step", static_cast<std::int64_t>(sim.step_count()));
   f.set_attr("/", "snapshots_written", snapshots_written);
@@ -252,6 +258,13 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
     c.history = neighbor::ContactHistory({h, (1u << h) - 1});
     c.history.set_records(std::move(recs));
     read_series(f, c.series);
+    if (f.exists("drift/count")) {
+      c.drift.count = f.read_double("drift/count");
+      c.drift.sum = f.read_double("drift/sum");
+      c.drift.sum2 = f.read_double("drift/sum2");
+      if (c.drift.sum.size() != c.drift.count.size() || c.drift.sum2.size() != c.drift.count.size())
+        corrupt(path, "the drift/ datasets have different lengths");
+    }
     c.time = f.attr_double("/", "time");
     c.step = f.attr_int64("/", "step");
     c.snapshots_written = f.attr_int64("/", "snapshots_written");

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "analysis/radial_segregation.hpp"
+#include "cm/drift_grid.hpp"
 #include "engine/simulation.hpp"
 #include "scene/scene.hpp"
 
@@ -26,12 +27,14 @@ struct CheckpointData {
   double time = 0;
   std::int64_t step = 0;
   analysis::Series series;
-  std::string scene_text;  // the scene that wrote it
+  cm::DriftStatistics drift;  // empty unless the run measured the drift grid
+  std::string scene_text;     // the scene that wrote it
   std::int64_t snapshots_written = 0;
 };
 
 void write_checkpoint(const std::string& path, const Simulation& sim, const Scene& scene,
-                      const analysis::Series& series, std::int64_t snapshots_written);
+                      const analysis::Series& series, std::int64_t snapshots_written,
+                      const cm::DriftStatistics& drift = {});
 // Whole checkpoint (serial), or with `comm` of more than one rank this rank's block of the
 // particle rows and of the contact records (collective).
 // Refuses (CorruptInputError, naming file and dataset) a file whose checksums fail or whose

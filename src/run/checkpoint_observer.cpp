@@ -35,7 +35,7 @@ void CheckpointObserver::after_step(RunState& s) {
 void CheckpointObserver::write(RunState& s) {
   s.sim.check_health();
   io::write_checkpoint(path_, s.sim, s.scene, s.series,
-                       static_cast<std::int64_t>(s.snapshots.size()));
+                       static_cast<std::int64_t>(s.snapshots.size()), s.drift);
   last_ = Clock::now();
 }
 

@@ -1,18 +1,14 @@
 #include "run/drift_measure.hpp"
 
 #include <cmath>
+#include <string>
+
+#include "base/error.hpp"
 
 namespace tumble::analysis {
 
 DriftGridMeter::DriftGridMeter(int n, double R, double repose, double omega, double d_large)
-    : n_(n),
-      R_(R),
-      repose_(repose),
-      omega_(omega),
-      d_large_(d_large),
-      count_(static_cast<std::size_t>(n) * n, 0.0),
-      sum_(count_),
-      sum2_(count_) {}
+    : n_(n), R_(R), repose_(repose), omega_(omega), d_large_(d_large) {}
 
 Vec3 DriftGridMeter::to_layer_frame(const Vec3& lab, const Vec3& omega_vec) const {
   const double w = norm(omega_vec);
@@ -23,7 +19,12 @@ Vec3 DriftGridMeter::to_layer_frame(const Vec3& lab, const Vec3& omega_vec) cons
   return x_phase ? Vec3{p.z, p.y, -p.x} : p;  // cm::to_frame
 }
 
-std::int64_t DriftGridMeter::sample(const Particles& p, const Vec3& omega_vec) {
+std::int64_t DriftGridMeter::sample(const Particles& p, const Vec3& omega_vec,
+                                    cm::DriftStatistics& into) const {
+  const std::size_t cells = static_cast<std::size_t>(n_) * n_;
+  if (into.count.size() != cells || into.sum.size() != cells || into.sum2.size() != cells)
+    throw CorruptInputError("drift statistics of " + std::to_string(into.count.size()) +
+                            " cells where the drift grid has " + std::to_string(cells));
   if (norm(omega_vec) == 0.0) return 0;
   std::int64_t taken = 0;
   const double vscale = 1.0 / (omega_ * R_);
@@ -38,35 +39,17 @@ std::int64_t DriftGridMeter::sample(const Particles& p, const Vec3& omega_vec) {
     if (ci < 0 || ci >= n_ || cj < 0 || cj >= n_) continue;
     const std::size_t c = static_cast<std::size_t>(ci) * n_ + cj;
     const double va = u.z * vscale;
-    count_[c] += 1;
-    sum_[c] += va;
-    sum2_[c] += va * va;
+    into.count[c] += 1;
+    into.sum[c] += va;
+    into.sum2[c] += va * va;
     ++taken;
   }
-  samples_ += taken;
   return taken;
 }
 
-cm::DriftGrid DriftGridMeter::grid(const std::string& source) const {
-  cm::DriftGrid g;
-  g.n = n_;
-  g.source = source;
-  g.v_ax.assign(count_.size(), 0.0);
-  g.sigma_ax.assign(count_.size(), 0.0);
-  double sigma_sum = 0, sigma_cells = 0;
-  for (std::size_t c = 0; c < count_.size(); ++c) {
-    if (count_[c] < 2) continue;
-    const double mean = sum_[c] / count_[c];
-    const double var = std::max(0.0, (sum2_[c] - count_[c] * mean * mean) / (count_[c] - 1));
-    g.v_ax[c] = mean;
-    g.sigma_ax[c] = std::sqrt(var);
-    sigma_sum += g.sigma_ax[c];
-    sigma_cells += 1;
-  }
-  const double fill = sigma_cells > 0 ? sigma_sum / sigma_cells : 0.0;
-  for (std::size_t c = 0; c < count_.size(); ++c)
-    if (count_[c] < 2) g.sigma_ax[c] = fill;
-  return g;
+cm::DriftGrid DriftGridMeter::grid(const cm::DriftStatistics& statistics,
+                                   const std::string& source) const {
+  return cm::drift_grid_from_statistics(n_, statistics, source);
 }
 
 }  // namespace tumble::analysis

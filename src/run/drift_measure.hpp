@@ -27,21 +27,21 @@ class DriftGridMeter {
  public:
   DriftGridMeter(int n, double tumbler_radius, double repose_rad, double omega, double d_large);
 
+  // Empty statistics of this grid, to sample into.
+  cm::DriftStatistics zeros() const { return cm::DriftStatistics::zeros(n_); }
   // Samples the large particles (species 1) for the rotation with angular velocity `omega_vec`
-  // (about x or z). Returns the number of particles sampled.
-  std::int64_t sample(const Particles& p, const Vec3& omega_vec);
+  // (about x or z) into `into` (of this grid's size: CorruptInputError otherwise, e.g. the sums
+  // of a damaged checkpoint). Returns the number of particles sampled.
+  std::int64_t sample(const Particles& p, const Vec3& omega_vec, cm::DriftStatistics& into) const;
   // Mean and standard deviation per cell; cells never sampled get v = 0 and the mean σ of the
   // sampled cells (the MCM needs a σ everywhere in the footprint).
-  cm::DriftGrid grid(const std::string& source) const;
-  std::int64_t samples() const { return samples_; }
+  cm::DriftGrid grid(const cm::DriftStatistics& statistics, const std::string& source) const;
   // Frame of a lab vector for the rotation `omega_vec` (exposed for tests).
   Vec3 to_layer_frame(const Vec3& lab, const Vec3& omega_vec) const;
 
  private:
   int n_;
   double R_, repose_, omega_, d_large_;
-  std::vector<double> count_, sum_, sum2_;
-  std::int64_t samples_ = 0;
 };
 
 }  // namespace tumble::analysis

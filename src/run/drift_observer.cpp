@@ -18,18 +18,23 @@ void DriftObserver::after_step(RunState& s) {
   const Simulation& sim = s.sim;
   if (sim.step_count() % every_ != 0) return;
   const char* flowing = sim.protocol().periodic() ? "rotate" : "spin";
-  if (std::string(sim.protocol().phase(sim.time())) == flowing)
-    meter_.sample(s.whole_bed(), sim.protocol().omega(sim.time()));
+  if (std::string(sim.protocol().phase(sim.time())) == flowing) {
+    // Into the run state, which the checkpoints keep (a restart brings its sums back there).
+    if (s.drift.empty()) s.drift = meter_.zeros();
+    meter_.sample(s.whole_bed(), sim.protocol().omega(sim.time()), s.drift);
+  }
 }
 
 void DriftObserver::finish(RunState& s) {
   if (!s.lead()) return;
   const Scene& scene = s.scene;
   const std::string path = scene.output_dir + "/drift_grid.h5";
+  const cm::DriftStatistics sums = s.drift.empty() ? meter_.zeros() : s.drift;
+  const auto samples = static_cast<long long>(sums.samples());
   cm::write_drift_grid(
-      path, meter_.grid("DEM scene " + scene.name + ", seed " + std::to_string(scene.seed) + ", " +
-                        std::to_string(meter_.samples()) + " samples"));
-  if (s.log) *s.log << "[run] drift grid (" << meter_.samples() << " samples) in " << path << "\n";
+      path, meter_.grid(sums, "DEM scene " + scene.name + ", seed " + std::to_string(scene.seed) +
+                                  ", " + std::to_string(samples) + " samples"));
+  if (s.log) *s.log << "[run] drift grid (" << samples << " samples) in " << path << "\n";
 }
 
 }  // namespace tumble

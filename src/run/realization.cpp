@@ -98,6 +98,7 @@ Started restart_from(const std::string& path, const Scene& scene,
   st.sim->restore(c.history);
   st.state = std::make_unique<RunState>(scene, *st.sim, comm, log);
   st.state->series = std::move(c.series);
+  if (scene.drift_grid == OnOff::on) st.state->drift = std::move(c.drift);
   const double dt = scene.time_step();
   for (std::int64_t k = 0; k < c.snapshots_written; ++k) {
     char name[64];

@@ -11,6 +11,7 @@
 
 #include "analysis/radial_segregation.hpp"
 #include "base/particles.hpp"
+#include "cm/drift_grid.hpp"
 #include "engine/simulation.hpp"
 #include "io/snapshot.hpp"
 #include "scene/scene.hpp"
@@ -32,6 +33,7 @@ struct RunState {
   std::int64_t particles = 0;    // in the whole realization
   std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
   analysis::Series series;
+  cm::DriftStatistics drift;  // output.drift_grid = on: the grid's sums so far (checkpointed)
   std::vector<io::SnapshotEntry> snapshots;
 
   // Every particle of the realization, sorted by id: the engine's own array when serial, else
