@@ -58,7 +58,39 @@ SERIES = [("series/shell_large_fraction", "large share of the shell 0.9 < r/R < 
           ("series/radial_segregation", "radial segregation (shell share − bed share)",
            (-1.0, 1.0)),
           ("series/mixing_index", "intensity of segregation of the shell map", (0.0, 1.0))]
-FATES = ["persistent", "captured", "dispersed", "other", "same_island"]
+FATES = ["persistent", "switched", "captured", "dispersed", "other"]
+# Yu 2022 Fig. 8 (f = 0.15, N = 7 -> 34, 1980 large particles); "switched" is not one of its classes
+PAPER_FATES = {"persistent": 124, "captured": 429, "dispersed": 241, "other": 1186}
+PAPER_LARGE = 1980
+
+
+def displacement_groups(pts):
+    """The Δψ groups of the campaigns' fields (displacement, displacement_k6, ...) with their lag
+    in periods, from the per-case collect text (';k=1,6,18;'): [(group, periods)]."""
+    groups = {}
+    for q in pts:
+        for cf in q["members"]:
+            m = re.search(r"(?:^|;)k=([^;]+)", str(cf.get("collect", "")))
+            if not m:
+                continue
+            lags = m.group(1).split(",")
+            for i, k in enumerate(lags):
+                groups.setdefault("displacement" if i == 0 else f"displacement_k{k}", k)
+    return sorted(groups.items(), key=lambda gk: float(gk[1]))
+
+
+def map_fields(pts):
+    """MAP_FIELDS with a Δψ pair for every further lag the campaigns collected."""
+    out = list(MAP_FIELDS)
+    for g, k in displacement_groups(pts):
+        if g == "displacement":
+            continue
+        for sp in ("large", "small"):
+            field = f"{g}/dpsi_{sp}"
+            EMPTY_COUNT[field] = f"{g}/count_{sp}"
+            out.append((field, f"Δψ {sp} over {k} periods [deg]", 180 / np.pi, "magma",
+                        (0.0, 180.0)))
+    return out
 
 
 class Html(str):
@@ -276,7 +308,7 @@ def member_maps(q, field, k=1.0):
     return np.array(maps) if maps else None
 
 
-def section_maps(R, pts, map_csv):
+def section_maps(R, pts, map_csv, fields):
     R.h("<h2>3. Maps per parameter point</h2><p>Lambert equal-area projection of the lower "
         "hemisphere viewed from below (X right, Z up; docs/campaign.md). Red curves: CM island "
         "boundaries on r = 0.95 from <code>tumble analyze campaign</code>. One colour scale per "
@@ -286,7 +318,7 @@ def section_maps(R, pts, map_csv):
         "[0°, 180°]) so that it stays inside it; a width equal to the range says the replicas "
         "do not constrain the cell at all, a width of 0 that they agree exactly (e.g. no large "
         "particle in any replica): with N = 2 that is not certainty.</p>")
-    for field, label, k, cmap, (lo, hi) in MAP_FIELDS:
+    for field, label, k, cmap, (lo, hi) in fields:
         have = [q for q in pts if field in q["p"]["fields"]]
         if not have:
             continue
@@ -608,7 +640,7 @@ def fate_bound(q):
     an = q["an"]
     if an is None:
         return np.inf
-    tot = sum(np.asarray(an["fates"][f], float) for f in FATES[:4])
+    tot = sum(np.asarray(an["fates"][f], float) for f in FATES)
     tot = tot[tot >= 0]
     return float(tot.max()) if tot.size else np.inf
 
@@ -673,33 +705,125 @@ def section_fates(R, pts):
             "or <code>tumble analyze campaign</code> has not run: no Fig. 8 counts.</p>")
         return
     R.h("<p>Large particles, classified by whether the Lambert image of their direction lies in "
-        "a CM island (r = 0.95) at the start and at the end of the interval (lab frame). Mean "
-        "[95% interval, on the logit scale of 0 … the large particles of a case, a count "
-        "on a bound moved half a particle inside it] (N). "
-        "'same island' counts the persistent ones in the same island at both times (the "
-        "paper's text). Yu 2022, f = 0.15, N = 7 → 34, 1980 large: persistent 124, captured "
-        "429, dispersed 241, other 1186.</p>")
-    rows, panels = [], []
+        "a CM island (r = 0.95) at the start and at the end of the interval (lab frame): "
+        "<b>persistent</b> in the <i>same</i> island at both times (the paper's definition), "
+        "<b>switched</b> in an island at both times but not the same one (not a class of the "
+        "paper's figure), <b>captured</b> outside → inside, <b>dispersed</b> inside → outside, "
+        "<b>other</b> outside at both. Mean [95% interval, on the logit scale of 0 … the large "
+        "particles of a case, a count on a bound moved half a particle inside it] (N), and the "
+        "share of the large particles. <b>Chance</b>: the expected count if each particle's end "
+        "position were that of a particle drawn at random (the islands' occupancy at both "
+        "times kept, the link between a particle's start and end broken); <b>excess</b> = "
+        "observed − chance, per replica, mean ± Student 95% half-width: a persistent excess "
+        "above 0 is memory of the island, beyond what the end pattern alone gives. Yu 2022 "
+        "(f = 0.15, N = 7 → 34, 1980 large): persistent 124 (6.3%), captured 429 (21.7%), "
+        "dispersed 241 (12.2%), other 1186 (59.9%).</p>")
+    rows, panels, warn = [], [], []
     for q in have:
         a = q["an"]
         frm, to = a["fates_from"], a["fates_to"]
-        row = [q["label"], f"{np.nanmin(frm):.3g} → {np.nanmax(to):.3g}"]
+        period = a.get("island_period", 0)
+        span = np.nanmax(to) - np.nanmin(frm)
+        if period and abs(span - period * round(span / period)) > 1e-3:  # snapshots: ± 1 step
+            warn.append(f"{q['label']}: the window {np.nanmin(frm):.3g} → {np.nanmax(to):.3g} "
+                        f"is not a whole number of the islands' period ({period} iterations); "
+                        "islands trade places within a period, so 'persistent' and 'switched' "
+                        "are mixed up")
         top = fate_bound(q)
+        tot = sum(np.asarray(a["fates"][f], float) for f in FATES)
+        tot = np.where(tot > 0, tot, np.nan)
+        chance = a.get("fates_by_chance")
         for f in FATES:
-            b = bounded_interval([v if v >= 0 else np.nan for v in a["fates"][f]], 0.0, top,
-                                 eps=0.5)
-            row.append(Html(fi.ci_span(b)))
-        row.append(f"{top:g}")
-        rows.append(row)
+            obs = np.array([v if v >= 0 else np.nan for v in a["fates"][f]], float)
+            b = bounded_interval(obs, 0.0, top, eps=0.5)
+            share = obs / tot
+            row = [q["label"], f"{np.nanmin(frm):.3g} → {np.nanmax(to):.3g}", f,
+                   Html(fi.ci_span(b)), f"{100 * np.nanmean(share):.1f}%"]
+            if chance is not None and f in chance:
+                c = np.asarray(chance[f], float)
+                ex = obs - c
+                m, h, n = mean_ci(ex[np.isfinite(ex)])
+                row += [f"{np.nanmean(c):.1f}", f"{100 * np.nanmean(c / tot):.1f}%",
+                        f"{m:+.1f} ± {h:.1f} ({n})"]
+            else:
+                row += ["", "", ""]
+            pf = PAPER_FATES.get(f)
+            row.append(f"{pf} ({100 * pf / PAPER_LARGE:.1f}%)" if pf is not None else "—")
+            rows.append(row)
         ex = a.get("fate_example")
         if ex is not None:
             panels.append((f"{q['label']}, case {ex['case'][:8]}, N = {ex['frm']:.3g} → "
                            f"{ex['to']:.3g}", q["islands"], ex["fate"], ex["x_start"], ex["x_end"]))
-    R.table(["point", "iterations"] + FATES + ["large particles"], rows, "fates.csv")
+    for w in warn:
+        R.h(f"<p class='warn'>{html.escape(w)}</p>")
+    R.table(["point", "iterations", "class", "count", "share", "chance", "chance share",
+             "excess (observed − chance)", "Yu 2022"], rows, "fates.csv")
     if panels:
         rf.fates_fig(panels, os.path.join(R.out, "fates.png"))
         R.fig("fates.png", "Large particles at the start (left) and end (right) of the interval, "
                            "coloured by fate, with the CM islands (black), one case per point.")
+
+
+def dpsi_contrast(q, group, species):
+    """Per case of q: mean Δψ [deg] of the particles that started outside the islands minus that
+    of those that started inside, each cell weighted by its particle count times the share of
+    its area outside (inside) the islands. NaN where a side holds no particle."""
+    cov = (q["an"] or {}).get("coverage")
+    out = []
+    if cov is None:
+        return out
+    cov = np.asarray(cov, float).ravel()
+    for cf in q["members"]:
+        d = cf["data"]
+        m, c = d.get(f"{group}/dpsi_{species}"), d.get(f"{group}/count_{species}")
+        if m is None or c is None or np.size(m) != cov.size:
+            continue
+        m, c = np.asarray(m, float).ravel() * 180 / np.pi, np.asarray(c, float).ravel()
+        ok = np.isfinite(m) & (c > 0)
+        w_in, w_out = (c * cov)[ok], (c * (1 - cov))[ok]
+        if w_in.sum() <= 0 or w_out.sum() <= 0:
+            out.append((np.nan, np.nan, np.nan))
+            continue
+        inside = float(np.sum(w_in * m[ok]) / w_in.sum())
+        outside = float(np.sum(w_out * m[ok]) / w_out.sum())
+        out.append((inside, outside, outside - inside))
+    return out
+
+
+def section_dpsi_contrast(R, pts):
+    """Yu 2022 Figs. 6-7: particles caught in period-p islands come back after p iterations, so
+    their Δψ over whole periods is small; the contrast outside − inside says how much."""
+    groups = displacement_groups(pts)
+    have = [q for q in pts if q["an"] is not None and q["an"].get("coverage") is not None
+            and len(q["islands"]) > 0]
+    if not groups or not have:
+        return
+    R.h("<h2>3c. Δψ inside and outside the CM islands, per lag</h2><p>Mean angular "
+        "displacement over each collected lag of the particles that started inside the CM "
+        "islands and of those that started outside (0.8 ≤ r/R ≤ 1, cells weighted by their "
+        "particle count and the share of their area inside or outside the islands), per "
+        "replica; <b>contrast</b> = outside − inside, mean ± Student 95% half-width (N). A "
+        "positive contrast over a whole number of island periods is the paper's Figs. 6-7: "
+        "particles in period-3 islands return after 3, 6, 18 iterations, the chaotic ones do "
+        "not. Over a lag that is not a whole number of periods the islands' particles are "
+        "elsewhere and the contrast says little.</p>")
+    rows = []
+    for q in have:
+        for g, k in groups:
+            for sp in ("large", "small"):
+                v = dpsi_contrast(q, g, sp)
+                if not v:
+                    continue
+                v = np.array(v, float)
+                cells = []
+                for col in range(3):
+                    x = v[:, col]
+                    x = x[np.isfinite(x)]
+                    m, h, n = mean_ci(x)
+                    cells.append(f"{m:.2f} ± {h:.2f} ({n})" if n else "—")
+                rows.append([q["label"], k, sp] + cells)
+    R.table(["point", "lag [periods]", "species", "Δψ inside [deg]", "Δψ outside [deg]",
+             "contrast outside − inside [deg]"], rows, "dpsi_contrast.csv")
 
 
 def section_renders(R, pts):
@@ -810,7 +934,8 @@ def main():
     map_csv = []
     section_provenance(R, camps, pts)
     section_cases(R, camps)
-    section_maps(R, pts, map_csv)
+    section_maps(R, pts, map_csv, map_fields(pts))
+    section_dpsi_contrast(R, pts)
     section_light(R, pts, map_csv)
     section_differences(R, pts, baseline, map_csv, findings)
     section_series(R, pts)

@@ -146,6 +146,20 @@ def load_case_fields(d):
     return out
 
 
+def read_fates(g):
+    """The Fig. 8 counts per case. Files written before "persistent" meant the same island
+    (analysis.h5 with a same_island column, persistent = in an island at both times) are read
+    into today's classes: persistent = same_island, switched = the rest of the old persistent."""
+    f = g["fates"]
+    if "switched" in f:
+        return {k: f[k][:] for k in ("persistent", "captured", "dispersed", "other", "switched")}
+    old, same = f["persistent"][:], f["same_island"][:]
+    out = {k: f[k][:] for k in ("captured", "dispersed", "other")}
+    out["persistent"] = same
+    out["switched"] = np.where(old >= 0, old - same, -1)
+    return out
+
+
 def load_analysis(d):
     """analysis.h5 of `tumble analyze campaign`, per point; None if it has not been run."""
     path = os.path.join(d, "analysis.h5")
@@ -160,8 +174,11 @@ def load_analysis(d):
                      replica=g["replica"][:], enrichment_map=g["enrichment_map"][:],
                      enrichment_snap=g["enrichment_snap"][:],
                      cases=text(a.get("cases", "")).split("\n"),
-                     fates={k: g["fates/" + k][:] for k in
-                            ("persistent", "captured", "dispersed", "other", "same_island")},
+                     fates=read_fates(g),
+                     fates_by_chance={k: g["fates/chance/" + k][:] for k in g["fates/chance"]}
+                     if "fates/chance" in g else None,
+                     island_period=int(g["fates"].attrs.get("island_period", 0)),
+                     coverage=g["coverage"][:] if "coverage" in g else None,
                      fates_from=g["fates/from_iteration"][:], fates_to=g["fates/to_iteration"][:])
             if "fates/example" in g:
                 ex = g["fates/example"]

@@ -10,8 +10,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 
-FATE_NAMES = ["persistent", "captured", "dispersed", "other"]
-FATE_COLOURS = ["#f39c12", "#2e6fd8", "#1e8449", "#222222"]  # Fig. 8: orange, blue, green, black
+FATE_NAMES = ["persistent", "captured", "dispersed", "other", "switched island"]
+# Fig. 8: orange, blue, green, black; "switched" (in an island at both times, not the same one;
+# not a class of the paper's figure) purple
+FATE_COLOURS = ["#f39c12", "#2e6fd8", "#1e8449", "#222222", "#8e44ad"]
 
 
 def square_to_disc(a, b):
@@ -181,7 +183,7 @@ def fates_fig(panels, out):
         for c, (x, when) in enumerate(((xs, "start"), (xe, "end"))):
             ax = axes[r][c]
             X, Z = lambert_points(x)
-            for k in (3, 2, 1, 0):  # "other" underneath, as the paper's small black dots
+            for k in (3, 4, 2, 1, 0):  # "other" underneath, as the paper's small black dots
                 sel = fate == k
                 ax.scatter(X[sel], Z[sel], s=5 if k == 3 else 14, c=FATE_COLOURS[k],
                            label=f"{FATE_NAMES[k]} ({int(sel.sum())})", lw=0)
@@ -189,7 +191,7 @@ def fates_fig(panels, out):
             ax.set_title(f"{title}\n{when}", fontsize=10)
         handles, labels = axes[r][0].get_legend_handles_labels()
         axes[r][0].legend(handles[::-1], labels[::-1], fontsize=9, loc="upper left",
-                          bbox_to_anchor=(0.0, 0.0), ncol=4, markerscale=1.5, frameon=False)
+                          bbox_to_anchor=(0.0, 0.0), ncol=3, markerscale=1.5, frameon=False)
     fig.savefig(out, dpi=100)
     plt.close(fig)
 
