@@ -75,6 +75,17 @@ TEST(Fidelity, SetKeysWinOverTheTier) {
   EXPECT_NEAR(s.radius / s.d_large, 5, 1e-9);  // the rest of the tier still applies
 }
 
+// A given diameter does not escape the tier's coarsening: both diameters grow by one factor, so
+// an equal-size (density-bidisperse) pair stays equal and reaches the tier's R/d bound.
+TEST(Fidelity, CoarseningKeepsAGivenSizeRatio) {
+  const Scene s = tier("fast", {"particles.d_large=0.002"});
+  EXPECT_DOUBLE_EQ(s.d_large, s.d_small);
+  EXPECT_NEAR(s.radius / s.d_large, 8.75, 1e-9);
+  const Scene t = tier("fast", {"particles.d_large=0.006"});
+  EXPECT_NEAR(t.d_large / t.d_small, 3, 1e-11);  // the tier writes 12 significant digits
+  EXPECT_NEAR(t.radius / t.d_large, 8.75, 1e-9);
+}
+
 TEST(Fidelity, TiersAreRefusedForCylindersAndUnknownNames) {
   try {
     parse_scene(

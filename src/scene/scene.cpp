@@ -192,7 +192,11 @@ Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& 
   Scene s = apply_values(values);
   if (s.tier != Tier::standard) {
     for (const auto& [key, text] : tier_values(s.tier, s)) {
-      if (given.count(key)) continue;
+      // Given keys win, except the diameters: the tier's coarsening scales the pair in effect
+      // (given or not) by one factor, so a given size ratio survives (a campaign's size_ratio = 1
+      // sets d_large; growing d_small alone would break the pair).
+      const bool diameter = key == "particles.d_large" || key == "particles.d_small";
+      if (given.count(key) && !diameter) continue;
       Value v;
       v.origin = std::string("fidelity.tier = ") + name_of(s.tier);
       v.text = text;
