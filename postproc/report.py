@@ -43,7 +43,8 @@ else:  # /usr/bin/python3 postproc/report.py: the script's directory is sys.path
                               welch_half_width)
 
 MAP_FIELDS = [  # (field, label, unit factor, colour map, physical bounds in the shown unit)
-    ("concentration/c_L", "c_L (large-particle concentration)", 1.0, "viridis", (0.0, 1.0)),
+    ("concentration/c_L", "c_L (species 1: the large, or in a density bed the heavy particles)",
+     1.0, "viridis", (0.0, 1.0)),
     ("displacement/dpsi_large", "Δψ large [deg]", 180 / np.pi, "magma", (0.0, 180.0)),
     ("displacement/dpsi_small", "Δψ small [deg]", 180 / np.pi, "magma", (0.0, 180.0)),
 ]
@@ -159,6 +160,19 @@ def git_commit():
         return "unknown"
 
 
+def mixture_note(p):
+    """A density-bidisperse point (equal sizes, R_rho != 1) says which species is the light one
+    and that its maps and enrichment are the light particles' (src/scene/mixture.hpp)."""
+    try:
+        ratio, rho, f = float(p.get("size_ratio", 2)), float(p.get("R_rho", 1)), float(p.get("f", 0.15))
+    except ValueError:
+        return ""
+    if abs(ratio - 1) > 1e-9 or rho == 1:
+        return ""
+    light = 1 - f if rho > 1 else f
+    return f" [equal sizes: light {100 * light:g} vol %, enrichment and Fig. 13 of the light]"
+
+
 def short(params):
     p = rd.parse_params(params)
     keys = ["theta_z", "theta_x", "f", "R_rho", "size_ratio"]
@@ -167,6 +181,7 @@ def short(params):
         s += f" Rρ={p['R_rho']}"
     if p.get("size_ratio", "2") != "2":
         s += f" d_L/d_S={p['size_ratio']}"
+    s += mixture_note(p)
     extra = [f"{k}={v}" for k, v in p.items() if k not in keys]
     return s + ("; " + ", ".join(extra) if extra else "")
 
@@ -577,7 +592,8 @@ def section_scalars(R, pts, findings):
         "interval is computed on a scale on which the quantity is unbounded and mapped back, "
         "so it stays within the physical bounds: log for the enrichment (&gt; 0), logit for "
         "shares and indices in [0, 1], for Δψ in [0°, 180°] and for the radial segregation in "
-        "[−1, 1]. Island enrichment = share of the large particles inside the CM islands ÷ the "
+        "[−1, 1]. Island enrichment = share of the large particles (the light ones in a "
+        "density-bidisperse point) inside the CM islands ÷ the "
         "islands' share of the view from below: 1 = no preference, &gt; 1 = the segregation "
         "pattern of Yu 2022 Fig. 4; undefined (–) for a protocol without islands, e.g. "
         "(68°,68°). 'map': from the case's time-averaged c_L window (0.9 &lt; r/R &lt; 1); "

@@ -251,7 +251,9 @@ void register_campaign_analysis(CLI::App& an) {
   cmd->add_option("--from", a->opt.fates_from, "Fig. 8 start iteration (default: first snapshot)");
   cmd->add_option("--to", a->opt.fates_to, "Fig. 8 end iteration (default: last snapshot)");
   cmd->add_option("--r", a->opt.islands.r, "CM shell of the islands");
-  cmd->add_option("--light-inner", a->opt.light_inner, "Fig. 13 shell r/R (snapshots)");
+  cmd->add_option("--light-inner", a->opt.light_inner,
+                  "Fig. 13 shell r/R from snapshots (default -1: one light-particle diameter, "
+                  "1 - d/R; 0.97 for Yu 2022's 2 mm grains)");
   cmd->add_option("--islands-cache", a->opt.islands_cache,
                   "where computed islands are cached (default DIR/analysis)");
   cmd->add_option("--section-grid", a->opt.section_grid,
@@ -266,8 +268,8 @@ void register_campaign_analysis(CLI::App& an) {
             a->opt.section_grid);
     require(a->opt.section_half_width > 0 && a->opt.section_half_width <= 100,
             "--section-half-width", "in (0, 100]", a->opt.section_half_width);
-    require(a->opt.light_inner >= 0 && a->opt.light_inner < 1, "--light-inner", "in [0, 1)",
-            a->opt.light_inner);
+    require(a->opt.light_inner == -1 || (a->opt.light_inner >= 0 && a->opt.light_inner < 1),
+            "--light-inner", "-1 (one diameter) or in [0, 1)", a->opt.light_inner);
     // < 0 (the default) means the first / last snapshot; any other value is an iteration.
     require(a->opt.fates_to < 0 || a->opt.fates_from <= a->opt.fates_to, "--from",
             "<= --to (iterations)", a->opt.fates_from);
@@ -275,12 +277,18 @@ void register_campaign_analysis(CLI::App& an) {
     const auto points = analyze_campaign(a->dir, a->opt);
     require(!points.empty(), "DIR", "a campaign directory with finished cases (cases/*/fields.h5)",
             a->dir);
-    for (const auto& p : points)
+    for (const auto& p : points) {
       std::printf(
-          "point %s (%s): %zu cases, %zu islands (%.3f of the view), enrichment %.3f +- "
-          "%.3f (N = %d)\n",
+          "point %s (%s): %zu cases, %zu islands (%.3f of the view), enrichment of the %s "
+          "particles %.3f +- %.3f (N = %d)\n",
           p.point_id.c_str(), p.params.c_str(), p.cases.size(), p.islands.size(),
-          p.island_area_fraction, p.enrichment_map.mean, p.enrichment_map.ci95, p.enrichment_map.n);
+          p.island_area_fraction, p.mixture.name[p.mixture.mapped].c_str(), p.enrichment_map.mean,
+          p.enrichment_map.ci95, p.enrichment_map.n);
+      std::printf("point %s mixture: %s\n", p.point_id.c_str(), p.mixture.describe().c_str());
+      if (!p.light_source.empty())
+        std::printf("point %s light-particle map (Fig. 13) from %s\n", p.point_id.c_str(),
+                    p.light_source.c_str());
+    }
     for (const auto& p : points) {
       if (p.fates[0].n == 0) continue;
       const MeanCI* f = p.fates;

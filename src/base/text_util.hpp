@@ -32,4 +32,11 @@ inline std::string format_hms(double s) {
   return os.str();
 }
 
+// A number in at most `digits` significant digits, for labels ("0.971", "25").
+inline std::string short_number(double v, int digits = 3) {
+  std::ostringstream os;
+  os << std::setprecision(digits) << v;
+  return os.str();
+}
+
 }  // namespace tumble

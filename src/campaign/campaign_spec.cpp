@@ -58,7 +58,8 @@ std::string CollectSpec::canonical() const {
   // One lag prints as before, so the case ids of single-lag campaigns do not change.
   for (std::size_t i = 0; i < displacement_periods.size(); ++i)
     os << (i ? "," : "") << canonical_number(displacement_periods[i]);
-  os << ";grid=" << grid << ";frame=" << frame << ";shell=" << canonical_number(shell_inner)
+  os << ";grid=" << grid << ";frame=" << frame << ";shell="
+     << (shell_one_diameter ? std::string("one_diameter") : canonical_number(shell_inner))
      << ";dinner=" << canonical_number(displacement_inner);
   if (cylinder) os << ";cylinder";
   return os.str();
@@ -358,7 +359,14 @@ void parse_collect(const Ctx& c, const toml::table& t, CollectSpec& cs) {
     } else if (key == "collect.frame") {
       cs.frame = text(c, key, node, {"lab", "tumbler"});
     } else if (key == "collect.shell_inner") {
-      cs.shell_inner = real(c, key, node, 0, 0.999);
+      // A number in [0, 0.999], or "one_diameter" (resolved per case by the collect plan).
+      if (node.is_string()) {
+        (void)text(c, key, node, {"one_diameter"});
+        cs.shell_one_diameter = true;
+      } else {
+        cs.shell_inner = real(c, key, node, 0, 0.999);
+        cs.shell_one_diameter = false;
+      }
     } else if (key == "collect.displacement_inner") {
       cs.displacement_inner = real(c, key, node, 0, 0.999);
     } else {

@@ -35,9 +35,12 @@ struct CollectSpec {
   // period-3 islands). The first is the primary lag (fields group "displacement"); the others
   // are written as "displacement_k<k>" (displacement_group()).
   std::vector<double> displacement_periods = {1};
-  int grid = 24;                    // N of the N x N equal-area Lambert grid
-  std::string frame = "lab";        // lab | tumbler
-  double shell_inner = 0.9;         // c_L shell: shell_inner < r/R < 1
+  int grid = 24;              // N of the N x N equal-area Lambert grid
+  std::string frame = "lab";  // lab | tumbler
+  double shell_inner = 0.9;   // concentration shell: shell_inner < r/R < 1
+  // shell_inner = "one_diameter": the shell is one diameter of the mapped species thick
+  // (1 - d/R of each case's scene after its tier; Yu 2022's 0.97 for 2 mm grains at R = 70 mm).
+  bool shell_one_diameter = false;
   double displacement_inner = 0.8;  // Δψ particles: displacement_inner <= r/R <= 1
   bool any() const { return concentration || displacement || series; }
   // Set from the scene template (not a key): a cylinder campaign collects Rapaport's series

@@ -11,6 +11,15 @@ CollectPlan make_collect_plan(const CollectSpec& spec, const Scene& scene) {
   CollectPlan p;
   p.spec = spec;
   p.radius = scene.radius;
+  p.mixture = mixture_of(scene);
+  p.shell_inner = spec.shell_inner;
+  if (spec.shell_one_diameter) {
+    p.shell_inner = 1 - p.mixture.diameter[p.mixture.mapped] / scene.radius;
+    if (!(p.shell_inner > 0))
+      fail("collect.shell_inner",
+           "= 'one_diameter' leaves no shell: the mapped species' diameter "
+           "is not smaller than the tumbler radius");
+  }
   if (spec.cylinder != scene.cylinder())
     fail("tumbler.shape",
          "differs between the campaign's template and a case (sweeps and "

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "campaign/campaign_spec.hpp"
+#include "scene/mixture.hpp"
 #include "scene/scene.hpp"
 
 namespace tumble::campaign {
@@ -16,6 +17,8 @@ namespace tumble::campaign {
 struct CollectPlan {
   CollectSpec spec;
   double radius = 0;               // tumbler radius R
+  Mixture mixture;                 // the species' roles (which one the maps show)
+  double shell_inner = 0.9;        // the concentration shell, resolved (spec.shell_one_diameter)
   double steps_per_iteration = 0;  // period / dt (not an integer in general)
   std::int64_t total_steps = 0;
   std::int64_t last_sample = 0;                    // largest j inside the run

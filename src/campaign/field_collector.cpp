@@ -119,9 +119,9 @@ void FieldCollector::sample(const Particles& p, std::int64_t j, double time, dou
                             const Mat3& to_frame) {
   const CollectSpec& s = plan_.spec;
   ensure_slots(p);
-  const analysis::ShellBins bins = bin_shell(p, to_frame, grid_, plan_.radius, s.shell_inner);
+  const analysis::ShellBins bins = bin_shell(p, to_frame, grid_, plan_.radius, plan_.shell_inner);
   if (s.series) {
-    const auto seg = analysis::radial_segregation(p, plan_.radius, s.shell_inner);
+    const auto seg = analysis::radial_segregation(p, plan_.radius, plan_.shell_inner);
     series_.time.push_back(time);
     series_.iteration.push_back(iteration);
     series_.shell_large_fraction.push_back(seg.shell_large_fraction);
@@ -298,19 +298,27 @@ void FieldCollector::write_fields(const std::string& path, const FieldsMeta& m) 
   write_case_attributes(f, m, s);
   f.set_attr("/", "grid_n", static_cast<std::int64_t>(s.grid));
   f.set_attr("/", "frame", s.frame);
+  // The species' roles: c_L and the *_large datasets are species 1's, c_S and *_small species
+  // 0's, whatever tells them apart; these say what each is and which one the maps show.
+  const Mixture& mix = plan_.mixture;
+  f.set_attr("/", "mixture", std::string(mix.kind_name()));
+  f.set_attr("/", "species_0", mix.name[0]);
+  f.set_attr("/", "species_1", mix.name[1]);
+  f.set_attr("/", "mapped_species", static_cast<std::int64_t>(mix.mapped));
+  f.set_attr("/", "minority_species", static_cast<std::int64_t>(mix.minority));
   f.set_attr("/", "window_first_iteration",
              static_cast<double>(plan_.window_first) / s.samples_per_iteration);
   f.set_attr("/", "window_last_iteration",
              static_cast<double>(plan_.window_last) / s.samples_per_iteration);
   if (s.concentration) {
-    const double cell_volume = analysis::shell_cell_volume(grid_, plan_.radius, s.shell_inner);
+    const double cell_volume = analysis::shell_cell_volume(grid_, plan_.radius, plan_.shell_inner);
     f.write("concentration/c_L", conc_.c_large(), {n, n});
     f.write("concentration/c_S", conc_.c_small(), {n, n});
     f.write("concentration/solid_fraction", conc_.solid_fraction(cell_volume), {n, n});
     f.write("concentration/volume_large", conc_.volume_large, {n, n});
     f.write("concentration/volume_small", conc_.volume_small, {n, n});
     f.set_attr("concentration", "samples", static_cast<std::int64_t>(conc_.samples));
-    f.set_attr("concentration", "shell_inner", s.shell_inner);
+    f.set_attr("concentration", "shell_inner", plan_.shell_inner);
   }
   if (s.displacement)
     for (std::size_t k = 0; k < s.displacement_periods.size(); ++k) {

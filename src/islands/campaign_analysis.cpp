@@ -9,6 +9,7 @@
 
 #include "analysis/light_concentration.hpp"
 #include "analysis/snapshot_data.hpp"
+#include "base/text_util.hpp"
 #include "base/version.hpp"
 #include "cm/cm_io.hpp"
 #include "h5/hdf5_file.hpp"
@@ -29,7 +30,8 @@ struct CaseFields {
   long long replica = 0;
   int grid_n = 0;
   double shell_inner = 0.9;
-  std::vector<double> volume_large, c_L, c_S;
+  double window_first = -1, window_last = -1;  // the fields' collection window (iterations)
+  std::vector<double> volume_large, volume_small, c_L, c_S;
 };
 
 std::vector<CaseFields> read_cases(const std::string& dir) {
@@ -48,8 +50,13 @@ std::vector<CaseFields> read_cases(const std::string& dir) {
     c.scene_text = f.attr_string("/", "scene");
     c.replica = f.attr_int64("/", "replica");
     c.grid_n = static_cast<int>(f.attr_int64("/", "grid_n"));
+    if (f.has_attr("/", "window_first_iteration")) {
+      c.window_first = f.attr_double("/", "window_first_iteration");
+      c.window_last = f.attr_double("/", "window_last_iteration");
+    }
     if (f.exists("concentration/volume_large")) {
       c.volume_large = f.read_double("concentration/volume_large");
+      c.volume_small = f.read_double("concentration/volume_small");
       c.c_L = f.read_double("concentration/c_L");
       c.c_S = f.read_double("concentration/c_S");
       c.shell_inner = f.attr_double("concentration", "shell_inner");
@@ -84,9 +91,17 @@ void add_section(CaseAnalysis& ca, const std::vector<SnapshotData>& snaps,
   ca.section = map.c_large();
 }
 
+// The Fig. 13 shell of a point: the option, or one diameter of the light species (1 - d/R).
+double light_shell(const PointAnalysis& p, double radius, const CampaignAnalysisOptions& opt) {
+  if (opt.light_inner >= 0) return opt.light_inner;
+  const int light = p.light_species >= 0 ? p.light_species : p.mixture.mapped;
+  return std::max(0.0, 1 - p.mixture.diameter[light] / radius);
+}
+
 void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMask& mask,
                        bool have_islands, const PointAnalysis& p, const LambertGrid& grid,
-                       const CampaignAnalysisOptions& opt) {
+                       const CampaignAnalysisOptions& opt, double window_first,
+                       double window_last) {
   const int light = p.light_species;
   const auto files = list_snapshots(dir);
   if (files.size() < 2) return;
@@ -107,8 +122,22 @@ void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMas
     ca.fates_to = iters[b];
   }
   if (have_islands)
-    ca.enrichment_snap = enrichment_from_particles(snaps.back(), mask, opt.enrichment_inner).value;
-  if (light >= 0) ca.light = light_concentration(snaps, grid, opt.light_inner);
+    ca.enrichment_snap =
+        enrichment_from_particles(snaps.back(), mask, opt.enrichment_inner, p.mixture.mapped).value;
+  if (light >= 0) {
+    // The configurations of the fields' collection window (Yu 2022 Fig. 13: 25 <= N <= 35);
+    // all of them when the window is unknown or holds none.
+    std::vector<SnapshotData> window;
+    for (std::size_t k = 0; k < snaps.size(); ++k)
+      if (window_first >= 0 && iters[k] >= window_first - 1e-9 && iters[k] <= window_last + 1e-9)
+        window.push_back(snaps[k]);
+    const bool windowed = !window.empty();
+    ca.light =
+        light_concentration(windowed ? window : snaps, grid, light_shell(p, snaps.front().R, opt));
+    ca.light_snapshots = static_cast<int>(windowed ? window.size() : snaps.size());
+    ca.light_from = windowed ? window_first : iters.front();
+    ca.light_to = windowed ? window_last : iters.back();
+  }
   if (!p.section_plane_of.empty()) add_section(ca, snaps, iters, p, p.section_grid);
 }
 
@@ -181,6 +210,7 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
     auto_grid = std::min(auto_grid, static_cast<int>(std::lround(2 * sc.radius / sc.d_large)));
     p.islands = cm::islands_on_shell(protocol_islands(p.theta_z, p.theta_x, opt.islands, cache),
                                      opt.islands.r);
+    p.mixture = mixture_of(sc);
     p.light_species = lighter_species(p.density_ratio);
     for (const auto& is : p.islands)
       p.island_period = p.island_period == 0 ? is.period : std::lcm(p.island_period, is.period);
@@ -236,21 +266,26 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
     ca.params = c.params;
     ca.replica = c.replica;
     const bool have_islands = !p.islands.empty();
-    ca.enrichment_map = (have_islands && !c.volume_large.empty())
-                            ? enrichment_from_map(c.volume_large, p.coverage).value
-                            : kNaN;
+    // The mapped species' volume: the large particles, or the light ones of a density bed.
+    const std::vector<double>& volume = p.mixture.mapped == 1 ? c.volume_large : c.volume_small;
+    ca.enrichment_map =
+        (have_islands && !volume.empty()) ? enrichment_from_map(volume, p.coverage).value : kNaN;
     ca.enrichment_snap = kNaN;
-    if (!c.volume_large.empty())
+    if (!volume.empty())
       for (const auto& [qid, q] : points)
-        if (!q.islands.empty() && q.coverage.size() == c.volume_large.size())
-          ca.enrichment_vs[qid] = enrichment_from_map(c.volume_large, q.coverage).value;
-    analyze_snapshots(ca, c.dir, mask, have_islands, p, grid, opt);
+        if (!q.islands.empty() && q.coverage.size() == volume.size())
+          ca.enrichment_vs[qid] = enrichment_from_map(volume, q.coverage).value;
+    analyze_snapshots(ca, c.dir, mask, have_islands, p, grid, opt, c.window_first, c.window_last);
     if (p.light_species >= 0 && ca.light.empty() && !c.c_L.empty()) {
       ca.light = p.light_species == 1 ? c.c_L : c.c_S;
       p.light_source = "fields " + std::string(p.light_species == 1 ? "c_L" : "c_S") + ", r/R > " +
-                       std::to_string(c.shell_inner).substr(0, 4);
+                       short_number(c.shell_inner);
     } else if (!ca.light.empty()) {
-      p.light_source = "snapshots, r/R > " + std::to_string(opt.light_inner).substr(0, 4);
+      p.light_source = "snapshots, r/R > " +
+                       short_number(light_shell(p, parse_scene(c.scene_text).radius, opt)) +
+                       ", iterations " + short_number(ca.light_from) + "-" +
+                       short_number(ca.light_to) + " (" + std::to_string(ca.light_snapshots) +
+                       " configurations)";
     }
     p.cases.push_back(std::move(ca));
   }
@@ -337,6 +372,14 @@ void write_campaign_analysis(const std::string& path, const std::string& dir,
     f.set_attr(g, "n_islands", static_cast<std::int64_t>(p.islands.size()));
     f.set_attr(g, "light_species", static_cast<std::int64_t>(p.light_species));
     f.set_attr(g, "light_source", p.light_source);
+    // Which species the enrichment counts and what each one is (scene/mixture.hpp).
+    f.set_attr(g, "mixture", std::string(p.mixture.kind_name()));
+    f.set_attr(g, "species_0", p.mixture.name[0]);
+    f.set_attr(g, "species_1", p.mixture.name[1]);
+    f.set_attr(g, "mapped_species", static_cast<std::int64_t>(p.mixture.mapped));
+    f.set_attr(g, "minority_species", static_cast<std::int64_t>(p.mixture.minority));
+    f.set_attr(g, "fraction_0", p.mixture.fraction[0]);
+    f.set_attr(g, "fraction_1", p.mixture.fraction[1]);
     std::vector<double> verts, centre;
     std::vector<std::int64_t> offsets{0};
     for (const auto& is : p.islands) {

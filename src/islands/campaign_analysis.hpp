@@ -2,14 +2,16 @@
 // `tumble analyze campaign DIR`: the analyses of Yu 2022 that need the CM islands, for every case
 // of a campaign directory (docs/campaign.md layout), folded per parameter point with 95%
 // confidence intervals across replicas:
-//   * island enrichment of each case from its time-averaged large-particle volume map
-//     (fields.h5 concentration/volume_large, the c_L window of the campaign) and, when the case
-//     kept snapshots, from the particles of its last snapshot;
+//   * island enrichment of each case from its time-averaged volume map of the mapped species
+//     (scene/mixture.hpp: the large one of a size-bidisperse bed, the light one of a
+//     density-bidisperse bed; fields.h5 concentration/volume_large or volume_small over the
+//     campaign's window) and, when the case kept snapshots, from the particles of its last one;
 //   * Fig. 8 counts between the case's first and last snapshot (or the snapshots nearest the
 //     iterations asked for), when it kept snapshots;
 //   * for density-bidisperse points, the lighter species' concentration map (Fig. 13): from
-//     snapshots on 0.97 < r/R < 1 when there are any, else the fields' c_S / c_L on the
-//     campaign's shell (its shell_inner is recorded);
+//     the snapshots inside the campaign's collection window on the one-diameter shell
+//     1 - d/R < r/R < 1 (0.97 in the paper) when there are any, else the fields' c_S / c_L on
+//     the campaign's shell (its shell_inner is recorded);
 //   * cross-enrichment: each case's map against the islands of every point of the campaign that
 //     has islands. A point without islands, e.g. (68°, 68°), is measured against the islands of
 //     (57°, 57°): 1 within its CI is the absence of that pattern, on the same scale on which
@@ -25,6 +27,7 @@
 #include "islands/cross_section.hpp"
 #include "islands/fates.hpp"
 #include "islands/replica_stats.hpp"
+#include "scene/mixture.hpp"
 
 namespace tumble::analysis {
 
@@ -37,7 +40,7 @@ static_assert(static_cast<int>(Fate::Captured) == 1 && static_cast<int>(Fate::Sw
 struct CampaignAnalysisOptions {
   CmIslandOptions islands;
   double fates_from = -1, fates_to = -1;  // iterations; < 0: first / last snapshot
-  double light_inner = 0.97;
+  double light_inner = -1;        // Fig. 13 shell from snapshots; -1: one light diameter (1 - d/R)
   double enrichment_inner = 0.9;  // shell of the snapshot-based enrichment
   int section_grid = 0;           // Fig. 5: bins per in-plane axis (0: one per large diameter)
   double section_half_width = 1;  // Fig. 5: slab half-width, in large diameters
@@ -55,6 +58,8 @@ struct CaseAnalysis {
   FateResult fate_detail;           // per particle (the file keeps it for the point's first case)
   double fates_from = 0, fates_to = 0;          // iterations actually compared
   std::vector<double> light;                    // lighter-species map (density-bidisperse points)
+  int light_snapshots = 0;                      // configurations averaged into it
+  double light_from = 0, light_to = 0;          // their iterations
   std::map<std::string, double> enrichment_vs;  // map enrichment against each island point's
   std::vector<double> section;                  // Fig. 5 c_L per bin (NaN: nothing binned)
   int section_snapshots = 0;                    // configurations averaged into it
@@ -72,8 +77,9 @@ struct PointAnalysis {
   // Fig. 8 over replicas, observed and by chance (fates.hpp), in the order of kFateNames.
   MeanCI fates[5], fates_by_chance[5];
   int island_period = 0;     // least common multiple of the islands' periods (0: no islands)
-  int light_species = -1;    // -1: not density-bidisperse
-  std::string light_source;  // "snapshots r/R > 0.97" or "fields c_S, r/R > 0.9", ...
+  Mixture mixture;           // the species' roles; enrichment counts mixture.mapped
+  int light_species = -1;    // -1: equal densities
+  std::string light_source;  // "snapshots r/R > 0.971, iterations 25-35" or "fields c_S, ..."
   std::vector<double> light_mean, light_ci95;
   std::map<std::string, MeanCI> enrichment_vs;  // by the id of the point whose islands are used
   // Fig. 5 (empty when no point of the campaign has two islands).

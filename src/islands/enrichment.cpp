@@ -17,12 +17,12 @@ Enrichment finish(double inside, double counted, double area_share) {
 }
 }  // namespace
 
-Enrichment enrichment_from_particles(const SnapshotData& s, const IslandMask& islands,
-                                     double inner) {
+Enrichment enrichment_from_particles(const SnapshotData& s, const IslandMask& islands, double inner,
+                                     int species) {
   const double lo2 = inner * inner * s.R * s.R, hi2 = s.R * s.R;
   double inside = 0, counted = 0;
   for (std::size_t i = 0; i < s.size(); ++i) {
-    if (s.species[i] != 1) continue;
+    if (s.species[i] != species) continue;
     const double r2 = norm2(s.x[i]);
     if (r2 <= lo2 || r2 >= hi2 || s.x[i].y > 0) continue;
     counted += 1;

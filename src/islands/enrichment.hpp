@@ -17,10 +17,11 @@ struct Enrichment {
   double counted = 0;       // particles (or volume) counted
 };
 
-// From particles: large particles with centres in inner R < r < R on the lower hemisphere,
-// lab frame; area share = islands' share of the unit Lambert disc.
-Enrichment enrichment_from_particles(const SnapshotData& s, const IslandMask& islands,
-                                     double inner);
+// From particles: particles of `species` (1, the large ones, unless a mixture maps another;
+// scene/mixture.hpp) with centres in inner R < r < R on the lower hemisphere, lab frame; area
+// share = islands' share of the unit Lambert disc.
+Enrichment enrichment_from_particles(const SnapshotData& s, const IslandMask& islands, double inner,
+                                     int species = 1);
 
 // From a map of large-particle solid volume per equal-area cell (a case's
 // concentration/volume_large) and each cell's island coverage (IslandMask::cell_coverage):

@@ -55,11 +55,20 @@ def text(a):
 
 
 def check_map_enrichment(d, ids, values, cover, what):
-    """Each case's value = (share of its large volume on the mask) / (the mask's share), from
-    its fields.h5 volume map and the coverage per cell (1e-12 relative)."""
+    """Each case's value = (share of its mapped species' volume on the mask) / (the mask's
+    share), from its fields.h5 volume map and the coverage per cell (1e-12 relative). The mapped
+    species is the large one, or the light one of a density-bidisperse case (species 0 when
+    R_rho > 1): the fields file says which, and that is checked against its parameters."""
     for cid, e in zip(ids, values):
         with h5py.File(os.path.join(d, "cases", cid, "fields.h5"), "r") as cf:
-            vl = cf["concentration/volume_large"][:].ravel()
+            mapped = int(cf.attrs["mapped_species"])
+            params = dict(kv.split("=", 1) for kv in text(cf.attrs["params"]).split(";"))
+            density = float(params.get("size_ratio", 2)) == 1 and float(params.get("R_rho", 1)) != 1
+            want = (0 if float(params["R_rho"]) > 1 else 1) if density else 1
+            if mapped != want or text(cf.attrs["species_%d" % mapped]) != ("light" if density else "large"):
+                fail(f"case {cid} ({params}): mapped species {mapped} "
+                     f"({text(cf.attrs['species_%d' % mapped])}), expected {want}")
+            vl = cf["concentration/volume_large" if mapped == 1 else "concentration/volume_small"][:].ravel()
         ok = np.isfinite(vl)
         mine = (np.sum(cover[ok] * vl[ok]) / np.sum(vl[ok])) / (cover[ok].sum() / len(vl))
         if not abs(mine - e) <= 1e-12 * abs(mine):

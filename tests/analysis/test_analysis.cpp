@@ -15,6 +15,7 @@
 #include "islands/fates.hpp"
 #include "islands/island_mask.hpp"
 #include "islands/replica_stats.hpp"
+#include "scene/mixture.hpp"
 
 namespace ta = tumble::analysis;
 using tumble::Vec3;
@@ -310,6 +311,52 @@ TEST(CrossSection, TubeCrossingsOfAnIslandAroundThePole) {
     EXPECT_NEAR(std::sin(psi) / std::sqrt(1 + std::cos(psi)), h, 1e-3);
     EXPECT_NEAR(std::hypot(c.s1, c.s2), c.r, 1e-12);
   }
+}
+
+// A density-bidisperse bed counts its light particles: the enrichment of the mapped species.
+TEST(Enrichment, TheMappedSpeciesOfADensityBedIsTheLightOne) {
+  const double R = 0.02;
+  const ta::IslandMask mask({square(-0.2, -0.2, 0.2, 0.2)});
+  ta::SnapshotData s = empty_snapshot(R);
+  // Light (species 0): 4 inside the island, 4 outside; heavy (species 1): 1 inside, 15 outside.
+  std::int64_t id = 0;
+  for (int k = 0; k < 4; ++k) add(s, id++, 0, at_disc(-0.15 + 0.05 * k, 0.0, 0.95 * R));
+  for (int k = 0; k < 4; ++k) add(s, id++, 0, at_disc(0.5, -0.3 + 0.1 * k, 0.95 * R));
+  add(s, id++, 1, at_disc(0.1, 0.1, 0.95 * R));
+  for (int k = 0; k < 15; ++k) add(s, id++, 1, at_disc(-0.5, -0.4 + 0.05 * k, 0.95 * R));
+  const double area = 0.16 / kPi;
+  EXPECT_NEAR(ta::enrichment_from_particles(s, mask, 0.9, 0).value, 0.5 / area, 1e-9);
+  EXPECT_NEAR(ta::enrichment_from_particles(s, mask, 0.9, 1).value, (1.0 / 16) / area, 1e-9);
+}
+
+// The roles of the species (scene/mixture.hpp) for the beds of Yu 2022.
+TEST(Mixture, SizeDensityAndOneKindBeds) {
+  const std::string base = "[tumbler]\nradius = 0.07\n[particles]\nd_small = 0.002\n";
+  const tumble::Mixture size = tumble::mixture_of(
+      tumble::parse_scene(base + "d_large = 0.004\nlarge_fraction = 0.15\n", {}, "size"));
+  EXPECT_EQ(size.kind, tumble::MixtureKind::size);
+  EXPECT_EQ(size.name[size.mapped], "large");
+  EXPECT_EQ(size.mapped, 1);
+  EXPECT_EQ(size.minority, 1);
+  const tumble::Mixture dense = tumble::mixture_of(tumble::parse_scene(
+      base + "d_large = 0.002\nlarge_fraction = 0.98\ndensity = 2000\ndensity_ratio = 3\n", {},
+      "density"));
+  EXPECT_EQ(dense.kind, tumble::MixtureKind::density);
+  EXPECT_EQ(dense.name[0], "light");
+  EXPECT_EQ(dense.mapped, 0);
+  EXPECT_EQ(dense.minority, 0);
+  EXPECT_NE(dense.describe().find("light (species 0, 2 vol %, minority, mapped)"),
+            std::string::npos)
+      << dense.describe();
+  // Species 1 lighter (R_rho < 1): the light one is species 1, still the one mapped.
+  const tumble::Mixture inverse = tumble::mixture_of(tumble::parse_scene(
+      base + "d_large = 0.002\nlarge_fraction = 0.02\ndensity_ratio = 0.5\n", {}, "inverse"));
+  EXPECT_EQ(inverse.name[1], "light");
+  EXPECT_EQ(inverse.mapped, 1);
+  EXPECT_EQ(inverse.minority, 1);
+  const tumble::Mixture mono =
+      tumble::mixture_of(tumble::parse_scene(base + "d_large = 0.002\n", {}, "mono"));
+  EXPECT_EQ(mono.kind, tumble::MixtureKind::mono);
 }
 
 TEST(LightConcentration, LighterSpeciesShareInTheWallLayer) {

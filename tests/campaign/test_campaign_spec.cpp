@@ -8,6 +8,7 @@
 
 #include "base/error.hpp"
 #include "campaign/campaign_spec.hpp"
+#include "campaign/collect_plan.hpp"
 #include "campaign/expand.hpp"
 
 namespace tumble::campaign {
@@ -149,6 +150,55 @@ TEST(CampaignSpec, CollectionWindowBeyondTheRunIsACampaignError) {
               std::string::npos)
         << e.what();
   }
+}
+
+// Yu 2022 Sec. IV D: 2 vol % light, 98 vol % heavy, equal sizes. The shell "one diameter" is
+// resolved per case from its own (tiered) scene, the roles name the light species as the mapped
+// minority, and any other text is refused with the key.
+TEST(CampaignSpec, DensityMixtureRolesAndTheOneDiameterShell) {
+  const CampaignSpec s = parse_campaign(with_campaign(R"(
+[[sweep]]
+zip = true
+size_ratio = 1
+f = 0.98
+R_rho = [3, 8]
+"particles.density" = [2000, 1000]
+[[sweep]]
+size_ratio = 2
+[collect]
+shell_inner = "one_diameter"
+)"),
+                                        "test.toml", ".");
+  EXPECT_TRUE(s.collect.shell_one_diameter);
+  EXPECT_NE(s.collect.canonical().find("shell=one_diameter"), std::string::npos);
+  const Expansion e = expand(s);
+  int density = 0, size = 0;
+  for (const auto& c : e.cases) {
+    const Scene sc = case_scene(s, c, "/tmp/x", "/tmp/beds", 1);
+    const CollectPlan plan = make_collect_plan(s.collect, sc);
+    const Mixture& m = plan.mixture;
+    if (m.kind == MixtureKind::density) {
+      ++density;
+      EXPECT_EQ(m.name[0], "light");
+      EXPECT_EQ(m.name[1], "heavy");
+      EXPECT_EQ(m.mapped, 0);
+      EXPECT_EQ(m.minority, 0);
+      EXPECT_NEAR(m.fraction[0], 0.02, 1e-15);
+      EXPECT_TRUE((sc.density == 2000 && sc.density_ratio == 3) ||
+                  (sc.density == 1000 && sc.density_ratio == 8));
+      EXPECT_DOUBLE_EQ(plan.shell_inner, 1 - sc.d_small / sc.radius);
+    } else {
+      ++size;
+      EXPECT_EQ(m.kind, MixtureKind::size);
+      EXPECT_EQ(m.name[m.mapped], "large");
+      EXPECT_DOUBLE_EQ(plan.shell_inner, 1 - sc.d_large / sc.radius);
+    }
+  }
+  EXPECT_GT(density, 0);
+  EXPECT_GT(size, 0);
+  EXPECT_NE(error_of(with_campaign("[collect]\nshell_inner = \"two_diameters\"\n"))
+                .find("collect.shell_inner"),
+            std::string::npos);
 }
 
 TEST(Expand, ProductZipReplicasAndDensityBidisperse) {
