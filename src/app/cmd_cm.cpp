@@ -232,6 +232,9 @@ struct OrbitArgs {
                     "iterates of P^n per island test orbit");
     cmd->add_option("--boundary-iterations", islands.final_iterations,
                     "iterates of the island boundary orbit");
+    cmd->add_option("--island-rays", islands.rays,
+                    "rays scanned from each elliptic point; the largest certified curve is the "
+                    "boundary (docs/cm.md: 8 rays find larger islands, closer to the regular set)");
   }
   void validate() const {
     require(search.max_period >= 1 && search.max_period <= 12, "--max-period", "in [1, 12]",
@@ -241,6 +244,7 @@ struct OrbitArgs {
             "in [50, 1e6]", islands.iterations);
     require(islands.final_iterations >= 50 && islands.final_iterations <= 1000000,
             "--boundary-iterations", "in [50, 1e6]", islands.final_iterations);
+    require(islands.rays >= 1 && islands.rays <= 64, "--island-rays", "in [1, 64]", islands.rays);
   }
   // What the periodic-point search and the island search hold (upper bounds).
   Need search_need() const {

@@ -85,15 +85,13 @@ bool closed_curve_around(const SectionMap& map, const CentreFrame& f, const Vec2
   return true;
 }
 
-std::optional<Island> island_around(const SectionMap& map, const PeriodicPoint& centre,
-                                    const IslandOptions& opt) {
-  const CentreFrame f = CentreFrame::of(centre);
-  const Vec2 c = centre.v;
-  // Scan in the normal-form radius rho (invariant ellipses near c are circles rho = const of
-  // area pi rho^2), towards the chart centre, which keeps the ray inside the chart.
-  const Vec2 towards = c.norm() > 1e-9 ? Vec2(-c) : Vec2(1, 0);
-  const Vec2 dir = f.W.inverse() * (f.W * towards).normalized();  // chart step per unit rho
-  const int n = centre.period;
+namespace {
+
+// The outermost closed curve around the centre found along one ray of chart step `dir` per unit
+// of the normal-form radius, certified with the long orbit; its iterates in `curve`.
+std::optional<Vec2> scan_ray(const SectionMap& map, const CentreFrame& f, const Vec2& dir, int n,
+                             const IslandOptions& opt, std::vector<Vec2>& curve) {
+  const Vec2 c = f.c;
   double best = -1;
   for (double d = opt.step; d * dir.norm() <= opt.max_radius; d += opt.step) {
     if (!map.chart().inside(c + d * dir)) break;
@@ -112,17 +110,52 @@ std::optional<Island> island_around(const SectionMap& map, const PeriodicPoint& 
   }
   // The polygon orbit is longer; a sticky orbit that passed the short test can fail it, so step
   // back inwards until it holds.
-  std::vector<Vec2> curve;
   while (!closed_curve_around(map, f, c + lo * dir, n, opt.final_iterations, opt, &curve)) {
     lo -= 0.25 * opt.step;
     if (lo <= 0) return std::nullopt;
   }
+  return c + lo * dir;
+}
+
+}  // namespace
+
+std::optional<Island> island_around(const SectionMap& map, const PeriodicPoint& centre,
+                                    const IslandOptions& opt) {
+  const CentreFrame f = CentreFrame::of(centre);
+  const Vec2 c = centre.v;
+  const int n = centre.period;
+  // Scan in the normal-form radius rho (invariant ellipses near c are circles rho = const of
+  // area pi rho^2). The first ray points towards the chart centre, which keeps it inside the
+  // chart; the others turn from it by equal normal-form angles. Invariant curves around c are
+  // nested, so the largest certified one is the outermost found.
+  const Vec2 towards = c.norm() > 1e-9 ? Vec2(-c) : Vec2(1, 0);
+  const Vec2 w0 = (f.W * towards).normalized();
+  const Eigen::Matrix2d Winv = f.W.inverse();
+  std::vector<Vec2> curve;
+  std::optional<Vec2> launch;
+  double best_area = -1;
+  for (int k = 0; k < std::max(1, opt.rays); ++k) {
+    const double a = 2 * kPi * k / std::max(1, opt.rays);
+    const Vec2 w(std::cos(a) * w0.x() - std::sin(a) * w0.y(),
+                 std::sin(a) * w0.x() + std::cos(a) * w0.y());
+    const Vec2 dir = Winv * w;  // chart step per unit rho
+    std::vector<Vec2> pts;
+    const auto l = scan_ray(map, f, dir, n, opt, pts);
+    if (!l) continue;
+    const double area = polygon_from_curve(f, pts, opt.vertices).area();
+    if (area > best_area) {
+      best_area = area;
+      launch = l;
+      curve = std::move(pts);
+    }
+  }
+  if (!launch) return std::nullopt;
   Island isl;
   isl.period = n;
   isl.orbit = centre.orbit;
   isl.r = map.chart().r();
   isl.center = c;
-  isl.launch = c + lo * dir;
+  isl.launch = *launch;
   isl.extent = (isl.launch - c).norm();
   isl.boundary = polygon_from_curve(f, curve, opt.vertices);
   return isl;

@@ -24,6 +24,10 @@ struct IslandOptions {
   double max_gap = kPi / 3;  // largest angular gap an orbit may leave around the centre
   int order_defects = 0;     // iterates allowed to break the cyclic order (see island.cpp)
   int vertices = 256;        // polygon vertices kept (subsampled from the orbit)
+  // Rays scanned from the centre, evenly spaced in the normal-form angle; the boundary is the
+  // largest certified curve of all of them. One ray (towards the chart centre) can stop short
+  // where a thin chaotic layer or a resonance chain crosses it inside the outermost curve.
+  int rays = 1;
 };
 
 struct Island {
