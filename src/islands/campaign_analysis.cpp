@@ -115,7 +115,7 @@ void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMas
   const std::size_t b = nearest(iters, opt.fates_to, true);
   if (have_islands && a != b) {
     ca.has_fates = true;
-    ca.fate_detail = classify_fates(snaps[a], snaps[b], mask);
+    ca.fate_detail = classify_fates(snaps[a], snaps[b], mask, p.mixture.mapped);
     ca.fates = ca.fate_detail.counts;
     ca.fates_by_chance = chance_fates(ca.fate_detail);
     ca.fates_from = iters[a];

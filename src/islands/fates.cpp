@@ -26,10 +26,10 @@ void FateCounts::add(Fate f) {
 }
 
 FateResult classify_fates(const SnapshotData& start, const SnapshotData& end,
-                          const IslandMask& islands) {
+                          const IslandMask& islands, int species) {
   FateResult r;
   for (std::size_t i = 0; i < start.size(); ++i) {
-    if (start.species[i] != 1) continue;
+    if (start.species[i] != species) continue;
     // Snapshots hold particles in ascending id order (io/snapshot.cpp).
     const auto it = std::lower_bound(end.id.begin(), end.id.end(), start.id[i]);
     if (it == end.id.end() || *it != start.id[i]) continue;

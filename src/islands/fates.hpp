@@ -59,11 +59,12 @@ struct FateResult {
   FateCounts counts;
 };
 
-// Large particles (species 1) are matched by global id; positions are taken in the lab frame,
+// Particles of `species` (1, the large ones; a density-bidisperse bed's light ones are its mapped
+// species, scene/mixture.hpp) are matched by global id; positions are taken in the lab frame,
 // where the islands sit at the end of every iteration (docs/architecture.md, "Continuum model
 // notes").
 FateResult classify_fates(const SnapshotData& start, const SnapshotData& end,
-                          const IslandMask& islands);
+                          const IslandMask& islands, int species = 1);
 
 FateExpectation chance_fates(const FateResult& r);
 
