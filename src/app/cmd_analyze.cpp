@@ -285,6 +285,12 @@ void register_campaign_analysis(CLI::App& an) {
           p.island_area_fraction, p.mixture.name[p.mixture.mapped].c_str(), p.enrichment_map.mean,
           p.enrichment_map.ci95, p.enrichment_map.n);
       std::printf("point %s mixture: %s\n", p.point_id.c_str(), p.mixture.describe().c_str());
+      if (p.enrichment_window.n > 0)
+        std::printf(
+            "point %s enrichment from the snapshots of the collection window (stroboscopic): "
+            "%.3f +- %.3f (N = %d)\n",
+            p.point_id.c_str(), p.enrichment_window.mean, p.enrichment_window.ci95,
+            p.enrichment_window.n);
       if (!p.light_source.empty())
         std::printf("point %s light-particle map (Fig. 13) from %s\n", p.point_id.c_str(),
                     p.light_source.c_str());

@@ -124,14 +124,33 @@ void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMas
   if (have_islands)
     ca.enrichment_snap =
         enrichment_from_particles(snaps.back(), mask, opt.enrichment_inner, p.mixture.mapped).value;
+  // The configurations of the fields' collection window (Yu 2022 Fig. 13: 25 <= N <= 35);
+  // all of them when the window is unknown or holds none.
+  std::vector<SnapshotData> window;
+  for (std::size_t k = 0; k < snaps.size(); ++k)
+    if (window_first >= 0 && iters[k] >= window_first - 1e-9 && iters[k] <= window_last + 1e-9)
+      window.push_back(snaps[k]);
+  const bool windowed = !window.empty();
+  if (have_islands) {
+    // The mapped particles of every configuration of the window, pooled: the snapshots are
+    // stroboscopic (one per iteration end, where the CM puts the islands), unlike a fields map
+    // sampled within iterations. Shell: Fig. 13's one diameter for a density bed, else
+    // opt.enrichment_inner.
+    const double inner = p.mixture.kind == MixtureKind::density
+                             ? light_shell(p, snaps.front().R, opt)
+                             : opt.enrichment_inner;
+    double inside = 0, counted = 0;
+    for (const auto& s : windowed ? window : snaps) {
+      const Enrichment e = enrichment_from_particles(s, mask, inner, p.mixture.mapped);
+      if (e.counted > 0 && std::isfinite(e.inside_share)) {
+        inside += e.inside_share * e.counted;
+        counted += e.counted;
+      }
+    }
+    const double area = mask.area_fraction();
+    ca.enrichment_window = counted > 0 && area > 0 ? (inside / counted) / area : kNaN;
+  }
   if (light >= 0) {
-    // The configurations of the fields' collection window (Yu 2022 Fig. 13: 25 <= N <= 35);
-    // all of them when the window is unknown or holds none.
-    std::vector<SnapshotData> window;
-    for (std::size_t k = 0; k < snaps.size(); ++k)
-      if (window_first >= 0 && iters[k] >= window_first - 1e-9 && iters[k] <= window_last + 1e-9)
-        window.push_back(snaps[k]);
-    const bool windowed = !window.empty();
     ca.light =
         light_concentration(windowed ? window : snaps, grid, light_shell(p, snaps.front().R, opt));
     ca.light_snapshots = static_cast<int>(windowed ? window.size() : snaps.size());
@@ -271,6 +290,7 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
     ca.enrichment_map =
         (have_islands && !volume.empty()) ? enrichment_from_map(volume, p.coverage).value : kNaN;
     ca.enrichment_snap = kNaN;
+    ca.enrichment_window = kNaN;
     if (!volume.empty())
       for (const auto& [qid, q] : points)
         if (!q.islands.empty() && q.coverage.size() == volume.size())
@@ -292,18 +312,20 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
 
   std::vector<PointAnalysis> out;
   for (auto& [id, p] : points) {
-    std::vector<double> em, es;
+    std::vector<double> em, es, ew;
     std::map<std::string, std::vector<double>> vs;
     std::vector<const std::vector<double>*> light, section;
     for (const auto& c : p.cases) {
       em.push_back(c.enrichment_map);
       es.push_back(c.enrichment_snap);
+      ew.push_back(c.enrichment_window);
       for (const auto& [qid, v] : c.enrichment_vs) vs[qid].push_back(v);
       light.push_back(&c.light);
       if (!c.section.empty()) section.push_back(&c.section);
     }
     p.enrichment_map = mean_ci95(em);
     p.enrichment_snap = mean_ci95(es);
+    p.enrichment_window = mean_ci95(ew);
     for (const auto& [qid, v] : vs) p.enrichment_vs[qid] = mean_ci95(v);
     for (int k = 0; k < 5; ++k) {
       p.fates[k] = mean_ci95(fate_column(p.cases, k, false));
@@ -398,12 +420,13 @@ void write_campaign_analysis(const std::string& path, const std::string& dir,
     f.write(g + "/coverage", p.coverage, {n, n});
     std::string ids;
     std::vector<std::int64_t> replica, fates[5];
-    std::vector<double> em, es, from, to, chance[5];
+    std::vector<double> em, es, ew, from, to, chance[5];
     for (const auto& c : p.cases) {
       ids += (ids.empty() ? "" : "\n") + c.case_id;
       replica.push_back(c.replica);
       em.push_back(c.enrichment_map);
       es.push_back(c.enrichment_snap);
+      ew.push_back(c.enrichment_window);
       const std::int64_t none = -1;
       for (int k = 0; k < 5; ++k) {
         fates[k].push_back(c.has_fates ? std::llround(fate_value(c, k, false)) : none);
@@ -418,6 +441,8 @@ void write_campaign_analysis(const std::string& path, const std::string& dir,
     f.write(g + "/enrichment_snap", es);
     write_stat(f, g, "enrichment_map", p.enrichment_map);
     write_stat(f, g, "enrichment_snap", p.enrichment_snap);
+    f.write(g + "/enrichment_window", ew);
+    write_stat(f, g, "enrichment_window", p.enrichment_window);
     f.create_group(g + "/fates");
     f.create_group(g + "/fates/chance");
     for (int k = 0; k < 5; ++k) {

@@ -52,6 +52,9 @@ struct CaseAnalysis {
   long long replica = 0;
   double enrichment_map = 0;   // from fields.h5 (NaN without islands)
   double enrichment_snap = 0;  // from the last snapshot (NaN without snapshots or islands)
+  // From the mapped particles of every snapshot in the collection window, pooled (stroboscopic:
+  // the islands are where the CM puts them); NaN without snapshots or islands.
+  double enrichment_window = 0;
   bool has_fates = false;
   FateCounts fates;
   FateExpectation fates_by_chance;  // the same counts for randomly relabelled end positions
@@ -73,7 +76,7 @@ struct PointAnalysis {
   double island_area_fraction = 0;  // of the unit Lambert disc
   std::vector<double> coverage;     // per cell of the fields grid
   std::vector<CaseAnalysis> cases;  // by replica
-  MeanCI enrichment_map, enrichment_snap;
+  MeanCI enrichment_map, enrichment_snap, enrichment_window;
   // Fig. 8 over replicas, observed and by chance (fates.hpp), in the order of kFateNames.
   MeanCI fates[5], fates_by_chance[5];
   int island_period = 0;     // least common multiple of the islands' periods (0: no islands)
