@@ -2,6 +2,7 @@
 series with confidence bands, convergence with the number of replicas, Fig. 8 fates. Every map
 of one field shares one colour scale, so points can be compared by eye."""
 import math
+import textwrap
 
 import numpy as np
 import matplotlib
@@ -112,10 +113,13 @@ def map_grid(rows, columns, out, suptitle, cmaps, ranges, cbar_labels, panel_in=
         label, n, islands, values, masks = row[:5]
         excluded = row[5] if len(row) > 5 else None
         other = row[6] if len(row) > 6 else ()
+        # Point labels carry every swept key and the mixture: wrapped to the panel's width
+        # (about 12 characters an inch at the title's size) so that neighbours do not overlap.
+        wrapped = textwrap.fill(label, width=int(12 * panel_in))
         for c in range(nc):
             mappables[c] = draw_map(axes[r][c], values[c], n, *ranges[c], cmap=cmaps[c],
                                     islands=islands, mask=masks[c] if masks else None,
-                                    title=f"{label}\n{columns[c]}",
+                                    title=f"{wrapped}\n{columns[c]}",
                                     excluded=excluded[c] if excluded else None,
                                     other_islands=other)
     for c in range(nc):
