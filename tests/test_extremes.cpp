@@ -139,7 +139,7 @@ TEST(Extremes, ProtocolAnglesZero180And360) {
                                    "protocol.theta_z=" + std::to_string(th[0]),
                                    "protocol.theta_x=" + std::to_string(th[1])});
     const auto protocol = geometry::Protocol::biaxial(deg2rad(s.theta_z), deg2rad(s.theta_x),
-                                                      deg2rad(s.repose), s.omega());
+                                                      deg2rad(s.repose.deg), s.omega());
     Outcome o;
     ASSERT_NO_THROW(o = run(s, 3000, protocol)) << th[0] << ", " << th[1];
     // Driven: energy may grow, speeds stay of order ωR + sqrt(2 g R) (0.08 + 0.49 m/s).

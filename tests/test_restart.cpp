@@ -17,9 +17,10 @@ TEST(Restart, ContinuesBitwiseIdentically) {
   std::filesystem::remove_all(base);
   auto scene = [&](const std::string& out) {
     // The biaxial protocol (1233 steps), a checkpoint every 300 steps; 900 steps are run.
-    return tiny_scene({"protocol.mode=biaxial", "scene.output_dir=" + base + "/" + out,
-                       "output.checkpoint_interval=0.006", "output.snapshot_interval=0.006",
-                       "protocol.iterations=0.002"});
+    // β given: the measured tilt's own restart test is in test_repose_measure.cpp.
+    return tiny_scene({"protocol.mode=biaxial", "protocol.repose=27",
+                       "scene.output_dir=" + base + "/" + out, "output.checkpoint_interval=0.006",
+                       "output.snapshot_interval=0.006", "protocol.iterations=0.002"});
   };
   RunOptions full;
   full.max_steps = 900;

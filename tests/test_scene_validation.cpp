@@ -146,3 +146,31 @@ TEST(SceneValidation, HugeScenesAreRefusedWithTheEstimate) {
   const Scene s = parse_scene("", {}, "t");
   EXPECT_NEAR(estimate_resources(s).particles, static_cast<double>(planned_particle_count(s)), 1.0);
 }
+
+TEST(SceneValidation, ReposeIsMeasuredByDefaultOrANumberInRange) {
+  const Scene d = parse_scene("");
+  EXPECT_TRUE(d.repose_pending());
+  EXPECT_NE(scene_to_text(d).find("protocol.repose = \"measured\""), std::string::npos);
+  EXPECT_FALSE(parse_scene(scene_to_text(d)).repose.known);  // the word reads back
+  const Scene n = parse_scene("", {"protocol.repose=30"});
+  EXPECT_FALSE(n.repose_pending());
+  EXPECT_EQ(n.repose.deg, 30.0);
+  // Not biaxial: nothing to tilt, nothing to measure.
+  EXPECT_FALSE(parse_scene("", {"protocol.mode=single_axis"}).repose_pending());
+  const std::string word = error_of("[protocol]\nrepose = \"measure\"\n");
+  EXPECT_NE(word.find("'protocol.repose' = 'measure' must be a number in [0, 89] or 'measured'"),
+            std::string::npos)
+      << word;
+  const std::string range = error_of("", {"protocol.repose=90"});
+  EXPECT_NE(range.find("out of range [0, 89] or 'measured'"), std::string::npos) << range;
+  const std::string weightless = error_of("", {"gravity.g=0"});
+  EXPECT_NE(weightless.find("'protocol.repose' = 'measured' needs gravity.g > 0"),
+            std::string::npos)
+      << weightless;
+  EXPECT_EQ(error_of("", {"gravity.g=0", "protocol.repose=27"}), "");
+  // A measured value fills the scene and its resolved text alike.
+  Scene m = d;
+  set_measured_repose(m, 26.5);
+  EXPECT_EQ(parse_scene(scene_to_text(m)).repose.deg, 26.5);
+  EXPECT_EQ(m.resolved.at("protocol.repose"), "26.5");
+}

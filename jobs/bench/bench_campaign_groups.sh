@@ -44,6 +44,7 @@ progress_interval = 30
 [overrides]
 "protocol.iterations" = $1
 "output.checkpoint_interval" = 1e6
+"protocol.repose" = 27   # pinned: the measured tilt's 80 degrees would enter the timings
 
 [[sweep]]
 theta_z = $2

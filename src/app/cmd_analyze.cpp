@@ -285,6 +285,15 @@ void register_campaign_analysis(CLI::App& an) {
           p.island_area_fraction, p.mixture.name[p.mixture.mapped].c_str(), p.enrichment_map.mean,
           p.enrichment_map.ci95, p.enrichment_map.n);
       std::printf("point %s mixture: %s\n", p.point_id.c_str(), p.mixture.describe().c_str());
+      if (p.repose_min == p.repose_max)
+        std::printf("point %s repose tilt beta %.4g deg in every case\n", p.point_id.c_str(),
+                    p.repose_min);
+      else
+        std::printf(
+            "point %s repose tilt beta %.3f +- %.3f deg (N = %d; %.2f to %.2f: measured "
+            "on each replica's bed)\n",
+            p.point_id.c_str(), p.repose.mean, p.repose.ci95, p.repose.n, p.repose_min,
+            p.repose_max);
       if (p.enrichment_window.n > 0)
         std::printf(
             "point %s enrichment from the snapshots of the collection window (stroboscopic): "

@@ -54,7 +54,8 @@ void register_run(CLI::App& app) {
           for (std::size_t i = 0; i < k.choices.size(); ++i)
             std::cout << (i ? "|" : "") << k.choices[i];
         else
-          std::cout << "[" << k.lo << ", " << k.hi << "]";
+          std::cout << "[" << k.lo << ", " << k.hi << "]"
+                    << (k.word.empty() ? "" : " or " + k.word);
         std::cout << "  (default " << default_text(k) << ")  " << k.help << "\n";
       }
       return;

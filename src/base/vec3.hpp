@@ -86,5 +86,6 @@ struct Mat3 {
 
 inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double deg2rad(double d) { return d * kPi / 180.0; }
+inline constexpr double rad2deg(double r) { return r * 180.0 / kPi; }
 
 }  // namespace tumble

@@ -18,6 +18,7 @@
 #include "h5/hdf5_file.hpp"
 #include "io/bed_io.hpp"
 #include "run/realization.hpp"
+#include "run/repose_measure.hpp"
 #include "run/time_limit_observer.hpp"
 
 namespace tumble::campaign {
@@ -118,7 +119,10 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
           << (ranks > 1 ? "s" : "") << ", started " << out.start << std::endl;
     });
     if (!c.scene_error.empty()) throw InputError(c.scene_error);
-    const Scene scene = case_scene(spec, c, dir, ctx.bed_cache, task.seed);
+    // β = "measured" is filled in first: the collection plan counts steps per iteration.
+    const Scene scene =
+        with_repose_resolved(case_scene(spec, c, dir, ctx.bed_cache, task.seed),
+                             dir + "/checkpoint.h5", lead ? &log : nullptr, group, ctx.poll);
     const CollectPlan plan = make_collect_plan(spec.collect, scene);
     std::unique_ptr<CaseCollector> collector = make_case_collector(plan, scene, dir);
 

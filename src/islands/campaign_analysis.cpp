@@ -291,6 +291,7 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
         (have_islands && !volume.empty()) ? enrichment_from_map(volume, p.coverage).value : kNaN;
     ca.enrichment_snap = kNaN;
     ca.enrichment_window = kNaN;
+    ca.repose_deg = parse_scene(c.scene_text).repose.deg;
     if (!volume.empty())
       for (const auto& [qid, q] : points)
         if (!q.islands.empty() && q.coverage.size() == volume.size())
@@ -312,10 +313,11 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
 
   std::vector<PointAnalysis> out;
   for (auto& [id, p] : points) {
-    std::vector<double> em, es, ew;
+    std::vector<double> em, es, ew, beta;
     std::map<std::string, std::vector<double>> vs;
     std::vector<const std::vector<double>*> light, section;
     for (const auto& c : p.cases) {
+      beta.push_back(c.repose_deg);
       em.push_back(c.enrichment_map);
       es.push_back(c.enrichment_snap);
       ew.push_back(c.enrichment_window);
@@ -326,6 +328,9 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
     p.enrichment_map = mean_ci95(em);
     p.enrichment_snap = mean_ci95(es);
     p.enrichment_window = mean_ci95(ew);
+    p.repose = mean_ci95(beta);
+    p.repose_min = *std::min_element(beta.begin(), beta.end());
+    p.repose_max = *std::max_element(beta.begin(), beta.end());
     for (const auto& [qid, v] : vs) p.enrichment_vs[qid] = mean_ci95(v);
     for (int k = 0; k < 5; ++k) {
       p.fates[k] = mean_ci95(fate_column(p.cases, k, false));
@@ -420,9 +425,10 @@ void write_campaign_analysis(const std::string& path, const std::string& dir,
     f.write(g + "/coverage", p.coverage, {n, n});
     std::string ids;
     std::vector<std::int64_t> replica, fates[5];
-    std::vector<double> em, es, ew, from, to, chance[5];
+    std::vector<double> em, es, ew, beta, from, to, chance[5];
     for (const auto& c : p.cases) {
       ids += (ids.empty() ? "" : "\n") + c.case_id;
+      beta.push_back(c.repose_deg);
       replica.push_back(c.replica);
       em.push_back(c.enrichment_map);
       es.push_back(c.enrichment_snap);
@@ -443,6 +449,8 @@ void write_campaign_analysis(const std::string& path, const std::string& dir,
     write_stat(f, g, "enrichment_snap", p.enrichment_snap);
     f.write(g + "/enrichment_window", ew);
     write_stat(f, g, "enrichment_window", p.enrichment_window);
+    f.write(g + "/repose_deg", beta);
+    write_stat(f, g, "repose_deg", p.repose);
     f.create_group(g + "/fates");
     f.create_group(g + "/fates/chance");
     for (int k = 0; k < 5; ++k) {

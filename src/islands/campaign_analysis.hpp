@@ -55,6 +55,7 @@ struct CaseAnalysis {
   // From the mapped particles of every snapshot in the collection window, pooled (stroboscopic:
   // the islands are where the CM puts them); NaN without snapshots or islands.
   double enrichment_window = 0;
+  double repose_deg = 0;  // the tilt β the case ran with (measured or given: its scene text)
   bool has_fates = false;
   FateCounts fates;
   FateExpectation fates_by_chance;  // the same counts for randomly relabelled end positions
@@ -77,6 +78,8 @@ struct PointAnalysis {
   std::vector<double> coverage;     // per cell of the fields grid
   std::vector<CaseAnalysis> cases;  // by replica
   MeanCI enrichment_map, enrichment_snap, enrichment_window;
+  MeanCI repose;                          // β over the cases [deg]
+  double repose_min = 0, repose_max = 0;  // its range
   // Fig. 8 over replicas, observed and by chance (fates.hpp), in the order of kFateNames.
   MeanCI fates[5], fates_by_chance[5];
   int island_period = 0;     // least common multiple of the islands' periods (0: no islands)

@@ -11,7 +11,7 @@
 namespace tumble {
 
 DriftObserver::DriftObserver(const Scene& scene)
-    : meter_(30, scene.radius, deg2rad(scene.repose), scene.omega(), scene.d_large),
+    : meter_(30, scene.radius, deg2rad(scene.repose.deg), scene.omega(), scene.d_large),
       every_(std::max<std::int64_t>(1, std::llround(0.1 / scene.time_step()))) {}
 
 void DriftObserver::after_step(RunState& s) {

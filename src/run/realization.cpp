@@ -9,6 +9,7 @@
 
 #include "base/comm.hpp"
 #include "base/error.hpp"
+#include "base/text_util.hpp"
 #include "engine/simulation.hpp"
 #include "h5/hdf5_file.hpp"
 #include "io/checkpoint.hpp"
@@ -18,6 +19,7 @@
 #include "run/drift_observer.hpp"
 #include "run/health_observer.hpp"
 #include "run/progress_observer.hpp"
+#include "run/repose_measure.hpp"
 #include "run/run_state.hpp"
 #include "run/series_observer.hpp"
 #include "run/snapshot_observer.hpp"
@@ -29,9 +31,11 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 geometry::Protocol protocol_of(const Scene& scene) {
+  if (scene.repose_pending())  // run_realization resolves it first
+    throw std::logic_error("protocol.repose = 'measured' was not measured before the run");
   if (scene.mode == Mode::biaxial)
     return geometry::Protocol::biaxial(deg2rad(scene.theta_z), deg2rad(scene.theta_x),
-                                       deg2rad(scene.repose), scene.omega());
+                                       deg2rad(scene.repose.deg), scene.omega());
   if (scene.mode == Mode::single_axis)
     return geometry::Protocol::single_axis(name_of(scene.axis)[0], scene.omega());
   return geometry::Protocol::at_rest();
@@ -157,24 +161,27 @@ void log_done(std::ostream* log, const RunState& s, const RunResult& res) {
 }
 }  // namespace
 
-RunResult run_realization(const Scene& scene, const RunOptions& opt) {
+RunResult run_realization(const Scene& given, const RunOptions& opt) {
   const MPI_Comm comm = size_of(opt.comm) > 1 ? opt.comm : MPI_COMM_NULL;
   const bool lead = rank_in(comm) == 0;  // writes the serial files and the log
   std::ostream* log = lead ? opt.log : nullptr;
   RunResult res;
-  res.output_dir = scene.output_dir;
-  if (lead) fs::create_directories(scene.output_dir);
+  res.output_dir = given.output_dir;
+  if (lead) fs::create_directories(given.output_dir);
   if (comm != MPI_COMM_NULL) MPI_Barrier(comm);
-  const std::string ckpt_path = scene.output_dir + "/checkpoint.h5";
+  const std::string ckpt_path = given.output_dir + "/checkpoint.h5";
+
+  const std::string restart = restart_path(opt, ckpt_path, comm);
+  if (restart.empty() && opt.resume && log)
+    *log << "[run] resume: no checkpoint at " << ckpt_path << " yet; starting from step 0\n";
+  // β = "measured" becomes a number before anything uses the protocol (a campaign resolves it
+  // earlier, for its collection plan; then this changes nothing).
+  const Scene scene = with_repose_resolved(given, restart, log, comm);
 
   const geometry::Protocol protocol = protocol_of(scene);
   const double dt = scene.time_step();
   const double period = protocol.periodic() ? protocol.period() : 1.0;
   const std::int64_t snap_every = steps_for(scene.snapshot_interval, dt, period);
-
-  const std::string restart = restart_path(opt, ckpt_path, comm);
-  if (restart.empty() && opt.resume && log)
-    *log << "[run] resume: no checkpoint at " << ckpt_path << " yet; starting from step 0\n";
   Started st = restart.empty() ? fresh_start(scene, protocol, comm, log, &res.reused_bed)
                                : restart_from(restart, scene, protocol, snap_every, comm, log);
   Simulation* sim = st.sim.get();
@@ -208,6 +215,9 @@ RunResult run_realization(const Scene& scene, const RunOptions& opt) {
     *log << "[run] " << scene.name << ": " << res.particles << " particles, dt = " << dt << " s, "
          << s.total_steps << " steps (" << scene.run_time() << " s simulated"
          << (protocol.periodic() ? ", " + std::to_string(scene.iterations) + " iterations" : "")
+         << (scene.mode == Mode::biaxial ? ", beta = " + short_number(scene.repose.deg) + " deg" +
+                                               (scene.repose.measured ? " (measured)" : "")
+                                         : std::string())
          << "), pair loop: " << sim->pair_kernel_name() << ", output in " << scene.output_dir
          << "\n";
 

@@ -39,12 +39,21 @@ double Scene::run_time() const {
   if (mode == Mode::biaxial) {
     const double w = omega();
     if (w <= 0) return 0;
-    const double period = (deg2rad(theta_z) + deg2rad(theta_x) + 4.0 * deg2rad(repose)) / w;
+    // Before a measured β is filled in, repose.deg is the 27° estimate (plans, cost estimates).
+    const double period = (deg2rad(theta_z) + deg2rad(theta_x) + 4.0 * deg2rad(repose.deg)) / w;
     return iterations * period;
   }
   if (mode == Mode::single_axis && revolutions > 0 && omega() > 0)
     return revolutions * 2.0 * kPi / omega();
   return duration;
+}
+
+void set_measured_repose(Scene& s, double deg) {
+  s.repose = ReposeTilt{deg, true, true};
+  std::ostringstream os;  // as scene_to_text writes it, so that the texts compare equal
+  os.precision(17);
+  os << deg;
+  s.resolved["protocol.repose"] = os.str();
 }
 
 namespace {
@@ -149,13 +158,16 @@ Scene apply_values(const std::map<std::string, Value>& values) {
         throw InputError(where + " = '" + v.text + "' is not one of: " + allowed);
       }
       set_key(s, *spec, v.text, 0);
+    } else if (!spec->word.empty() && !v.numeric && v.text == spec->word) {
+      set_key(s, *spec, v.text, 0);
     } else {
+      const std::string alt = spec->word.empty() ? "" : " or '" + spec->word + "'";
       if (!v.numeric || !std::isfinite(v.num))
         throw InputError(where + " = '" + v.text + "' must be a number in " + range_text(*spec) +
-                         " (" + spec->help + ")");
+                         alt + " (" + spec->help + ")");
       if (v.num < spec->lo || v.num > spec->hi)
-        throw InputError(where + " = " + v.text + " is out of range " + range_text(*spec) + " (" +
-                         spec->help + ")");
+        throw InputError(where + " = " + v.text + " is out of range " + range_text(*spec) + alt +
+                         " (" + spec->help + ")");
       if (spec->type == KeySpec::Integer) {
         if (v.num != std::floor(v.num))
           throw InputError(where + " = " + v.text + " must be an integer");
@@ -367,6 +379,10 @@ void validate_scene(const Scene& s) {
   if (s.mode != Mode::rest && s.omega() <= 0)
     fail("protocol.rpm", "(or protocol.omega) must be > 0 when protocol.mode is '" +
                              std::string(name_of(s.mode)) + "'");
+  if (s.repose_pending() && s.g <= 0)
+    fail("protocol.repose",
+         "= 'measured' needs gravity.g > 0 (a bed without weight has no angle of repose); give "
+         "the tilt in degrees, in [0, 89]");
   if (s.mode == Mode::biaxial && s.theta_z + s.theta_x <= 0 && s.iterations > 0)
     fail("protocol.theta_z",
          "and protocol.theta_x are both 0: the biaxial protocol would not move");

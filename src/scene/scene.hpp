@@ -36,7 +36,14 @@ struct Scene {
   double law_value(const std::string& key) const;
   // Mean of d^3 over the size distribution of a species with nominal (largest) diameter d.
   double mean_cube(double d) const;
+  // protocol.repose = "measured" in a biaxial scene whose β has not been filled in yet
+  // (run/repose_measure.hpp resolves it before a run).
+  bool repose_pending() const { return mode == Mode::biaxial && !repose.known; }
 };
+
+// Fills in a measured repose tilt β [deg]: the scene's value, its provenance text and its
+// resolved key list then hold the number.
+void set_measured_repose(Scene& s, double deg);
 
 // One key of the schema: its type, default, allowed range and a one-line description.
 struct KeySpec {
@@ -55,6 +62,7 @@ struct KeySpec {
   Type type;
   double lo = 0, hi = 0;             // allowed closed range (numbers)
   std::vector<std::string> choices;  // allowed values (text), empty = any
+  std::string word;                  // a number's alternative word ("measured"), or empty
   std::string help;
   double def = 0;   // default of a law's key (law_values); the struct holds the others
   std::string law;  // the contact law that owns this key (scene/law_registry.hpp), or empty

@@ -9,11 +9,27 @@
 // order: the order of the lines is part of every stored scene text, so a new key goes where its
 // section is and existing lines never move). Numbers are double (Real) or std::int64_t (Integer)
 // with a closed range; std::string is free text; an enum (scene/scene_enums.hpp) is one of its
-// names. To add a key: one line here, and the code that uses it.
+// names; ReposeTilt is a number in its range or the word "measured". To add a key: one line here,
+// and the code that uses it.
 #include <cstdint>
 #include <string>
 
 #include "scene/scene_enums.hpp"
+
+namespace tumble {
+
+// protocol.repose: the tilt β in degrees, or the word "measured" (the default): the dynamic
+// angle of repose of the scene's own settled bed, measured before the run
+// (run/repose_measure.hpp) and written into the scene as a number. Until then `deg` holds the
+// paper's 27° for plans and estimates only: building the protocol from it is refused.
+struct ReposeTilt {
+  double deg = 27;
+  bool measured = true;  // the scene asked for "measured"
+  bool known = false;    // deg is the number to use (given, or measured and filled in)
+  static constexpr const char* kWord = "measured";
+};
+
+}  // namespace tumble
 
 // clang-format off
 #define TUMBLE_SCENE_KEYS(X) \
@@ -78,8 +94,8 @@
     "rotation angle about z per iteration [deg]") \
   X(double, theta_x, "protocol.theta_x", 57, 0, 360, \
     "rotation angle about x per iteration [deg]") \
-  X(double, repose, "protocol.repose", 27, 0, 89, \
-    "repose tilt beta before/after each rotation [deg]") \
+  X(ReposeTilt, repose, "protocol.repose", ReposeTilt{}, 0, 89, \
+    "repose tilt beta before/after each rotation [deg], or \"measured\": the bed's own dynamic repose angle") \
   X(double, rpm, "protocol.rpm", 3, 0, 1e4, \
     "angular speed [rev/min]") \
   X(Axis, axis, "protocol.axis", Axis::x, 0, 0, \

@@ -30,6 +30,11 @@ struct KeyKind<std::int64_t> {
   static std::vector<std::string> choices() { return {}; }
 };
 template <>
+struct KeyKind<ReposeTilt> {  // a number, or the word "measured"
+  static constexpr KeySpec::Type type = KeySpec::Real;
+  static std::vector<std::string> choices() { return {}; }
+};
+template <>
 struct KeyKind<std::string> {
   static constexpr KeySpec::Type type = KeySpec::Text;
   static std::vector<std::string> choices() { return {}; }
@@ -44,6 +49,8 @@ void set_member(Scene& s, const std::string& text, double num) {
     s.*M = static_cast<std::int64_t>(num);
   else if constexpr (std::is_same_v<T, std::string>)
     s.*M = text;
+  else if constexpr (std::is_same_v<T, ReposeTilt>)
+    s.*M = text == ReposeTilt::kWord ? ReposeTilt{} : ReposeTilt{num, false, true};
   else
     enum_from_name(text, s.*M);
 }
@@ -53,7 +60,12 @@ template <class T, T Scene::*M>
 void write_member(std::ostream& os, const Scene& s) {
   if constexpr (std::is_same_v<T, double> || std::is_same_v<T, std::int64_t>)
     os << s.*M;
-  else
+  else if constexpr (std::is_same_v<T, ReposeTilt>) {
+    if ((s.*M).known)
+      os << (s.*M).deg;  // given, or measured and filled in: the number the run uses
+    else
+      os << '"' << ReposeTilt::kWord << '"';
+  } else
     os << '"' << s.*M << '"';
 }
 
@@ -67,7 +79,12 @@ const std::vector<OwnKey>& own_keys() {
 #define TUMBLE_SCENE_KEY_ROW(T, MEMBER, KEY, DEFAULT, LO, HI, HELP)           \
   OwnKey{KeySpec(KEY, KeyKind<T>::type, LO, HI, KeyKind<T>::choices(), HELP), \
          &set_member<T, &Scene::MEMBER>, &write_member<T, &Scene::MEMBER>},
-  static const std::vector<OwnKey> keys = {TUMBLE_SCENE_KEYS(TUMBLE_SCENE_KEY_ROW)};
+  static const std::vector<OwnKey> keys = [] {
+    std::vector<OwnKey> k = {TUMBLE_SCENE_KEYS(TUMBLE_SCENE_KEY_ROW)};
+    for (OwnKey& o : k)
+      if (o.spec.key == "protocol.repose") o.spec.word = ReposeTilt::kWord;
+    return k;
+  }();
 #undef TUMBLE_SCENE_KEY_ROW
   return keys;
 }

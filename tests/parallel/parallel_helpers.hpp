@@ -53,7 +53,7 @@ inline Particles tiny_bed(const Scene& s) {
 }
 
 inline geometry::Protocol biaxial(const Scene& s) {
-  return geometry::Protocol::biaxial(deg2rad(s.theta_z), deg2rad(s.theta_x), deg2rad(s.repose),
+  return geometry::Protocol::biaxial(deg2rad(s.theta_z), deg2rad(s.theta_x), deg2rad(s.repose.deg),
                                      s.omega());
 }
 

@@ -65,7 +65,7 @@ Scene scene(const std::string& beds) {
 }
 
 geometry::Protocol protocol(const Scene& s) {
-  return geometry::Protocol::biaxial(deg2rad(s.theta_z), deg2rad(s.theta_x), deg2rad(s.repose),
+  return geometry::Protocol::biaxial(deg2rad(s.theta_z), deg2rad(s.theta_x), deg2rad(s.repose.deg),
                                      s.omega());
 }
 

@@ -1,0 +1,178 @@
+#include "run/repose_measure.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+#include <vector>
+
+#include "analysis/flow_profile.hpp"
+#include "base/comm.hpp"
+#include "base/error.hpp"
+#include "base/hash.hpp"
+#include "base/text_util.hpp"
+#include "engine/simulation.hpp"
+#include "h5/hdf5_file.hpp"
+#include "io/bed_io.hpp"
+#include "io/snapshot.hpp"
+#include "run/settled_bed.hpp"
+
+namespace tumble {
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+ReposeMeasurement measure_repose(const Scene& scene, const Particles& bed, std::ostream* log,
+                                 MPI_Comm comm, const std::function<void()>& between_blocks) {
+  const double w = scene.omega();
+  const double dt = scene.time_step();
+  const auto steps_per_degree = std::max<std::int64_t>(1, std::llround(deg2rad(1.0) / w / dt));
+  const auto first = static_cast<std::int64_t>(kReposeSpinUpDeg) * steps_per_degree;
+  const auto last = static_cast<std::int64_t>(kReposeEndDeg) * steps_per_degree;
+  if (log)
+    *log << "[repose] protocol.repose = 'measured': turning the settled bed " << kReposeEndDeg
+         << " degrees about z at " << std::setprecision(4) << w << " rad/s (" << last
+         << " steps), sampling the free surface once a degree from " << kReposeSpinUpDeg
+         << " degrees" << std::endl;
+  Simulation sim(scene, share_of(bed, comm), geometry::Protocol::single_axis('z', w), 0, 0, comm);
+  sim.compute_forces();
+  analysis::FlowFrame frame;  // as the series observer's flow measure (run/series_observer.cpp)
+  frame.axis = Vec3{0, 0, 1};
+  frame.radius = scene.radius;
+  frame.bin = 2 * scene.d_large;
+  frame.depth = scene.d_large;
+  std::vector<double> angles;
+  const auto t0 = Clock::now();
+  auto shown = t0;
+  while (sim.step_count() < last) {
+    sim.step();
+    const std::int64_t k = sim.step_count();
+    if (between_blocks && k % 200 == 0) between_blocks();
+    if (k >= first && k % steps_per_degree == 0) {
+      const Particles all = sim.gather_all();  // collective
+      const double a = analysis::flow_profile(all, all.size(), frame).repose_deg;
+      if (std::isfinite(a)) angles.push_back(a);
+    }
+    if (log &&
+        std::chrono::duration<double>(Clock::now() - shown).count() > scene.progress_interval) {
+      shown = Clock::now();
+      *log << "[repose] " << std::setprecision(3) << rad2deg(w * sim.time()) << " of "
+           << kReposeEndDeg << " degrees, "
+           << format_hms(std::chrono::duration<double>(shown - t0).count()) << " elapsed"
+           << std::endl;
+    }
+  }
+  sim.check_health();
+  if (angles.size() < 3)
+    throw RunError(
+        "protocol.repose = 'measured': no free surface was found while the bed turned (" +
+        std::to_string(angles.size()) +
+        " samples); give the tilt in degrees, e.g. protocol.repose = 27");
+  ReposeMeasurement m;
+  m.samples = static_cast<int>(angles.size());
+  for (double a : angles) m.mean_deg += a / m.samples;
+  for (double a : angles) m.sd_deg += (a - m.mean_deg) * (a - m.mean_deg) / (m.samples - 1);
+  m.sd_deg = std::sqrt(m.sd_deg);
+  if (!(m.mean_deg > 0 && m.mean_deg < 89))
+    throw RunError("protocol.repose = 'measured' found " + std::to_string(m.mean_deg) +
+                   " degrees, outside [0, 89]; give the tilt in degrees");
+  if (log)
+    *log << "[repose] beta = " << std::setprecision(4) << m.mean_deg << " degrees (mean of "
+         << m.samples << " samples, SD " << std::setprecision(2) << m.sd_deg << "; "
+         << format_hms(std::chrono::duration<double>(Clock::now() - t0).count()) << " wall)"
+         << std::endl;
+  return m;
+}
+
+std::string repose_key(const Scene& s) {
+  std::ostringstream os;
+  os.precision(17);
+  if (s.bed_file.empty())
+    os << io::bed_key(s);
+  else
+    os << "bed_file=" << fs::absolute(s.bed_file).string();
+  os << ";omega=" << s.omega() << ";law=" << s.law;
+  for (const auto& [key, value] : s.law_values)  // every law's keys: the scene's own among them
+    os << ";" << key << "=" << value;
+  os << ";repose_code=" << kReposeCodeVersion;
+  return os.str();
+}
+
+std::string repose_cache_path(const Scene& s) {
+  return s.bed_cache + "/repose_" + hex16(fnv1a64(repose_key(s))) + ".h5";
+}
+
+namespace {
+
+// The tilt a checkpoint's run used (NaN if its scene does not say).
+double repose_of_checkpoint(const std::string& path) {
+  if (!fs::exists(path)) return std::nan("");
+  io::H5File f(path, io::H5File::Mode::Read);
+  const Scene old = parse_scene(f.attr_string("/", "scene"), {}, "checkpoint " + path);
+  return old.repose.known ? old.repose.deg : std::nan("");
+}
+
+// The cached value for this scene (NaN if none, or if the file is for another key).
+double cached_repose(const std::string& path, const std::string& key) {
+  if (!fs::exists(path)) return std::nan("");
+  io::H5File f(path, io::H5File::Mode::Read);
+  if (f.attr_string("/", "repose_key") != key) return std::nan("");
+  return f.attr_double("/", "repose_deg");
+}
+
+void write_cached_repose(const std::string& path, const Scene& scene, const ReposeMeasurement& m) {
+  fs::create_directories(fs::path(path).parent_path());
+  io::AtomicH5Writer out(path);
+  io::H5File& f = out.file();
+  f.set_attr("/", "kind", std::string("tumble repose"));
+  f.set_attr("/", "repose_key", repose_key(scene));
+  f.set_attr("/", "repose_deg", m.mean_deg);
+  f.set_attr("/", "sd_deg", m.sd_deg);
+  f.set_attr("/", "samples", static_cast<std::int64_t>(m.samples));
+  f.set_attr("/", "from_deg", kReposeSpinUpDeg);
+  f.set_attr("/", "to_deg", kReposeEndDeg);
+  io::write_provenance(f, scene);
+  out.commit();
+}
+
+}  // namespace
+
+Scene with_repose_resolved(const Scene& scene, const std::string& checkpoint, std::ostream* log,
+                           MPI_Comm comm, const std::function<void()>& between_blocks) {
+  if (!scene.repose_pending()) return scene;
+  const bool lead = rank_in(comm) == 0;
+  const std::string cache = repose_cache_path(scene);
+  double deg = std::nan("");
+  std::string source;
+  if (lead) {  // rank 0 reads the files for all
+    if (!checkpoint.empty()) {
+      deg = repose_of_checkpoint(checkpoint);
+      source = "from the checkpoint " + checkpoint;
+    }
+    if (!std::isfinite(deg)) {
+      deg = cached_repose(cache, repose_key(scene));
+      source = "cached in " + cache;
+    }
+  }
+  if (size_of(comm) > 1) MPI_Bcast(&deg, 1, MPI_DOUBLE, 0, comm);
+  if (std::isfinite(deg)) {
+    if (log)
+      *log << "[repose] beta = " << std::setprecision(6) << deg << " degrees (measured, " << source
+           << ")" << std::endl;
+  } else {
+    const Particles bed = settled_bed(scene, log, nullptr, comm, between_blocks);
+    const ReposeMeasurement m = measure_repose(scene, bed, log, comm, between_blocks);
+    deg = m.mean_deg;
+    if (lead) {
+      write_cached_repose(cache, scene, m);
+      if (log) *log << "[repose] saved in " << cache << std::endl;
+    }
+    if (size_of(comm) > 1) MPI_Barrier(comm);
+  }
+  Scene resolved = scene;
+  set_measured_repose(resolved, deg);
+  return resolved;
+}
+
+}  // namespace tumble
