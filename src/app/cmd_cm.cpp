@@ -234,9 +234,22 @@ struct OrbitArgs {
                     "iterates of the island boundary orbit");
     cmd->add_option("--island-rays", islands.rays,
                     "rays scanned from each elliptic point; the largest certified curve is the "
-                    "boundary (docs/cm.md: 8 rays find larger islands, closer to the regular set)");
+                    "boundary (docs/cm.md: more rays find larger islands, closer to the regular "
+                    "set)");
+    cmd->add_option("--island-chains", islands.max_chain_q,
+                    "largest q of the secondary island chains (resonances p/q outside an "
+                    "island's last invariant curve) given islands of their own; 0: none "
+                    "(docs/cm.md)")
+        ->capture_default_str();
+    cmd->add_option("--island-order", order,
+                    "how a boundary orbit is ordered and certified: circle (by k rho mod 1, the "
+                    "default) or angle (about the centre: star-shaped curves only; docs/cm.md)")
+        ->capture_default_str();
   }
-  void validate() const {
+  std::string order = "circle";
+  void validate() {
+    require(order == "circle" || order == "angle", "--island-order", "circle or angle", order);
+    islands.order = order == "angle" ? IslandOptions::Order::angle : IslandOptions::Order::circle;
     require(search.max_period >= 1 && search.max_period <= 12, "--max-period", "in [1, 12]",
             search.max_period);
     require(search.grid >= 2 && search.grid <= 1000, "--grid", "in [2, 1000]", search.grid);
@@ -245,6 +258,8 @@ struct OrbitArgs {
     require(islands.final_iterations >= 50 && islands.final_iterations <= 1000000,
             "--boundary-iterations", "in [50, 1e6]", islands.final_iterations);
     require(islands.rays >= 1 && islands.rays <= 64, "--island-rays", "in [1, 64]", islands.rays);
+    require(islands.max_chain_q >= 0 && islands.max_chain_q <= 30, "--island-chains", "in [0, 30]",
+            islands.max_chain_q);
   }
   // What the periodic-point search and the island search hold (upper bounds).
   Need search_need() const {
@@ -305,8 +320,12 @@ void register_orbits(CLI::App& cm) {
     auto islands = find_islands(map, points, args->orbits.islands, progress.stage(shell.str()));
     std::printf("periodic points on r = %g:\n", args->r);
     print_points(points, args->orbits.search.max_period);
-    std::printf("islands on r = %g: %zu, covering %.4f of the bulk (view from below)\n", args->r,
-                islands.size(), island_bulk_area_fraction(map.chart(), islands));
+    const auto chained = std::count_if(islands.begin(), islands.end(),
+                                       [](const Island& i) { return i.parent_orbit >= 0; });
+    std::printf(
+        "islands on r = %g: %zu (%td in secondary chains), covering %.4f of the bulk "
+        "(view from below)\n",
+        args->r, islands.size(), chained, island_bulk_area_fraction(map.chart(), islands));
     std::vector<double> kam;
     for (double r : args->kam)
       if (std::abs(r - args->r) > 1e-9) kam.push_back(r);

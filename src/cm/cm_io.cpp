@@ -121,7 +121,7 @@ void write_orbits(const std::string& path, const Protocol& pr, double r,
   std::vector<Vec2> vertices, center, launch;
   std::vector<std::int64_t> offsets{0};
   std::vector<double> rr, area;
-  std::vector<std::int32_t> iperiod, iorbit, ipoint;
+  std::vector<std::int32_t> iperiod, iorbit, ipoint, iparent;
   for (const auto& isl : islands) {
     vertices.insert(vertices.end(), isl.boundary.vertices.begin(), isl.boundary.vertices.end());
     offsets.push_back(static_cast<std::int64_t>(vertices.size()));
@@ -132,12 +132,15 @@ void write_orbits(const std::string& path, const Protocol& pr, double r,
     iperiod.push_back(isl.period);
     iorbit.push_back(isl.orbit);
     ipoint.push_back(isl.point);
+    iparent.push_back(isl.parent_orbit);
   }
   f.create_group("/islands");
   f.set_attr(
       "/islands", "layout",
       std::string("island k has vertices[offsets[k]:offsets[k+1]] (chart coordinates of "
-                  "its shell r[k]); point = row in /points (the r = /@r point it continues)"));
+                  "its shell r[k]); point = row in /points (the r = /@r point it continues; -1 "
+                  "for a secondary chain's island); parent_orbit = orbit of the island a "
+                  "secondary chain surrounds, -1 for a primary island"));
   write_vecs<2>(f, "/islands/vertices", vertices);
   f.write("/islands/offsets", offsets);
   write_vecs<2>(f, "/islands/center", center);
@@ -147,6 +150,7 @@ void write_orbits(const std::string& path, const Protocol& pr, double r,
   f.write("/islands/period", iperiod);
   f.write("/islands/orbit", iorbit);
   f.write("/islands/point", ipoint);
+  f.write("/islands/parent_orbit", iparent);
   w.commit();
 }
 
@@ -210,6 +214,10 @@ std::vector<Island> read_islands(const std::string& path) {
   const auto orbit = f.read_int32("/islands/orbit");
   const auto point = f.read_int32("/islands/point");
   const std::size_t n = r.size();
+  // Files written before secondary chains were searched hold primary islands only.
+  const auto parent = f.exists("/islands/parent_orbit") ? f.read_int32("/islands/parent_orbit")
+                                                        : std::vector<std::int32_t>(n, -1);
+  require_rows(path, "/islands/parent_orbit", parent.size(), n);
   require_rows(path, "/islands/offsets", offsets.size(), n + 1);
   require_rows(path, "/islands/center", center.size(), n);
   require_rows(path, "/islands/launch", launch.size(), n);
@@ -235,6 +243,7 @@ std::vector<Island> read_islands(const std::string& path) {
     isl.period = period[k];
     isl.orbit = orbit[k];
     isl.point = point[k];
+    isl.parent_orbit = parent[k];
   }
   return out;
 }

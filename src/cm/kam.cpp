@@ -44,7 +44,10 @@ std::vector<Island> kam_tubes(const Protocol& pr, const std::vector<PeriodicPoin
       tracked = next;
       origin = next_origin;
       const Progress shell_progress = sub_progress(progress, shells_done / shells, 1 / shells);
-      for (auto isl : find_islands(map, tracked, opt.islands, shell_progress)) {
+      IslandOptions tube = opt.islands;
+      tube.rays = std::min(tube.rays, opt.tube_rays);
+      tube.max_chain_q = 0;  // tubes are the primary islands continued; chains are not tracked
+      for (auto isl : find_islands(map, tracked, tube, shell_progress)) {
         isl.point = origin[isl.point];
         out.push_back(std::move(isl));
       }

@@ -12,6 +12,9 @@ namespace tumble::cm {
 struct KamOptions {
   PeriodicSearch search;
   IslandOptions islands;
+  // Rays per elliptic point on the tube shells (the section shell uses islands.rays): the tubes
+  // only give the crossings of Fig. 5, and 16 rays on 8 shells would cost minutes.
+  int tube_rays = 4;
 };
 
 // Islands on each shell of `radii`, continuing the elliptic points of `points` (found on shell

@@ -15,8 +15,11 @@ std::vector<cm::Island> load_islands(const std::string& path) { return cm::read_
 std::vector<cm::Island> protocol_islands(double theta_z, double theta_x, const CmIslandOptions& opt,
                                          const std::string& cache_dir) {
   namespace fs = std::filesystem;
-  char name[96];
-  std::snprintf(name, sizeof name, "orbits_%g_%g%s.h5", theta_z, theta_x, opt.kam ? "_kam" : "");
+  const cm::IslandOptions iopt;
+  // The method is in the name: islands cached by an older method are not reused.
+  char name[128];
+  std::snprintf(name, sizeof name, "orbits_%g_%g%s_%s.h5", theta_z, theta_x, opt.kam ? "_kam" : "",
+                cm::island_method_tag(iopt).c_str());
   const std::string path = cache_dir.empty() ? "" : (fs::path(cache_dir) / name).string();
   if (!path.empty() && fs::exists(path)) return cm::read_islands(path);
 
@@ -25,7 +28,6 @@ std::vector<cm::Island> protocol_islands(double theta_z, double theta_x, const C
   cm::PeriodicSearch search;
   search.max_period = opt.max_period;
   search.grid = opt.grid;
-  const cm::IslandOptions iopt;
   const auto points = cm::find_periodic_points(map, search);
   auto islands = cm::find_islands(map, points, iopt);
   if (opt.kam) {

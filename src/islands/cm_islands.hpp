@@ -20,8 +20,8 @@ struct CmIslandOptions {
 std::vector<cm::Island> load_islands(const std::string& path);
 
 // Islands of the (theta_z, theta_x) protocol [deg] with eps = 0.15: read from
-// cache_dir/orbits_TZ_TX.h5 if present, else computed and written there (cache_dir may be "":
-// no cache).
+// cache_dir/orbits_TZ_TX[_kam]_<method>.h5 (cm::island_method_tag) if present, else computed and
+// written there (cache_dir may be "": no cache).
 std::vector<cm::Island> protocol_islands(double theta_z, double theta_x, const CmIslandOptions& opt,
                                          const std::string& cache_dir);
 

@@ -23,6 +23,8 @@ std::pair<int, int> farthest_island_pair(const std::vector<cm::Island>& shell) {
   for (std::size_t i = 0; i < shell.size(); ++i)
     for (std::size_t j = i + 1; j < shell.size(); ++j) {
       const double d = (shell[i].center - shell[j].center).norm();
+      // Primary islands only: a secondary chain's islands hug their parent's edge.
+      if (shell[i].parent_orbit >= 0 || shell[j].parent_orbit >= 0) continue;
       if (shell[i].orbit != shell[j].orbit && d > dmax) {
         dmax = d;
         best = {static_cast<int>(i), static_cast<int>(j)};

@@ -7,7 +7,7 @@ namespace tumble::analysis {
 int IslandMask::island_of(DiscPoint p) const {
   const cm::Vec2 q(p.X, p.Z);
   for (int k = 0; k < size(); ++k)
-    if (islands_[k].contains(q)) return k;
+    if (islands_[k].contains(q)) return group_.empty() ? k : group_[k];
   return -1;
 }
 

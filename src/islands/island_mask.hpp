@@ -15,12 +15,15 @@ namespace tumble::analysis {
 class IslandMask {
  public:
   IslandMask() = default;
-  explicit IslandMask(std::vector<cm::Polygon> islands) : islands_(std::move(islands)) {}
+  // `group`: for each polygon, the island index it counts as (a secondary chain's islands count
+  // as the primary island they surround: cm::primary_island_of); empty: its own index.
+  explicit IslandMask(std::vector<cm::Polygon> islands, std::vector<int> group = {})
+      : islands_(std::move(islands)), group_(std::move(group)) {}
 
   int size() const { return static_cast<int>(islands_.size()); }
   const cm::Polygon& polygon(int k) const { return islands_[k]; }
 
-  // Index of the island containing the disc point, or -1 (islands do not overlap).
+  // Index of the island containing the disc point (its group), or -1 (islands do not overlap).
   int island_of(DiscPoint p) const;
   // Same for a direction (need not be unit); -1 on the upper hemisphere (u_y > 0), which the
   // view from below does not show.
@@ -34,6 +37,7 @@ class IslandMask {
 
  private:
   std::vector<cm::Polygon> islands_;
+  std::vector<int> group_;
 };
 
 }  // namespace tumble::analysis

@@ -102,8 +102,9 @@ for name, args in RUNS.items():
 # --- progress lines ------------------------------------------------------------------------------
 LINE = r"\[cm %s\] [^\n]+: [0-9.]+%%  elapsed \d+:\d\d:\d\d  ETA (\d+:\d\d:\d\d|--:--:--)"
 PROGRESS = {
+    # One ray: a run of ~1 s, well inside the default interval (16 rays take ~12 s).
     "orbits": ["cm", "orbits"] + P57 + ["--max-period", "3", "--grid", "16", "--no-kam",
-                                        "-o", path("o3.h5")],
+                                        "--island-rays", "1", "-o", path("o3.h5")],
     "mcm": ["cm", "mcm"] + P57 + ["--islands", ORBITS, "--tracers", "2000", "-o", path("m2.h5")],
     "manifolds": ["cm", "manifolds"] + P57 + ["--orbits", ORBITS, "--max-points", "20000",
                                               "-o", path("mf2.h5")],
