@@ -551,6 +551,9 @@ def case_scalars(q):
         j = by_case.get(cf["case_id"])
         s["enrichment (map)"] = float(an["enrichment_map"][j]) if j is not None else np.nan
         s["enrichment (last snapshot)"] = float(an["enrichment_snap"][j]) if j is not None else np.nan
+        ew = an.get("enrichment_window") if an is not None else None
+        s["enrichment (window snapshots)"] = (float(ew[j]) if j is not None and ew is not None
+                                              else np.nan)
         for f in FATES:
             v = an["fates"][f][j] if j is not None else -1
             s[f] = float(v) if v >= 0 else np.nan
@@ -558,12 +561,21 @@ def case_scalars(q):
     return out
 
 
-SCALARS = ["enrichment (map)", "enrichment (last snapshot)", "shell c_L", "mean Δψ large [deg]",
-           "mean Δψ small [deg]", "final mixing index", "final radial segregation"]
+SCALARS = ["enrichment (map)", "enrichment (last snapshot)", "enrichment (window snapshots)",
+           "shell c_L", "mean Δψ large [deg]", "mean Δψ small [deg]", "final mixing index",
+           "final radial segregation"]
 BOUNDS = {"enrichment (map)": (0.0, np.inf), "enrichment (last snapshot)": (0.0, np.inf),
+          "enrichment (window snapshots)": (0.0, np.inf),
           "shell c_L": (0.0, 1.0), "mean Δψ large [deg]": (0.0, 180.0),
           "mean Δψ small [deg]": (0.0, 180.0), "final mixing index": (0.0, 1.0),
           "final radial segregation": (-1.0, 1.0)}
+
+
+def shell_inner(cf):
+    """Inner radius r/R of the shell a case's c_L maps collect (0.9 unless its collect plan
+    says otherwise, e.g. 0.97 for the density beds of Fig. 13)."""
+    m = re.search(r"(?:^|;)shell=([0-9.eE+-]+)", str(cf.get("collect", "")))
+    return float(m.group(1)) if m else 0.9
 
 
 def mixing_baseline(q):
@@ -574,8 +586,7 @@ def mixing_baseline(q):
         snaps = cf.get("snapshots") or []
         if not snaps or str(cf.get("frame", "lab")) != "lab":
             continue
-        m = re.search(r"(?:^|;)shell=([0-9.eE+-]+)", str(cf.get("collect", "")))
-        shell = float(m.group(1)) if m else 0.9
+        shell = shell_inner(cf)
         obs, rnd, sd = rm.random_bed_index(snaps[-1], q["p"]["grid_n"], shell,
                                            seed=int(np.ravel(cf.get("seed", [0]))[0]) % 2**32)
         series = cf["data"].get("series/mixing_index")
@@ -588,6 +599,8 @@ def mixing_baseline(q):
 
 
 def section_scalars(R, pts, findings):
+    shells = sorted({shell_inner(cf) for q in pts for cf in q["members"]}) or [0.9]
+    shell_text = " or ".join(f"{r:g} &lt; r/R &lt; 1" for r in shells)
     R.h("<h2>6. Scalar metrics</h2><p>Mean [95% confidence interval] (N replicas). Every "
         "interval is computed on a scale on which the quantity is unbounded and mapped back, "
         "so it stays within the physical bounds: log for the enrichment (&gt; 0), logit for "
@@ -596,8 +609,10 @@ def section_scalars(R, pts, findings):
         "density-bidisperse point) inside the CM islands ÷ the "
         "islands' share of the view from below: 1 = no preference, &gt; 1 = the segregation "
         "pattern of Yu 2022 Fig. 4; undefined (–) for a protocol without islands, e.g. "
-        "(68°,68°). 'map': from the case's time-averaged c_L window (0.9 &lt; r/R &lt; 1); "
-        "'last snapshot': from the particles of its last snapshot. The mixing index (intensity "
+        "(68°,68°). 'map': from the case's time-averaged c_L window (" + shell_text + "); "
+        "'last snapshot': from the particles of its last snapshot; 'window snapshots': the "
+        "particles of every stroboscopic snapshot of the collection window pooled (a map "
+        "sampled within the iteration averages islands that move during it). The mixing index (intensity "
         "of segregation of the shell map, 0 = even, 1 = segregated) is compared with its value "
         "for a <b>randomly mixed bed of the same particles</b> (species shuffled among the "
         "positions of the last snapshot's shell, 200 shuffles; postproc/report_mixing.py): "

@@ -173,6 +173,8 @@ def load_analysis(d):
             p = dict(attrs=a, islands=[v[off[k]:off[k + 1]] for k in range(len(off) - 1)],
                      replica=g["replica"][:], enrichment_map=g["enrichment_map"][:],
                      enrichment_snap=g["enrichment_snap"][:],
+                     enrichment_window=g["enrichment_window"][:] if "enrichment_window" in g
+                     else None,
                      cases=text(a.get("cases", "")).split("\n"),
                      fates=read_fates(g),
                      fates_by_chance={k: g["fates/chance/" + k][:] for k in g["fates/chance"]}

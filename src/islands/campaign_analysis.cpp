@@ -147,16 +147,8 @@ void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMas
     const double inner = p.mixture.kind == MixtureKind::density
                              ? light_shell(p, snaps.front().R, opt)
                              : opt.enrichment_inner;
-    double inside = 0, counted = 0;
-    for (const auto& s : windowed ? window : snaps) {
-      const Enrichment e = enrichment_from_particles(s, mask, inner, p.mixture.mapped);
-      if (e.counted > 0 && std::isfinite(e.inside_share)) {
-        inside += e.inside_share * e.counted;
-        counted += e.counted;
-      }
-    }
-    const double area = mask.area_fraction();
-    ca.enrichment_window = counted > 0 && area > 0 ? (inside / counted) / area : kNaN;
+    ca.enrichment_window =
+        enrichment_pooled(windowed ? window : snaps, mask, inner, p.mixture.mapped).value;
   }
   if (light >= 0) {
     ca.light =

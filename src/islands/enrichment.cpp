@@ -31,6 +31,18 @@ Enrichment enrichment_from_particles(const SnapshotData& s, const IslandMask& is
   return finish(inside, counted, islands.area_fraction());
 }
 
+Enrichment enrichment_pooled(const std::vector<SnapshotData>& snapshots, const IslandMask& islands,
+                             double inner, int species) {
+  double inside = 0, counted = 0;
+  for (const auto& s : snapshots) {
+    const Enrichment e = enrichment_from_particles(s, islands, inner, species);
+    if (e.counted == 0) continue;  // its inside share is undefined (NaN)
+    inside += e.inside_share * e.counted;
+    counted += e.counted;
+  }
+  return finish(inside, counted, islands.area_fraction());
+}
+
 Enrichment enrichment_from_map(const std::vector<double>& volume_large,
                                const std::vector<double>& coverage) {
   double inside = 0, counted = 0, area = 0;

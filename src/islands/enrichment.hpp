@@ -23,6 +23,12 @@ struct Enrichment {
 Enrichment enrichment_from_particles(const SnapshotData& s, const IslandMask& islands, double inner,
                                      int species = 1);
 
+// Over several configurations (the stroboscopic snapshots of a collection window): the mapped
+// particles of all of them pooled, inside share = all inside / all counted (a snapshot with more
+// particles in the shell weighs more, as in a map summed over the window).
+Enrichment enrichment_pooled(const std::vector<SnapshotData>& snapshots, const IslandMask& islands,
+                             double inner, int species = 1);
+
 // From a map of large-particle solid volume per equal-area cell (a case's
 // concentration/volume_large) and each cell's island coverage (IslandMask::cell_coverage):
 // both shares are taken over the cells the large particles could be seen in (all cells).

@@ -109,6 +109,26 @@ TEST(Enrichment, ParticlesPlacedInAndOutOfAnIsland) {
   EXPECT_TRUE(std::isnan(ta::enrichment_from_particles(s, ta::IslandMask(), 0.9).value));
 }
 
+// The window's snapshots are pooled particle by particle, not averaged snapshot by snapshot.
+TEST(Enrichment, WindowSnapshotsArePooled) {
+  const double R = 0.02;
+  const ta::IslandMask mask({square(-0.2, -0.2, 0.2, 0.2)});
+  ta::SnapshotData a = empty_snapshot(R), b = empty_snapshot(R), none = empty_snapshot(R);
+  std::int64_t id = 0;
+  // a: 10 large particles in the shell, 5 inside; b: 30, 3 inside; none: no large one.
+  for (int k = 0; k < 5; ++k) add(a, id++, 1, at_disc(-0.15 + 0.05 * k, 0.05, 0.95 * R));
+  for (int k = 0; k < 5; ++k) add(a, id++, 1, at_disc(0.5, -0.4 + 0.04 * k, 0.95 * R));
+  for (int k = 0; k < 3; ++k) add(b, id++, 1, at_disc(-0.1 + 0.05 * k, 0.0, 0.95 * R));
+  for (int k = 0; k < 27; ++k) add(b, id++, 1, at_disc(0.5, -0.5 + 0.03 * k, 0.95 * R));
+  add(none, id++, 0, at_disc(0.0, 0.0, 0.95 * R));
+  const ta::Enrichment e = ta::enrichment_pooled({a, b, none}, mask, 0.9);
+  EXPECT_EQ(e.counted, 40);
+  EXPECT_NEAR(e.inside_share, 8.0 / 40.0, 1e-15);  // averaging the snapshots would give 0.3
+  EXPECT_NEAR(e.value, (8.0 / 40.0) / (0.16 / kPi), 1e-9);
+  // Nothing counted in any snapshot: undefined.
+  EXPECT_TRUE(std::isnan(ta::enrichment_pooled({none}, mask, 0.9).value));
+}
+
 TEST(Enrichment, FromAVolumeMapWithCoverage) {
   // Four cells, one fully inside an island and one half inside: area share 1.5/4.
   const std::vector<double> cover{1.0, 0.5, 0.0, 0.0};
