@@ -270,6 +270,33 @@ std::vector<int> orbit_members(const SectionMap& map, const std::vector<Periodic
   return members;
 }
 
+// The islands of an orbit from one certified island `best` of member `first`: its polygon and
+// launch mapped by P onto the next members in turn (P preserves orientation, so the order along
+// the curve is kept); centres[k] and point_of[k] are member k's. Empty if an image does not hold
+// its member's centre (not this orbit's curve after all).
+std::vector<Island> map_around_orbit(const SectionMap& map, const Island& best, int first,
+                                     const std::vector<Vec2>& centres,
+                                     const std::vector<int>& point_of) {
+  const int n = static_cast<int>(centres.size());
+  std::vector<Island> out(n);
+  Polygon boundary = best.boundary;
+  Vec2 launch = best.launch;
+  for (int step = 0; step < n; ++step) {
+    const int k = (first + step) % n;
+    Island& isl = out[k];
+    isl = best;
+    isl.point = point_of[k];
+    isl.center = centres[k];
+    isl.launch = launch;
+    isl.extent = (launch - centres[k]).norm();
+    isl.boundary = boundary;
+    if (!isl.boundary.contains(centres[k])) return {};
+    launch = map(launch, 1);
+    for (Vec2& v : boundary.vertices) v = map(v, 1);
+  }
+  return out;
+}
+
 // The islands of one orbit. P maps each island onto the next, so their boundaries are images
 // of one curve. Each member's own scan gives a candidate. Circle order: the largest candidate
 // wins and its polygon is mapped onto the other members. Angle order: the largest candidate
@@ -297,27 +324,11 @@ std::vector<Island> orbit_islands(const SectionMap& map, const std::vector<Perio
     // margins, not on the dynamics: a sticky orbit that passed the long test at one member would
     // pass or fail alike at all). The largest candidate's polygon is mapped vertex by vertex to
     // the other members; the order along the curve is kept (P preserves orientation).
-    const Island& best = candidates[by_area.front()];
-    std::vector<Island> out(n);
-    Polygon boundary = best.boundary;
-    Vec2 launch = best.launch;
-    for (int step = 0; step < n; ++step) {
-      const int k = (owner[by_area.front()] + step) % n;
-      const PeriodicPoint& centre = points[members[k]];
-      Island& isl = out[k];
-      isl.point = members[k];
-      isl.period = n;
-      isl.orbit = centre.orbit;
-      isl.r = map.chart().r();
-      isl.center = centre.v;
-      isl.launch = launch;
-      isl.extent = (launch - centre.v).norm();
-      isl.boundary = boundary;
-      if (!isl.boundary.contains(centre.v)) return {};  // not this orbit's curve after all
-      launch = map(launch, 1);
-      for (Vec2& v : boundary.vertices) v = map(v, 1);
-    }
-    return out;
+    std::vector<Vec2> centres;
+    for (int m : members) centres.push_back(points[m].v);
+    Island best = candidates[by_area.front()];
+    best.point = members[owner[by_area.front()]];
+    return map_around_orbit(map, best, owner[by_area.front()], centres, members);
   }
   for (int ci : by_area) {
     std::vector<Island> out(n);
@@ -401,22 +412,9 @@ std::vector<Island> chain_from(const SectionMap& map, const Vec2& guess, int per
     }
   }
   if (!first) return {};
-  std::vector<Island> out(period);
-  Polygon boundary = first->boundary;
-  Vec2 launch = first->launch;
-  for (int step = 0; step < period; ++step) {
-    const int k = (first_k + step) % period;
-    Island& isl = out[k];
-    isl = *first;
-    isl.center = pts[k].v;
-    isl.launch = launch;
-    isl.extent = (launch - pts[k].v).norm();
-    isl.boundary = boundary;
-    if (!isl.boundary.contains(pts[k].v)) return {};
-    launch = map(launch, 1);
-    for (Vec2& b : boundary.vertices) b = map(b, 1);
-  }
-  return out;
+  std::vector<Vec2> centres;
+  for (const auto& pt : pts) centres.push_back(pt.v);
+  return map_around_orbit(map, *first, first_k, centres, std::vector<int>(period, -1));
 }
 
 // The half-iteration symmetry of a protocol with θz = θx (docs/cm.md, Sec. 1): F = (S F_z)² with
