@@ -248,7 +248,11 @@ void register_campaign_analysis(CLI::App& an) {
                                 "directory, with 95% CIs per parameter point");
   cmd->add_option("DIR", a->dir, "campaign directory")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("-o,--output", a->out, "HDF5 output (default DIR/analysis.h5)");
-  cmd->add_option("--from", a->opt.fates_from, "Fig. 8 start iteration (default: first snapshot)");
+  cmd->add_option("--from", a->opt.fates_from,
+                  "Fig. 8 start iteration (default, with no --to either: the first snapshot at "
+                  "or after iteration 7, once radial segregation has settled as in Yu 2022, "
+                  "that leaves a whole number of the islands' period to the last one; a shorter "
+                  "run: the earliest that does; else the first snapshot)");
   cmd->add_option("--to", a->opt.fates_to, "Fig. 8 end iteration (default: last snapshot)");
   cmd->add_option("--r", a->opt.islands.r, "CM shell of the islands");
   cmd->add_option("--light-inner", a->opt.light_inner,

@@ -119,8 +119,11 @@ void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMas
     snaps.push_back(read_snapshot(p));
     iters.push_back(snaps.back().iteration);
   }
-  const std::size_t a = nearest(iters, opt.fates_from, false);
+  // Neither end given: the paper's window (fates.hpp: default_fates_start).
+  const bool default_window = opt.fates_from < 0 && opt.fates_to < 0;
   const std::size_t b = nearest(iters, opt.fates_to, true);
+  const std::size_t a = default_window ? default_fates_start(iters, p.island_period)
+                                       : nearest(iters, opt.fates_from, false);
   if (have_islands && a != b) {
     ca.has_fates = true;
     ca.fate_detail = classify_fates(snaps[a], snaps[b], mask, p.mixture.mapped);

@@ -1,6 +1,7 @@
 #include "islands/fates.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 namespace tumble::analysis {
@@ -67,6 +68,20 @@ FateExpectation chance_fates(const FateResult& r) {
   e.dispersed = in_a * (n - in_b) / n;
   e.other = (n - in_a) * (n - in_b) / n;
   return e;
+}
+
+std::size_t default_fates_start(const std::vector<double>& iters, int period, double settled) {
+  if (iters.size() < 2 || period <= 0) return 0;
+  const double end = iters.back();
+  const auto whole_periods = [&](std::size_t k) {
+    const double span = end - iters[k];
+    return span > 0.5 && std::fabs(span - period * std::round(span / period)) <= 1e-3;
+  };
+  for (std::size_t k = 0; k + 1 < iters.size(); ++k)
+    if (iters[k] >= settled - 1e-3 && whole_periods(k)) return k;
+  for (std::size_t k = 0; k + 1 < iters.size(); ++k)
+    if (whole_periods(k)) return k;
+  return 0;
 }
 
 }  // namespace tumble::analysis

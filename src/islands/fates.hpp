@@ -68,4 +68,15 @@ FateResult classify_fates(const SnapshotData& start, const SnapshotData& end,
 
 FateExpectation chance_fates(const FateResult& r);
 
+// Yu 2022 counts Fig. 8 from N = 7, once radial segregation has settled, to the end of the run.
+constexpr double kFig8SettledIteration = 7;
+
+// The default Fig. 8 window over snapshots at iterations `iters` (ascending), ending at the last:
+// the index of its first snapshot, the earliest at or after `settled` that leaves a whole
+// number (>= 1) of the islands' period `period` to the end; failing that (a run too short) the
+// earliest anywhere that does; failing that (or period <= 0) the first snapshot. Snapshot times
+// sit within a time step of whole iterations: 1e-3 iterations is slack.
+std::size_t default_fates_start(const std::vector<double>& iters, int period,
+                                double settled = kFig8SettledIteration);
+
 }  // namespace tumble::analysis

@@ -141,6 +141,21 @@ TEST(Enrichment, FromAVolumeMapWithCoverage) {
   EXPECT_NEAR(ta::enrichment_from_map({1, 1, 1, 1}, cover).value, 1.0, 1e-15);
 }
 
+// The default Fig. 8 window: from N >= 7 (radial segregation settled) over whole island periods.
+TEST(Fates, DefaultWindowStartsSettledOverWholePeriods) {
+  std::vector<double> to34;
+  for (int n = 0; n <= 34; ++n) to34.push_back(n + 1e-4);  // snapshots a step after each end
+  EXPECT_EQ(ta::default_fates_start(to34, 3), 7u);         // the paper's 7 -> 34: 9 periods of 3
+  EXPECT_EQ(ta::default_fates_start(to34, 6), 10u);        // 10 -> 34: 4 periods of 6
+  const std::vector<double> to12{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
+  EXPECT_EQ(ta::default_fates_start(to12, 3), 9u);  // 7 and 8 leave 5 and 4 iterations
+  // Too short to start at 7: the longest whole-period window; none at all: the first snapshot.
+  const std::vector<double> to8{0, 1, 2, 3, 4, 5, 6, 7, 8};
+  EXPECT_EQ(ta::default_fates_start(to8, 6), 2u);
+  EXPECT_EQ(ta::default_fates_start({0, 1, 2}, 6), 0u);
+  EXPECT_EQ(ta::default_fates_start(to8, 0), 0u);  // no islands
+}
+
 TEST(Fates, ConstructedTrajectoriesOfFig8) {
   const double R = 0.02;
   const ta::IslandMask mask({square(0.1, 0.1, 0.3, 0.3), square(-0.3, -0.3, -0.1, -0.1)});
