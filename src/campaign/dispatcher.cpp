@@ -86,14 +86,19 @@ CaseRecord Dispatcher::record(const CaseTask& t, const std::vector<int>& ranks) 
 }
 
 void Dispatcher::started(const CaseTask& t, const std::vector<int>& ranks) {
+  // A group that still runs a case holds this one as its next (scheduler.cpp): it starts when
+  // that one ends, and the line says so rather than "start".
+  bool held = false;
+  for (const auto& [idx, other] : running_) held = held || other.ranks == ranks;
   running_[t.case_index] = {ranks, Clock::now()};
   CaseRecord r = record(t, ranks);
   r.status = "running";
   r.start = utc_now();
   in_.manifest->append(r);
   if (!in_.quiet)
-    line("start " + case_label(t) + " on rank" + (ranks.size() > 1 ? "s " : " ") + r.ranks + " (" +
-         r.hosts + ")");
+    line(std::string(held ? "next " : "start ") + case_label(t) + " on rank" +
+         (ranks.size() > 1 ? "s " : " ") + r.ranks + " (" + r.hosts + ")" +
+         (held ? ", held: starts when the case running there ends" : ""));
 }
 
 std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
