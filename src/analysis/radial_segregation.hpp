@@ -17,6 +17,13 @@ struct SegregationSample {
 
 SegregationSample radial_segregation(const Particles& p, double tumbler_radius, double inner = 0.9);
 
+// Share of the particles of species `which` whose centres lie in the shell inner R < r <= R
+// (tumbler-centred positions); NaN if there is none of that species. A species gathered at the
+// wall has a larger share than one spread evenly (Yu 2022 Fig. 13: the light particles of a
+// density-bidisperse bed).
+double shell_share(const std::vector<Vec3>& x, const std::vector<std::int32_t>& species, int which,
+                   double R, double inner);
+
 struct Series {
   std::vector<double> time, iteration, shell_large_fraction, bed_large_fraction, kinetic_energy;
   // Single-axis sphere scenes: dynamic repose angle (degrees) and surface speed (flow_profile.hpp),

@@ -304,6 +304,15 @@ void register_campaign_analysis(CLI::App& an) {
             "%.3f +- %.3f (N = %d)\n",
             p.point_id.c_str(), p.enrichment_window.mean, p.enrichment_window.ci95,
             p.enrichment_window.n);
+      if (p.shell_ratio.n > 0) {
+        const int m = p.mixture.mapped;
+        std::printf(
+            "point %s radial segregation (window snapshots, the enrichment's shell): %s in the "
+            "shell %.3f, %s %.3f; ratio %.2f +- %.2f (N = %d; 1 = no preference)\n",
+            p.point_id.c_str(), p.mixture.name[m].c_str(), p.shell_share_mapped.mean,
+            p.mixture.name[1 - m].c_str(), p.shell_share_other.mean, p.shell_ratio.mean,
+            p.shell_ratio.ci95, p.shell_ratio.n);
+      }
       if (!p.light_source.empty())
         std::printf("point %s light-particle map (Fig. 13) from %s\n", p.point_id.c_str(),
                     p.light_source.c_str());

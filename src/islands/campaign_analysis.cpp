@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "analysis/light_concentration.hpp"
+#include "analysis/radial_segregation.hpp"
 #include "analysis/snapshot_data.hpp"
 #include "base/text_util.hpp"
 #include "base/version.hpp"
@@ -153,6 +154,25 @@ void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMas
     ca.enrichment_window =
         enrichment_pooled(windowed ? window : snaps, mask, inner, p.mixture.mapped).value;
   }
+  {
+    // Radial segregation by species over the same configurations and shell as enrichment_window.
+    const double inner = p.mixture.kind == MixtureKind::density
+                             ? light_shell(p, snaps.front().R, opt)
+                             : opt.enrichment_inner;
+    const int mapped = p.mixture.mapped, other = 1 - p.mixture.mapped;
+    double sm = 0, so = 0;
+    int n = 0;
+    for (const auto& s : windowed ? window : snaps) {
+      const double a = shell_share(s.x_tumbler, s.species, mapped, s.R, inner);
+      const double b = shell_share(s.x_tumbler, s.species, other, s.R, inner);
+      if (!std::isfinite(a) || !std::isfinite(b)) continue;
+      sm += a;
+      so += b;
+      ++n;
+    }
+    ca.shell_share_mapped = n > 0 ? sm / n : kNaN;
+    ca.shell_share_other = n > 0 ? so / n : kNaN;
+  }
   if (light >= 0) {
     ca.light =
         light_concentration(windowed ? window : snaps, grid, light_shell(p, snaps.front().R, opt));
@@ -291,6 +311,7 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
         (have_islands && !volume.empty()) ? enrichment_from_map(volume, p.coverage).value : kNaN;
     ca.enrichment_snap = kNaN;
     ca.enrichment_window = kNaN;
+    ca.shell_share_mapped = ca.shell_share_other = kNaN;
     ca.repose_deg = parse_scene(c.scene_text).repose.deg;
     if (!volume.empty())
       for (const auto& [qid, q] : points)
@@ -313,7 +334,7 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
 
   std::vector<PointAnalysis> out;
   for (auto& [id, p] : points) {
-    std::vector<double> em, es, ew, beta;
+    std::vector<double> em, es, ew, beta, ssm, sso, ratio;
     std::map<std::string, std::vector<double>> vs;
     std::vector<const std::vector<double>*> light, section;
     for (const auto& c : p.cases) {
@@ -321,6 +342,9 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
       em.push_back(c.enrichment_map);
       es.push_back(c.enrichment_snap);
       ew.push_back(c.enrichment_window);
+      ssm.push_back(c.shell_share_mapped);
+      sso.push_back(c.shell_share_other);
+      ratio.push_back(c.shell_share_mapped / c.shell_share_other);
       for (const auto& [qid, v] : c.enrichment_vs) vs[qid].push_back(v);
       light.push_back(&c.light);
       if (!c.section.empty()) section.push_back(&c.section);
@@ -328,6 +352,9 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
     p.enrichment_map = mean_ci95(em);
     p.enrichment_snap = mean_ci95(es);
     p.enrichment_window = mean_ci95(ew);
+    p.shell_share_mapped = mean_ci95(ssm);
+    p.shell_share_other = mean_ci95(sso);
+    p.shell_ratio = mean_ci95(ratio);
     p.repose = mean_ci95(beta);
     p.repose_min = *std::min_element(beta.begin(), beta.end());
     p.repose_max = *std::max_element(beta.begin(), beta.end());
@@ -451,6 +478,16 @@ void write_campaign_analysis(const std::string& path, const std::string& dir,
     write_stat(f, g, "enrichment_window", p.enrichment_window);
     f.write(g + "/repose_deg", beta);
     write_stat(f, g, "repose_deg", p.repose);
+    std::vector<double> ssm, sso;
+    for (const auto& c : p.cases) {
+      ssm.push_back(c.shell_share_mapped);
+      sso.push_back(c.shell_share_other);
+    }
+    f.write(g + "/shell_share_mapped", ssm);
+    f.write(g + "/shell_share_other", sso);
+    write_stat(f, g, "shell_share_mapped", p.shell_share_mapped);
+    write_stat(f, g, "shell_share_other", p.shell_share_other);
+    write_stat(f, g, "shell_ratio", p.shell_ratio);
     f.create_group(g + "/fates");
     f.create_group(g + "/fates/chance");
     for (int k = 0; k < 5; ++k) {

@@ -56,6 +56,10 @@ struct CaseAnalysis {
   // the islands are where the CM puts them); NaN without snapshots or islands.
   double enrichment_window = 0;
   double repose_deg = 0;  // the tilt β the case ran with (measured or given: its scene text)
+  // Radial segregation by species: the share of the mapped species (and of the other one) whose
+  // centres lie in the enrichment shell, averaged over the window's snapshots; NaN without
+  // snapshots.
+  double shell_share_mapped = 0, shell_share_other = 0;
   bool has_fates = false;
   FateCounts fates;
   FateExpectation fates_by_chance;  // the same counts for randomly relabelled end positions
@@ -78,7 +82,10 @@ struct PointAnalysis {
   std::vector<double> coverage;     // per cell of the fields grid
   std::vector<CaseAnalysis> cases;  // by replica
   MeanCI enrichment_map, enrichment_snap, enrichment_window;
-  MeanCI repose;                          // β over the cases [deg]
+  MeanCI repose;  // β over the cases [deg]
+  // The shares in the shell over the cases, and their ratio mapped / other per case (> 1: the
+  // mapped species gathers at the wall).
+  MeanCI shell_share_mapped, shell_share_other, shell_ratio;
   double repose_min = 0, repose_max = 0;  // its range
   // Fig. 8 over replicas, observed and by chance (fates.hpp), in the order of kFateNames.
   MeanCI fates[5], fates_by_chance[5];

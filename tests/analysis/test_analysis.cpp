@@ -10,6 +10,7 @@
 
 #include "analysis/displacement.hpp"
 #include "analysis/light_concentration.hpp"
+#include "analysis/radial_segregation.hpp"
 #include "islands/cross_section.hpp"
 #include "islands/enrichment.hpp"
 #include "islands/fates.hpp"
@@ -107,6 +108,19 @@ TEST(Enrichment, ParticlesPlacedInAndOutOfAnIsland) {
   EXPECT_NEAR(e.value, (12.0 / 30.0) / (0.16 / kPi), 1e-9);
   // No islands: undefined, not 0 or infinity.
   EXPECT_TRUE(std::isnan(ta::enrichment_from_particles(s, ta::IslandMask(), 0.9).value));
+}
+
+// Radial segregation by species: the share of a species' centres in the outer shell.
+TEST(Radial, ShellShareOfASpecies) {
+  const double R = 0.02;
+  // Species 0: 3 of 4 in 0.9 R < r <= R; species 1: 1 of 5 (r = R exactly counts, 0.9 R not).
+  const std::vector<tumble::Vec3> x{{0.95 * R, 0, 0}, {0, -0.99 * R, 0}, {0, 0, R},
+                                    {0.5 * R, 0, 0},  {0, 0.95 * R, 0},  {0.9 * R, 0, 0},
+                                    {0.1 * R, 0, 0},  {0, 0.2 * R, 0},   {0, 0, -0.3 * R}};
+  const std::vector<std::int32_t> species{0, 0, 0, 0, 1, 1, 1, 1, 1};
+  EXPECT_DOUBLE_EQ(ta::shell_share(x, species, 0, R, 0.9), 0.75);
+  EXPECT_DOUBLE_EQ(ta::shell_share(x, species, 1, R, 0.9), 0.2);
+  EXPECT_TRUE(std::isnan(ta::shell_share(x, species, 2, R, 0.9)));  // no such particle
 }
 
 // The window's snapshots are pooled particle by particle, not averaged snapshot by snapshot.
