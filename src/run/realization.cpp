@@ -218,7 +218,8 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
          << (scene.mode == Mode::biaxial ? ", beta = " + short_number(scene.repose.deg) + " deg" +
                                                (scene.repose.measured ? " (measured)" : "")
                                          : std::string())
-         << "), pair loop: " << sim->pair_kernel_name() << ", output in " << scene.output_dir
+         << "), pair loop: " << sim->pair_kernel_name()
+         << (sim->rigid_bulk() ? ", bulk: rigid" : "") << ", output in " << scene.output_dir
          << "\n";
 
   // The run loop.
