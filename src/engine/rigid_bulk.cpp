@@ -21,11 +21,46 @@
 #include "engine/simulation.hpp"
 
 namespace tumble {
+namespace {
+// The wall's rotation from time `from` to time `to`: Q(to) Q(from)^T, column by column (exact
+// across a change of the protocol's segment).
+Mat3 turn_between(const geometry::Protocol& protocol, double from, double to) {
+  const Mat3 a = protocol.orientation(from), b = protocol.orientation(to);
+  Mat3 turn;
+  for (int c = 0; c < 3; ++c) {
+    const Vec3 e{c == 0 ? 1.0 : 0.0, c == 1 ? 1.0 : 0.0, c == 2 ? 1.0 : 0.0};
+    const Vec3 col = b * a.tmul(e);
+    turn.a[0][c] = col.x;
+    turn.a[1][c] = col.y;
+    turn.a[2][c] = col.z;
+  }
+  return turn;
+}
+}  // namespace
 
 void Simulation::update_bulk_states() {
   const std::size_t n = n_local_, all = p_.size();
   const Vec3 omega = protocol_.omega(time_);
   RigidBulk& b = bulk_;
+  // The dormant springs (pairs frozen since the last pass) and the wall springs of frozen
+  // particles turned with the wall in the meantime: turn them too, so that a thawed contact
+  // restarts from its spring as seen in the tumbler's frame. Springs are lab-frame vectors in
+  // every law of today (width 3); another history would need its own rule.
+  if (list_.history_layout().width == 3) {
+    const Mat3 turn = turn_between(protocol_, b.last_update_time, time_);
+    double* h = list_.history.data();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (p_.bulk_state[i] >= 0) continue;
+      p_.wall_spring[i] = turn * p_.wall_spring[i];
+      for (std::uint32_t k = list_.start[i]; k < list_.start[i + 1]; ++k) {
+        if (p_.bulk_state[list_.nbr[k]] >= 0) continue;
+        const Vec3 v = turn * Vec3{h[3 * k], h[3 * k + 1], h[3 * k + 2]};
+        h[3 * k] = v.x;
+        h[3 * k + 1] = v.y;
+        h[3 * k + 2] = v.z;
+      }
+    }
+  }
   // Calm: moving with the wall (ghosts too: their motion is refreshed every step). Without
   // rotation in the scene the spins never change, so only the velocity counts.
   b.calm.assign(all, 0);
@@ -94,6 +129,7 @@ void Simulation::update_bulk_states() {
     frozen += s < 0;
   }
   b.last_update = step_;
+  b.last_update_time = time_;
   frozen_fraction_ = sum(static_cast<double>(frozen)) / sum(static_cast<double>(n));
 }
 
@@ -174,16 +210,7 @@ double Simulation::kick_drift_rigid(double kick) {
   const double* __restrict ii = p_.inv_inertia.data();
   const Vec3* __restrict x_ref = list_.reference_positions().data();
   const bool have_ref = list_.reference_positions().size() == n;
-  const Mat3 now = protocol_.orientation(time_), next = protocol_.orientation(time_ + dt_);
-  Mat3 turn;  // next * now^T, column by column
-  for (int c = 0; c < 3; ++c) {
-    Vec3 e{};
-    (c == 0 ? e.x : c == 1 ? e.y : e.z) = 1;
-    const Vec3 col = next * now.tmul(e);
-    turn.a[0][c] = col.x;
-    turn.a[1][c] = col.y;
-    turn.a[2][c] = col.z;
-  }
+  const Mat3 turn = turn_between(protocol_, time_, time_ + dt_);
   const Vec3 omega = protocol_.omega(time_ + dt_);
   for (std::size_t g = n; g < p_.size(); ++g) f[g] = t[g] = Vec3{};
   double max_d2 = have_ref ? 0.0 : 1e300;

@@ -249,6 +249,7 @@ void Simulation::compute_forces() {
   rebuild_lists(nullptr);
   last_build_step_ = step_;
   bulk_.last_update = step_;
+  bulk_.last_update_time = time_;
   for (std::size_t i = 0; i < p_.size(); ++i) p_.f[i] = p_.t[i] = Vec3{};
   (this->*pair_kernel_)();
   (this->*wall_kernel_)();
@@ -269,6 +270,7 @@ void Simulation::restore(const neighbor::ContactHistory& history) {
   // The uninterrupted run passed its freeze/thaw pass at this step (the checkpoint's rebuild), and
   // rebuilds at the next one if a particle was thawing (check_thaw_forces).
   bulk_.last_update = step_;
+  bulk_.last_update_time = time_;
   for (std::size_t i = 0; i < n_local_; ++i)
     if (p_.bulk_state[i] == -2) force_rebuild_ = true;
 }

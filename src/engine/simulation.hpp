@@ -210,6 +210,7 @@ class Simulation {
     std::vector<std::uint32_t> start, nbr, row, full;
     std::vector<double> history;
     std::int64_t last_update = 0;  // step of the last freeze/thaw pass
+    double last_update_time = 0;   // ... and its time
   };
   bool rigid_ = false;
   RigidBulk bulk_;
