@@ -8,7 +8,9 @@
 # TIERS="standard fast preview" leaves the reference out (the errors are then against standard).
 # BULK=rigid also runs each tier with fidelity.bulk = "rigid" (runs in OUT/<tier>-rigid; the
 # table then has a row for each, against the first tier that ran dynamic: docs/accuracy.md,
-# "Rigid bulk").
+# "Rigid bulk"); BULK_SET="--set fidelity.bulk_calm_speed=0.5 ..." passes more keys to those runs.
+# A run whose results.h5 exists is not run again (runs are deterministic: copy the dynamic runs
+# of an earlier OUT in to compare another rigid setting against them).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SCENE=${1:-scenes/bst_tiny.toml}
@@ -35,11 +37,14 @@ printf '%s\n' "${runs[@]}" | xargs -P "$JOBS" -L 1 bash -c '
   name=$tier
   [ "$bulk" = dynamic ] || name=$tier-$bulk
   dir='"$OUT"'/$name/seed$seed
+  extra=
+  [ "$bulk" = dynamic ] || extra="'"${BULK_SET:-}"'"
+  if [ -f $dir/results.h5 ]; then echo "$name seed $seed: kept"; exit 0; fi
   mkdir -p "$dir"
   '"$BIN"' run '"$SCENE"' --set fidelity.tier=$tier --set fill.seed=$seed \
     --set protocol.mode=single_axis --set protocol.axis=x --set protocol.duration=$duration \
     --set output.analysis_interval=$interval --set output.snapshot_interval=1e6 \
-    --set output.checkpoint_interval=1e6 --set fill.bed_cache=beds --set fidelity.bulk=$bulk \
+    --set output.checkpoint_interval=1e6 --set fill.bed_cache=beds --set fidelity.bulk=$bulk $extra \
     --set scene.output_dir=$dir > $dir.log 2>&1 || echo "run $name $seed failed: see $dir.log"
   grep -h "\[run\] done" $dir.log | sed "s/^/$name seed $seed: /;s/; results in.*//"'
 /usr/bin/python3 jobs/accuracy/accuracy_table.py "$OUT"

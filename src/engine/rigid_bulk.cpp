@@ -102,19 +102,17 @@ void Simulation::update_bulk_states() {
   if (dom_)
     MPI_Allreduce(MPI_IN_PLACE, b.top.data(), static_cast<int>(columns), MPI_DOUBLE, MPI_MAX,
                   dom_->comm());
-  // Freeze after the dwell, thaw at once. The depth is taken against the lowest surface of the
-  // 3 x 3 columns around the particle: on the tilted surface that errs towards thawing.
+  // Freeze after the dwell, thaw at once. The depth is taken below the top of the particle's own
+  // column, one d_large wide: on a surface at the repose angle the column's highest top lies at
+  // most ~tan(30 deg) d_large above the surface over the particle. (Against the lowest of the
+  // 3 x 3 columns around it, a bed at the repose angle 5 d_large deep never froze: the columns'
+  // tops differ by as much as the margin.)
   const std::int64_t elapsed = step_ - b.last_update;
   std::int64_t frozen = 0;
   for (std::size_t i = 0; i < n; ++i) {
     int cx, cz;
     column_of(p_.x[i], cx, cz);
-    double surface = 1e300;
-    for (int a = std::max(cx - 1, 0); a <= std::min(cx + 1, b.nx - 1); ++a)
-      for (int c = std::max(cz - 1, 0); c <= std::min(cz + 1, b.nz - 1); ++c) {
-        const double t = b.top[static_cast<std::size_t>(a) * b.nz + c];
-        if (t > -1e299) surface = std::min(surface, t);
-      }
+    const double surface = b.top[static_cast<std::size_t>(cx) * b.nz + cz];
     const bool deep = surface - (p_.x[i].y + p_.radius[i]) > b.margin;
     const bool eligible = deep && !b.unsettled[i];
     std::int32_t& s = p_.bulk_state[i];

@@ -90,8 +90,8 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
   kick_drift_ = rotation_ ? &Simulation::kick_drift<true> : &Simulation::kick_drift<false>;
   half_kick_ = rotation_ ? &Simulation::half_kick<true> : &Simulation::half_kick<false>;
   // The rigid bulk (scene validation refuses it without rotation). Its calm speed is a fraction
-  // of the wall's speed; the free surface is found per column of 2 d_large in the lab's x-z plane
-  // (about one large particle of the surface's rise per column at the repose angle).
+  // of the wall's speed; the free surface is found per column of d_large in the lab's x-z plane
+  // (about half a large particle of the surface's rise per column at the repose angle).
   rigid_ = s.bulk == Bulk::rigid;
   if (rigid_) {
     kick_drift_ =
@@ -103,7 +103,7 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     bulk_.update_every = std::max<std::int64_t>(10, bulk_.dwell_steps / 4);
     bulk_.margin = s.bulk_margin * s.d_large;
     bulk_.thaw_acceleration = s.bulk_thaw_force * s.g;
-    bulk_.bin = 2 * s.d_large;
+    bulk_.bin = s.d_large;
     const double hz = is_cylinder_ ? 0.5 * s.length : s.radius;
     bulk_.x0 = -s.radius;
     bulk_.z0 = -hz;
