@@ -95,7 +95,7 @@ TEST(RigidBulk, TurningBedFreezesBelowItsSurfaceAndTheFrozenTurnWithTheWall) {
   }
   const Particles& p = sim.particles();
   const std::size_t frozen = count_frozen(sim);
-  // Measured with the defaults: 0.32 of the bed (the bed is 5 d_large deep at its centre).
+  // The bed is 5 d_large deep at its centre, the margin 2 d_large.
   EXPECT_GT(static_cast<double>(frozen), 0.2 * static_cast<double>(p.size()));
   EXPECT_NEAR(sim.frozen_fraction(), static_cast<double>(frozen) / p.size(), 0.02);
   // No frozen particle within the margin of the bed's top.
