@@ -55,8 +55,10 @@ std::vector<Vec3> by_id(const Particles& p) {
 }  // namespace
 
 TEST(RigidBulk, WithNothingFrozenItIsTheDynamicEngineBitForBit) {
-  // A dwell longer than the run: no particle ever freezes, every pair is active, and the rigid
-  // path (its integrator, the pair view, the dormant store) must give the dynamic trajectory.
+  // A dwell longer than the run: no particle ever freezes, and the rigid path (its integrator,
+  // its freeze/thaw passes and forced rebuilds) must give the dynamic trajectory. (The filtered
+  // pair list is then not built; with frozen particles it is checked by the tests below and by
+  // the rank tests.)
   const Scene dyn = tiny_scene({"protocol.mode=single_axis", "protocol.rpm=10"});
   const Scene rig = rigid_scene({"protocol.rpm=10", "fidelity.bulk_dwell=1000"});
   const Particles bed = tiny_settled_bed();

@@ -132,7 +132,12 @@ void Simulation::update_bulk_states() {
 }
 
 void Simulation::set_pair_view() {
-  if (!rigid_) {
+  // Nothing frozen here (ghosts included): the whole list, without a copy (the rigid path then
+  // costs only its pass at each rebuild).
+  const bool any_frozen = rigid_ && std::any_of(p_.bulk_state.begin(), p_.bulk_state.end(),
+                                                [](std::int32_t s) { return s < 0; });
+  if (!any_frozen) {
+    bulk_.full.clear();
     pairs_ = {list_.start.data(), list_.nbr.data(), list_.row.data(), list_.history.data(),
               list_.nbr.size()};
     return;
