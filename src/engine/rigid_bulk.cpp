@@ -195,7 +195,7 @@ void Simulation::check_thaw_forces() {
       any = true;
     }
   }
-  if (any) force_rebuild_ = true;
+  if (any) force_rebuild_ = thaw_pending_ = true;
 }
 
 // As kick_drift, with the frozen particles turned by the wall's rotation over the step (from the

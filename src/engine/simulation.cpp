@@ -289,6 +289,8 @@ void Simulation::maybe_rebuild(double max_displacement2) {
   if (force_rebuild_ || max_displacement2 > half * half) {
     if (!force_rebuild_ && step_ - last_build_step_ < 10) ++fast_rebuilds_;
     if (rigid_) update_bulk_states();
+    thaw_rebuilds_ += thaw_pending_;
+    thaw_pending_ = false;
     rebuild_lists(nullptr);
     last_build_step_ = step_;
     force_rebuild_ = false;

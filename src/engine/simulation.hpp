@@ -84,6 +84,9 @@ class Simulation {
   // collective: every rank holds it).
   bool rigid_bulk() const { return rigid_; }
   double frozen_fraction() const { return frozen_fraction_; }
+  // Rebuilds forced by a frozen particle pushed past fidelity.bulk_thaw_force (this rank's count;
+  // a diagnostic of the rigid bulk's cost).
+  std::uint64_t thaw_rebuilds() const { return thaw_rebuilds_; }
   // Which pair loop runs: "plain" (one contact at a time, the reference) or the lane kernel
   // chosen for this CPU (engine/contact_lanes.hpp).
   const char* pair_kernel_name() const { return pair_kernel_name_; }
@@ -215,6 +218,8 @@ class Simulation {
   bool rigid_ = false;
   RigidBulk bulk_;
   double frozen_fraction_ = 0;
+  bool thaw_pending_ = false;  // check_thaw_forces asked for the next rebuild
+  std::uint64_t thaw_rebuilds_ = 0;
   double (Simulation::*elastic_energy_)() const = nullptr;  // of the scene's law
 };
 
