@@ -91,15 +91,17 @@ def welch(a, b):
 
 def main():
     out = sys.argv[1]
-    tiers = ["reference", "standard", "fast", "preview"]
+    # Each tier, then its rigid-bulk runs (flow_accuracy.sh with BULK=rigid).
+    tiers = [t + b for t in ["reference", "standard", "fast", "preview"] for b in ["", "-rigid"]]
     data = {}
     for tier in tiers:
         runs = [run_means(p) for p in sorted(glob.glob(os.path.join(out, tier, "seed*", "results.h5")))]
         if runs:
             data[tier] = runs
-    base = "reference" if "reference" in data else "standard"
-    if base not in data:
-        sys.exit("no reference (or standard) runs in " + out)
+    # The errors are against the most accurate dynamic tier that ran.
+    base = next((t for t in tiers if t in data and not t.endswith("-rigid")), None)
+    if base is None:
+        sys.exit("no dynamic runs in " + out)
     obs = ["repose angle (deg)", "surface speed (m/s)", "surface speed / (omega R)",
            "wall large fraction"]
     print("| tier | N | particles | rpm | wall s per run (1 core) | " +

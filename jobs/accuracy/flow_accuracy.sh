@@ -6,6 +6,11 @@
 # flow is established after ~35°); then jobs/accuracy/accuracy_table.py prints the table.
 # usage: jobs/accuracy/flow_accuracy.sh [SCENE=scenes/bst_tiny.toml] [REPLICAS=3] [JOBS=2]
 # TIERS="standard fast preview" leaves the reference out (the errors are then against standard).
+# BULK=rigid also runs each tier with fidelity.bulk = "rigid" (runs in OUT/<tier>-rigid; the
+# table then has a row for each, against the first tier that ran dynamic: docs/accuracy.md,
+# "Rigid bulk"); BULK_SET="--set fidelity.bulk_calm_speed=0.5 ..." passes more keys to those runs.
+# A run whose results.h5 exists is not run again (runs are deterministic: copy the dynamic runs
+# of an earlier OUT in to compare another rigid setting against them).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SCENE=${1:-scenes/bst_tiny.toml}
@@ -23,17 +28,23 @@ for tier in ${TIERS:-reference standard fast preview}; do
   duration=$(awk -v r="$rpm" 'BEGIN {printf "%.6g", 80 / (6 * r)}')  # 80° at rpm * 6 °/s
   interval=$(awk -v d="$duration" 'BEGIN {printf "%.6g", d / 80}')   # a sample per degree
   for ((k = 1; k <= REPLICAS; ++k)); do
-    runs+=("$tier $k $duration $interval")
+    runs+=("$tier $k $duration $interval dynamic")
+    [ -n "${BULK:-}" ] && runs+=("$tier $k $duration $interval $BULK")
   done
 done
 printf '%s\n' "${runs[@]}" | xargs -P "$JOBS" -L 1 bash -c '
-  tier=$0 seed=$1 duration=$2 interval=$3
-  dir='"$OUT"'/$tier/seed$seed
+  tier=$0 seed=$1 duration=$2 interval=$3 bulk=$4
+  name=$tier
+  [ "$bulk" = dynamic ] || name=$tier-$bulk
+  dir='"$OUT"'/$name/seed$seed
+  extra=
+  [ "$bulk" = dynamic ] || extra="'"${BULK_SET:-}"'"
+  if [ -f $dir/results.h5 ]; then echo "$name seed $seed: kept"; exit 0; fi
   mkdir -p "$dir"
   '"$BIN"' run '"$SCENE"' --set fidelity.tier=$tier --set fill.seed=$seed \
     --set protocol.mode=single_axis --set protocol.axis=x --set protocol.duration=$duration \
     --set output.analysis_interval=$interval --set output.snapshot_interval=1e6 \
-    --set output.checkpoint_interval=1e6 --set fill.bed_cache=beds \
-    --set scene.output_dir=$dir > $dir.log 2>&1 || echo "run $tier $seed failed: see $dir.log"
-  grep -h "\[run\] done" $dir.log | sed "s/^/$tier seed $seed: /;s/; results in.*//"'
+    --set output.checkpoint_interval=1e6 --set fill.bed_cache=beds --set fidelity.bulk=$bulk $extra \
+    --set scene.output_dir=$dir > $dir.log 2>&1 || echo "run $name $seed failed: see $dir.log"
+  grep -h "\[run\] done" $dir.log | sed "s/^/$name seed $seed: /;s/; results in.*//"'
 /usr/bin/python3 jobs/accuracy/accuracy_table.py "$OUT"

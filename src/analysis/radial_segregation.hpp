@@ -32,6 +32,8 @@ struct Series {
   // ... and the surface velocity profile: the bin centres h (same for every sample) and, per
   // sample, the downhill speed per bin (samples x bins, row-major; NaN where no surface particle).
   std::vector<double> profile_h, surface_profile;
+  // fidelity.bulk = "rigid": the share of particles frozen at each sample (empty otherwise).
+  std::vector<double> frozen_fraction;
   CylinderSeries cylinder;  // cylinder scenes: Rapaport's measures (sphere scenes: empty)
   void append(double t, double iter, const SegregationSample& s, double ke) {
     time.push_back(t);

@@ -27,6 +27,10 @@ constexpr unsigned kGhostRefresh = 1u << 1;
 // restart. Everything a bitwise restart needs must have it.
 constexpr unsigned kCheckpoint = 1u << 2;
 
+// A checkpoint written before the field existed still restarts: the field then starts
+// value-initialised (its zero must be what every particle of such a run had).
+constexpr unsigned kOptionalOnRead = 1u << 3;
+
 constexpr unsigned kAny = 0;  // as a mask (base/particles.hpp): every field
 
 constexpr unsigned kState = kMigrate | kCheckpoint;   // the usual per-particle state
@@ -46,7 +50,9 @@ constexpr unsigned kMotion = kState | kGhostRefresh;  // ... that neighbours rea
   X(double, inv_mass, field::kState)                                                            \
   X(double, inv_inertia, field::kState)     /* 1 / (2/5 m r^2) */                               \
   X(std::int32_t, species, field::kState)                                                       \
-  X(std::int64_t, id, field::kState)        /* global id, stable for the whole run (< 2^53) */
+  X(std::int64_t, id, field::kState)        /* global id, stable for the whole run (< 2^53) */ \
+  X(std::int32_t, bulk_state,               /* fidelity.bulk = "rigid" (engine/rigid_bulk.cpp): */ \
+    field::kState | field::kOptionalOnRead) /* 0 moving, > 0 steps calm, -1 frozen, -2 thawing */
 // clang-format on
 
 // A build may append fields of its own: define TUMBLE_EXTRA_PARTICLE_FIELDS_HEADER as a header

@@ -62,10 +62,14 @@ Expansion expand(const CampaignSpec& spec) {
   // Every key that can change a case's numbers enters its id. Of the output keys only the
   // checkpoint interval does (a checkpoint forces a neighbour rebuild, which reorders sums); the
   // others (progress, snapshots, analysis outputs) may change without recomputing anything.
+  // The rigid bulk's keys change nothing while the bulk is dynamic (bitwise: test_rigid_bulk.cpp),
+  // and leaving them out then keeps the ids that campaigns had before the keys existed.
+  const bool dynamic_bulk = e.base.bulk == Bulk::dynamic;
   std::string base_text;
   for (const auto& [k, v] : e.base.resolved)
     if (!campaign_controlled_key(k) &&
-        (k.rfind("output.", 0) != 0 || k == "output.checkpoint_interval"))
+        (k.rfind("output.", 0) != 0 || k == "output.checkpoint_interval") &&
+        !(dynamic_bulk && k.rfind("fidelity.bulk", 0) == 0))
       base_text += k + "=" + v + "\n";
   e.base_hash = hex16(fnv1a64(base_text));
   // A window beyond the base run is a campaign error, not one failure per case.

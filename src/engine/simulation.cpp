@@ -87,6 +87,29 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     select_kernels<Law>(Law::pair_friction(s), Law::wall_friction(s), cylinder_.periodic);
   });
   if (force_general) rotation_ = true;
+  kick_drift_ = rotation_ ? &Simulation::kick_drift<true> : &Simulation::kick_drift<false>;
+  half_kick_ = rotation_ ? &Simulation::half_kick<true> : &Simulation::half_kick<false>;
+  // The rigid bulk (scene validation refuses it without rotation). Its calm speed is a fraction
+  // of the wall's speed; the free surface is found per column of d_large in the lab's x-z plane
+  // (about half a large particle of the surface's rise per column at the repose angle).
+  rigid_ = s.bulk == Bulk::rigid;
+  if (rigid_) {
+    kick_drift_ =
+        rotation_ ? &Simulation::kick_drift_rigid<true> : &Simulation::kick_drift_rigid<false>;
+    half_kick_ =
+        rotation_ ? &Simulation::half_kick_rigid<true> : &Simulation::half_kick_rigid<false>;
+    bulk_.calm_speed = s.bulk_calm_speed * s.omega() * s.radius;
+    bulk_.dwell_steps = static_cast<std::int64_t>(std::ceil(s.bulk_dwell / dt_));
+    bulk_.update_every = std::max<std::int64_t>(10, bulk_.dwell_steps / 4);
+    bulk_.margin = s.bulk_margin * s.d_large;
+    bulk_.thaw_acceleration = s.bulk_thaw_force * s.g;
+    bulk_.bin = s.d_large;
+    const double hz = is_cylinder_ ? 0.5 * s.length : s.radius;
+    bulk_.x0 = -s.radius;
+    bulk_.z0 = -hz;
+    bulk_.nx = std::max(1, static_cast<int>(std::ceil(2 * s.radius / bulk_.bin)));
+    bulk_.nz = std::max(1, static_cast<int>(std::ceil(2 * hz / bulk_.bin)));
+  }
 
   // Cells cover the tumbler's bounding box; side >= largest cutoff. A periodic cylinder's box is
   // exactly one period long in z.
@@ -197,6 +220,7 @@ void Simulation::rebuild_lists(const neighbor::ContactHistory* history) {
     const double L = 2 * cylinder_.half_length;
     for (Vec3& x : p_.x) x.z -= L * std::floor((x.z + cylinder_.half_length) / L);
   }
+  sync_dormant();  // the rebuild carries the whole list's springs, dormant ones included
   if (dom_)
     rebuild_distributed(history);
   else
@@ -208,6 +232,8 @@ void Simulation::rebuild_lists(const neighbor::ContactHistory* history) {
   const double skin = list_.skin();
   for (std::size_t i = 0; i < n_local_; ++i) {
     const auto k = static_cast<std::uint32_t>(i);
+    // A frozen particle feels no wall (it turns with it); its wall spring waits for its thaw.
+    if (p_.bulk_state[i] < 0) continue;
     if (is_cylinder_) {
       if (cylinder_.near_curved(p_.x[i], p_.radius[i], skin)) wall_candidates_.push_back(k);
       if (cylinder_.near_cap(p_.x[i], p_.radius[i], skin)) cap_candidates_.push_back(k);
@@ -216,11 +242,14 @@ void Simulation::rebuild_lists(const neighbor::ContactHistory* history) {
     const double reach = wall_.radius - p_.radius[i] - skin;
     if (reach <= 0 || norm2(p_.x[i]) > reach * reach) wall_candidates_.push_back(k);
   }
+  set_pair_view();
 }
 
 void Simulation::compute_forces() {
   rebuild_lists(nullptr);
   last_build_step_ = step_;
+  bulk_.last_update = step_;
+  bulk_.last_update_time = time_;
   for (std::size_t i = 0; i < p_.size(); ++i) p_.f[i] = p_.t[i] = Vec3{};
   (this->*pair_kernel_)();
   (this->*wall_kernel_)();
@@ -238,10 +267,19 @@ void Simulation::restore(const neighbor::ContactHistory& history) {
   h.set_records(history.records());
   rebuild_lists(&h);
   last_build_step_ = step_;
+  // The uninterrupted run passed its freeze/thaw pass at this step (the checkpoint's rebuild), and
+  // rebuilds at the next one if a particle was thawing (check_thaw_forces).
+  bulk_.last_update = step_;
+  bulk_.last_update_time = time_;
+  for (std::size_t i = 0; i < n_local_; ++i)
+    if (p_.bulk_state[i] == -2) force_rebuild_ = true;
 }
 
 void Simulation::maybe_rebuild(double max_displacement2) {
   const double half = 0.5 * list_.skin();
+  // The rigid bulk freezes and thaws at rebuilds: a still bed (no displacement to trigger one)
+  // still needs its passes, a quarter of the dwell apart.
+  if (rigid_ && step_ - bulk_.last_update >= bulk_.update_every) force_rebuild_ = true;
   if (dom_) {  // every rank rebuilds at the same step (migration is collective)
     double d2 = force_rebuild_ ? 1e300 : max_displacement2;
     MPI_Allreduce(MPI_IN_PLACE, &d2, 1, MPI_DOUBLE, MPI_MAX, dom_->comm());
@@ -250,6 +288,9 @@ void Simulation::maybe_rebuild(double max_displacement2) {
   }
   if (force_rebuild_ || max_displacement2 > half * half) {
     if (!force_rebuild_ && step_ - last_build_step_ < 10) ++fast_rebuilds_;
+    if (rigid_) update_bulk_states();
+    thaw_rebuilds_ += thaw_pending_;
+    thaw_pending_ = false;
     rebuild_lists(nullptr);
     last_build_step_ = step_;
     force_rebuild_ = false;
@@ -308,18 +349,16 @@ void Simulation::step() {
   // which starts the half-step velocities from v(0). Velocity Verlet: two half kicks. Both give
   // the same positions (the forces see the half-step velocity in either form).
   const double kick = leapfrog_ && step_ > 0 ? dt_ : 0.5 * dt_;
-  const double max_d2 = rotation_ ? kick_drift<true>(kick) : kick_drift<false>(kick);
+  const double max_d2 = (this->*kick_drift_)(kick);
   if (dom_) dom_->refresh_ghosts(p_, n_local_);
   time_ += dt_;
   ++step_;
   maybe_rebuild(max_d2);  // may permute particles
   (this->*pair_kernel_)();
   (this->*wall_kernel_)();
+  if (rigid_) check_thaw_forces();
   if (leapfrog_) return;
-  if (rotation_)
-    half_kick<true>();
-  else
-    half_kick<false>();
+  (this->*half_kick_)();
 }
 
 template <class Law, bool kFriction, bool kPeriodic, bool kOneSpecies>
@@ -332,14 +371,14 @@ void Simulation::pair_forces() {
   const std::int32_t* __restrict sp = p_.species.data();
   Vec3* __restrict f = p_.f.data();
   Vec3* __restrict t = p_.t.data();
-  const std::uint32_t* __restrict start = list_.start.data();
-  const std::uint32_t* __restrict nbr = list_.nbr.data();
+  const std::uint32_t* __restrict start = pairs_.start;
+  const std::uint32_t* __restrict nbr = pairs_.nbr;
   // The list's history: kHistoryDoubles doubles per pair (the width is a constant here), loaded
   // into the law's History for its kernel and stored back.
   using History = typename Law::History;
   constexpr int kWidth = Law::kHistoryDoubles;
   static_assert(sizeof(History) == kWidth * sizeof(double));
-  double* __restrict hist = list_.history.data();
+  double* __restrict hist = pairs_.history;
   const double period = 2 * cylinder_.half_length;
   const auto& pairs = tables<Law>().pair;
   const typename Law::Pair only = pairs[species0_][species0_];  // kOneSpecies: the pair
@@ -388,9 +427,9 @@ void Simulation::pair_forces() {
 
 void Simulation::pair_forces_lanes() {
   engine::LaneInput in;
-  in.pairs = list_.nbr.size();
-  in.row = list_.row.data();
-  in.nbr = list_.nbr.data();
+  in.pairs = pairs_.pairs;
+  in.row = pairs_.row;
+  in.nbr = pairs_.nbr;
   in.x = &p_.x.data()->x;
   in.v = &p_.v.data()->x;
   in.w = &p_.w.data()->x;
@@ -398,7 +437,7 @@ void Simulation::pair_forces_lanes() {
   in.species = p_.species.data();
   in.f = &p_.f.data()->x;
   in.t = &p_.t.data()->x;
-  in.history = list_.history.data();
+  in.history = pairs_.history;
   for (int q = 0; q < 8; ++q) in.coefficient[q] = lane_coefficients_[q];
   in.one_type = 3 * species0_;
   in.dt = dt_;
@@ -540,6 +579,7 @@ EnergyBreakdown Simulation::energy() const {
     e.kinetic += 0.5 * m * norm2(p_.v[i]) + 0.5 / p_.inv_inertia[i] * norm2(p_.w[i]);
     e.potential -= m * dot(gravity_, p_.x[i]);
   }
+  sync_dormant();
   e.elastic = (this->*elastic_energy_)();
   if (dom_) {
     double parts[3] = {e.kinetic, e.potential, e.elastic};

@@ -67,7 +67,11 @@ class Simulation {
   std::int64_t global_count() const;
   // The parallel layer, or nullptr for a serial run.
   const parallel::Domain* domain() const { return dom_.get(); }
-  const neighbor::VerletList& neighbors() const { return list_; }
+  // The whole neighbour list (with the rigid bulk: its dormant springs brought up to date).
+  const neighbor::VerletList& neighbors() const {
+    sync_dormant();
+    return list_;
+  }
   const geometry::Protocol& protocol() const { return protocol_; }
   const geometry::SphereWall& wall() const { return wall_; }
   const geometry::CylinderWall& cylinder() const { return cylinder_; }
@@ -75,6 +79,14 @@ class Simulation {
   bool leapfrog() const { return leapfrog_; }
   bool rotation() const { return rotation_; }
   bool one_species() const { return one_species_; }
+  // fidelity.bulk = "rigid" (engine/rigid_bulk.cpp): whether it runs, and the share of the
+  // realization's particles frozen at the last neighbour rebuild (0 for a dynamic bulk; not
+  // collective: every rank holds it).
+  bool rigid_bulk() const { return rigid_; }
+  double frozen_fraction() const { return frozen_fraction_; }
+  // Rebuilds forced by a frozen particle pushed past fidelity.bulk_thaw_force (this rank's count;
+  // a diagnostic of the rigid bulk's cost).
+  std::uint64_t thaw_rebuilds() const { return thaw_rebuilds_; }
   // Which pair loop runs: "plain" (one contact at a time, the reference) or the lane kernel
   // chosen for this CPU (engine/contact_lanes.hpp).
   const char* pair_kernel_name() const { return pair_kernel_name_; }
@@ -109,6 +121,21 @@ class Simulation {
   double kick_drift(double kick);
   template <bool kRotation>
   void half_kick();
+  // The rigid bulk's integrator: frozen particles turn with the wall, the others as above.
+  template <bool kRotation>
+  double kick_drift_rigid(double kick);
+  template <bool kRotation>
+  void half_kick_rigid();
+  // Rigid bulk, at a neighbour rebuild: freezes and thaws (before the particles move to their
+  // cells and ranks), then the pairs the force loops run.
+  void update_bulk_states();
+  void set_pair_view();
+  // Rigid bulk: writes the active pairs' springs back into the whole list (before it is rebuilt
+  // or read).
+  void sync_dormant() const;
+  // Rigid bulk, after the forces: a frozen particle pushed hard by moving neighbours thaws at the
+  // next step's (forced) rebuild.
+  void check_thaw_forces();
   template <class Law, bool kFriction, class Wall>
   void rough_wall_forces(const Wall& wall);
   template <class Law, bool kFriction>
@@ -139,7 +166,9 @@ class Simulation {
   bool rotation_ = true;      // false: no friction anywhere, the spins never change
   bool one_species_ = false;  // every particle of species species0_: no pair-table lookups
   std::int32_t species0_ = 0;
-  neighbor::VerletList list_;
+  // mutable: with the rigid bulk the dormant springs are written back lazily by const readers
+  // (neighbors(), energy()).
+  mutable neighbor::VerletList list_;
   std::vector<std::uint32_t>
       wall_candidates_;  // particles that may touch the (curved) wall before the next rebuild
   std::vector<std::uint32_t> cap_candidates_;  // cylinder: particles that may touch an end cap
@@ -157,6 +186,40 @@ class Simulation {
   engine::TouchingContacts touching_;         // pair_forces_lanes: this step's contacts
   double lane_coefficients_[8][4] = {};       // the law's coefficients per type 2 a + b
   Kernel wall_kernel_ = nullptr;
+  double (Simulation::*kick_drift_)(double) = nullptr;  // first kick and drift (rotation, bulk)
+  Kernel half_kick_ = nullptr;                          // second kick
+  // The pairs the force loops run: the whole list (dynamic bulk), or its pairs that have at least
+  // one moving particle (rigid bulk). Set after every rebuild.
+  struct PairView {
+    const std::uint32_t* start = nullptr;
+    const std::uint32_t* nbr = nullptr;
+    const std::uint32_t* row = nullptr;
+    double* history = nullptr;
+    std::size_t pairs = 0;
+  };
+  PairView pairs_;
+  // fidelity.bulk = "rigid": the scene's thresholds in SI units, the free surface's height per
+  // column of the lab's x-z plane, the active pairs (and each one's index in list_), scratch.
+  struct RigidBulk {
+    double calm_speed = 0;          // [m/s]
+    std::int64_t dwell_steps = 0;   // steps calm before freezing
+    std::int64_t update_every = 0;  // the longest run of steps without a freeze/thaw pass
+    double margin = 0;              // [m] below the free surface
+    double thaw_acceleration = 0;   // [m/s^2]: thaw_force g
+    double bin = 0, x0 = 0, z0 = 0;
+    int nx = 0, nz = 0;
+    std::vector<double> top;  // highest particle top per column (-1e300: empty)
+    std::vector<std::uint8_t> calm, unsettled;
+    std::vector<std::uint32_t> start, nbr, row, full;
+    std::vector<double> history;
+    std::int64_t last_update = 0;  // step of the last freeze/thaw pass
+    double last_update_time = 0;   // ... and its time
+  };
+  bool rigid_ = false;
+  RigidBulk bulk_;
+  double frozen_fraction_ = 0;
+  bool thaw_pending_ = false;  // check_thaw_forces asked for the next rebuild
+  std::uint64_t thaw_rebuilds_ = 0;
   double (Simulation::*elastic_energy_)() const = nullptr;  // of the scene's law
 };
 

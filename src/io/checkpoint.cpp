@@ -1,6 +1,8 @@
 #include "io/checkpoint.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <type_traits>
 
 #include "base/comm.hpp"
@@ -220,7 +222,14 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
                b1 = static_cast<hsize_t>(n * (rank + 1) / size);
     Particles& p = c.particles;
     p.resize(b1 - b0);  // fields not in checkpoints start value-initialised
+    // Fields added after a checkpoint was written start value-initialised when marked optional.
+    std::vector<std::string> optional;
+    for_each_field<field::kCheckpoint | field::kOptionalOnRead>(
+        p, [&](const char* name, auto&) { optional.push_back(name); });
     for_each_field<field::kCheckpoint>(p, [&](const char* name, auto& column) {
+      if (!f.exists(dataset_of(name)) &&
+          std::find(optional.begin(), optional.end(), name) != optional.end())
+        return;
       check_shape<std::decay_t<decltype(column)>>(f, dataset_of(name), static_cast<hsize_t>(n));
       read_column(f, dataset_of(name), b0, b1 - b0, column);
     });

@@ -20,6 +20,7 @@ void write_series(H5File& f, const analysis::Series& s) {
       f.write("series/surface_profile", s.surface_profile, {s.surface_speed.size(), bins});
     }
   }
+  if (!s.frozen_fraction.empty()) f.write("series/frozen_fraction", s.frozen_fraction);
   write_cylinder_series(f, s.cylinder);
 }
 
@@ -37,6 +38,8 @@ void read_series(const H5File& f, analysis::Series& s) {
     s.profile_h = f.read_double("series/surface_profile_h");
     s.surface_profile = f.read_double("series/surface_profile");
   }
+  if (f.exists("series/frozen_fraction"))
+    s.frozen_fraction = f.read_double("series/frozen_fraction");
   read_cylinder_series(f, s.cylinder);
 }
 

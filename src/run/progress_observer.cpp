@@ -33,6 +33,9 @@ void ProgressObserver::after_step(RunState& s) {
         << sim.protocol().phase(sim.time()) << ")";
   log << "  step " << step << "/" << s.end_step << "  " << std::scientific << std::setprecision(2)
       << rate << " particle-steps/s  ETA " << format_hms(eta) << std::defaultfloat;
+  if (sim.rigid_bulk())
+    log << "  frozen " << std::fixed << std::setprecision(3) << sim.frozen_fraction()
+        << std::defaultfloat;
   if (const parallel::Domain* dom = sim.domain())
     log << "  " << dom->size() << " ranks, imbalance " << std::fixed << std::setprecision(3)
         << dom->imbalance() << std::defaultfloat;

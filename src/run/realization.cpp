@@ -218,7 +218,8 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
          << (scene.mode == Mode::biaxial ? ", beta = " + short_number(scene.repose.deg) + " deg" +
                                                (scene.repose.measured ? " (measured)" : "")
                                          : std::string())
-         << "), pair loop: " << sim->pair_kernel_name() << ", output in " << scene.output_dir
+         << "), pair loop: " << sim->pair_kernel_name()
+         << (sim->rigid_bulk() ? ", bulk: rigid" : "") << ", output in " << scene.output_dir
          << "\n";
 
   // The run loop.
@@ -234,6 +235,9 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
   res.steps = sim->step_count() - s.first_step;
   res.particle_steps_per_second =
       res.wall_seconds > 0 ? res.steps * static_cast<double>(res.particles) / res.wall_seconds : 0;
+  if (sim->rigid_bulk() && log)  // rank 0's counts (every rank rebuilds together)
+    *log << "[run] rigid bulk: " << sim->rebuilds() << " neighbour rebuilds, "
+         << sim->thaw_rebuilds() << " of them forced by thaws on rank 0\n";
   if (sim->fast_rebuilds() > 0 && log)
     *log << "[run] warning: " << sim->fast_rebuilds() << " of " << sim->rebuilds()
          << " neighbour rebuilds came < 10 steps apart (one every " << std::setprecision(3)

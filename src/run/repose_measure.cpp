@@ -35,7 +35,10 @@ ReposeMeasurement measure_repose(const Scene& scene, const Particles& bed, std::
          << " degrees about z at " << std::setprecision(4) << w << " rad/s (" << last
          << " steps), sampling the free surface once a degree from " << kReposeSpinUpDeg
          << " degrees" << std::endl;
-  Simulation sim(scene, share_of(bed, comm), geometry::Protocol::single_axis('z', w), 0, 0, comm);
+  // The dynamic bed's angle, whatever fidelity.bulk: β is cached by a key that does not hold it.
+  Scene dynamic = scene;
+  dynamic.bulk = Bulk::dynamic;
+  Simulation sim(dynamic, share_of(bed, comm), geometry::Protocol::single_axis('z', w), 0, 0, comm);
   sim.compute_forces();
   analysis::FlowFrame frame;  // as the series observer's flow measure (run/series_observer.cpp)
   frame.axis = Vec3{0, 0, 1};

@@ -29,6 +29,7 @@ void SeriesObserver::sample(RunState& s) {
   const double kinetic = sim.energy().kinetic;  // collective: before the gather, on all ranks
   const Particles& all = s.whole_bed();
   analysis::Series& series = s.series;
+  if (sim.rigid_bulk()) series.frozen_fraction.push_back(sim.frozen_fraction());
   if (scene.cylinder()) {
     analysis::sample_cylinder(all, cylinder_, sim.time(), scene.omega() * sim.time() / (2 * kPi),
                               kinetic, series.cylinder);

@@ -60,7 +60,11 @@ Particles fill_and_settle(const Scene& scene, std::ostream* log, MPI_Comm comm,
   // steps, rebuilding the neighbour list after each change.
   std::vector<double> full_radius(bed.size());
   for (std::size_t i = 0; i < bed.size(); ++i) full_radius[bed.id[i]] = bed.radius[i];
-  Simulation sim(scene, share_of(bed, comm), geometry::Protocol::at_rest(), 0, 0, comm);
+  // Settling integrates every particle: the rigid bulk needs a turning wall, and the cached bed
+  // must not depend on fidelity.bulk (it is not part of the bed's key).
+  Scene dynamic = scene;
+  dynamic.bulk = Bulk::dynamic;
+  Simulation sim(dynamic, share_of(bed, comm), geometry::Protocol::at_rest(), 0, 0, comm);
   constexpr int kGrowBlocks = 50;
   auto set_scale = [&](double scale) {
     Particles& p = sim.particles();

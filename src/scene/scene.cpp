@@ -291,6 +291,12 @@ void validate_scene(const Scene& s) {
   auto fail = [](const std::string& key, const std::string& what) {
     throw InputError("scene error: key '" + key + "' " + what);
   };
+  // The rigid bulk turns with the wall: a scene without rotation has no wall motion to carry it
+  // and no calm speed (a fraction of omega R) to measure it by.
+  if (s.bulk == Bulk::rigid && (s.mode == Mode::rest || s.omega() <= 0))
+    fail("fidelity.bulk", "= 'rigid' needs a rotating tumbler (protocol.mode = '" +
+                              std::string(name_of(s.mode)) +
+                              "', omega = " + std::to_string(s.omega()) + " rad/s); use 'dynamic'");
   if (s.d_large < s.d_small)
     fail("particles.d_large", "= " + std::to_string(s.d_large) + " must be >= particles.d_small (" +
                                   std::to_string(s.d_small) + ")");

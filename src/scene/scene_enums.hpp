@@ -19,6 +19,9 @@ enum class Mode { biaxial, single_axis, rest };
 enum class Axis { x, z };
 enum class Integrator { velocity_verlet, leapfrog };
 enum class Tier { standard, reference, fast, preview };  // scene/fidelity.hpp
+// fidelity.bulk: every particle integrated, or the calm bulk carried rigidly with the wall
+// (engine/rigid_bulk.cpp).
+enum class Bulk { dynamic, rigid };
 
 template <class E>
 struct EnumNames;  // static constexpr std::array<const char*, N> names: by value
@@ -50,6 +53,11 @@ struct EnumNames<Integrator> {
 template <>
 struct EnumNames<Tier> {
   static constexpr std::array<const char*, 4> names = {"standard", "reference", "fast", "preview"};
+};
+
+template <>
+struct EnumNames<Bulk> {
+  static constexpr std::array<const char*, 2> names = {"dynamic", "rigid"};
 };
 
 template <class E, class = void>

@@ -125,6 +125,17 @@ struct ReposeTilt {
      the tier twice. */ \
   X(Tier, tier_applied, "fidelity.applied", Tier::standard, 0, 0, \
     "written by Tumble: the tier already applied to a resolved scene's values") \
+  /* The rigid bulk (docs/accuracy.md, "Rigid bulk"; engine/rigid_bulk.cpp). */ \
+  X(Bulk, bulk, "fidelity.bulk", Bulk::dynamic, 0, 0, \
+    "dynamic: every particle integrated; rigid: calm particles deep in the bed turn with the wall as a solid (no contacts among them)") \
+  X(double, bulk_calm_speed, "fidelity.bulk_calm_speed", 0.2, 1e-4, 1, \
+    "rigid bulk: calm below this speed relative to the wall's rotation, |v - Omega x r| + r |w - Omega|, as a fraction of omega R") \
+  X(double, bulk_dwell, "fidelity.bulk_dwell", 0.05, 0, 1e3, \
+    "rigid bulk: a particle and its neighbours stay calm this long [s] before it freezes") \
+  X(double, bulk_margin, "fidelity.bulk_margin", 2, 0.5, 1e3, \
+    "rigid bulk: only particles deeper than this many d_large below the free surface freeze") \
+  X(double, bulk_thaw_force, "fidelity.bulk_thaw_force", 20, 0.1, 1e6, \
+    "rigid bulk: a frozen particle thaws when its moving neighbours push it harder than this many times its weight") \
   X(double, rebalance_threshold, "parallel.rebalance_threshold", 1.1, 1, 100, \
     "domain-decomposed runs: re-bisect when max/mean particles per rank exceeds this") \
   X(double, snapshot_interval, "output.snapshot_interval", 0, 0, 1e9, \

@@ -324,5 +324,19 @@ TEST(CampaignSpec, TierAppliesToEveryCase) {
   }
 }
 
+TEST(Expand, RigidBulkKeysEnterTheIdOnlyWhenTheBulkIsRigid) {
+  // With a dynamic bulk its thresholds change nothing, and the ids stay those of campaigns made
+  // before the keys existed; a rigid bulk, and then each threshold, gives other ids.
+  CampaignSpec s = parse_campaign(with_campaign(""), "test.toml", ".");
+  const std::string plain = expand(s).cases[0].id;
+  s.overrides.push_back("fidelity.bulk_dwell=7");
+  EXPECT_EQ(expand(s).cases[0].id, plain);
+  s.overrides.push_back("fidelity.bulk=rigid");
+  const std::string rigid = expand(s).cases[0].id;
+  EXPECT_NE(rigid, plain);
+  s.overrides.push_back("fidelity.bulk_dwell=8");
+  EXPECT_NE(expand(s).cases[0].id, rigid);
+}
+
 }  // namespace
 }  // namespace tumble::campaign

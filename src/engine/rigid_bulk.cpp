@@ -1,0 +1,265 @@
+// fidelity.bulk = "rigid": the calm bulk of a rolling bed turns with the wall as a solid.
+//
+// A particle is *frozen* (bulk_state -1) when, at a neighbour rebuild, it and every particle of
+// its neighbour list within reach have moved with the wall's rigid rotation (speed relative to
+// Ω × r below bulk_calm_speed ω R) for bulk_dwell seconds, and its top lies more than
+// bulk_margin d_large below the free surface of its column. A frozen particle is carried exactly
+// by the wall's rotation (positions by the protocol's orientation, v = Ω × r, w = Ω), feels no
+// wall, and its pairs with other frozen particles are left out of the force loops: their springs
+// stay in the whole list (dormant) and restart from there. Pairs with a moving particle are
+// computed as for any pair (the frozen one acts as a rough wall grain). It thaws at the next
+// rebuild when a neighbour stops being calm or the surface comes within the margin, and at the
+// very next step when its moving neighbours push it harder than bulk_thaw_force times its weight.
+//
+// States change only at rebuilds, which every rank passes at the same step, and every decision is
+// a comparison of values that serial and decomposed runs compute alike (speeds from refreshed
+// ghost state, integer flags, maxima): the ghosts learn the new states from the exchange of the
+// rebuild that follows.
+#include <algorithm>
+#include <cmath>
+
+#include "engine/simulation.hpp"
+
+namespace tumble {
+namespace {
+// The wall's rotation from time `from` to time `to`: Q(to) Q(from)^T, column by column (exact
+// across a change of the protocol's segment).
+Mat3 turn_between(const geometry::Protocol& protocol, double from, double to) {
+  const Mat3 a = protocol.orientation(from), b = protocol.orientation(to);
+  Mat3 turn;
+  for (int c = 0; c < 3; ++c) {
+    const Vec3 e{c == 0 ? 1.0 : 0.0, c == 1 ? 1.0 : 0.0, c == 2 ? 1.0 : 0.0};
+    const Vec3 col = b * a.tmul(e);
+    turn.a[0][c] = col.x;
+    turn.a[1][c] = col.y;
+    turn.a[2][c] = col.z;
+  }
+  return turn;
+}
+}  // namespace
+
+void Simulation::update_bulk_states() {
+  const std::size_t n = n_local_, all = p_.size();
+  const Vec3 omega = protocol_.omega(time_);
+  RigidBulk& b = bulk_;
+  // The dormant springs (pairs frozen since the last pass) and the wall springs of frozen
+  // particles turned with the wall in the meantime: turn them too, so that a thawed contact
+  // restarts from its spring as seen in the tumbler's frame. Springs are lab-frame vectors in
+  // every law of today (width 3); another history would need its own rule.
+  if (list_.history_layout().width == 3) {
+    const Mat3 turn = turn_between(protocol_, b.last_update_time, time_);
+    double* h = list_.history.data();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (p_.bulk_state[i] >= 0) continue;
+      p_.wall_spring[i] = turn * p_.wall_spring[i];
+      for (std::uint32_t k = list_.start[i]; k < list_.start[i + 1]; ++k) {
+        if (p_.bulk_state[list_.nbr[k]] >= 0) continue;
+        const Vec3 v = turn * Vec3{h[3 * k], h[3 * k + 1], h[3 * k + 2]};
+        h[3 * k] = v.x;
+        h[3 * k + 1] = v.y;
+        h[3 * k + 2] = v.z;
+      }
+    }
+  }
+  // Calm: moving with the wall (ghosts too: their motion is refreshed every step). Without
+  // rotation in the scene the spins never change, so only the velocity counts.
+  b.calm.assign(all, 0);
+  for (std::size_t i = 0; i < all; ++i) {
+    double rel = norm(p_.v[i] - cross(omega, p_.x[i]));
+    if (rotation_) rel += p_.radius[i] * norm(p_.w[i] - omega);
+    b.calm[i] = rel < b.calm_speed;
+  }
+  // Unsettled: itself or a neighbour within reach not calm. Each pair of the (half) list marks
+  // both ends; a pair across a rank border is in the list of both ranks.
+  b.unsettled.assign(all, 0);
+  const double skin = list_.skin();
+  const double period = 2 * cylinder_.half_length;
+  for (std::size_t i = 0; i < n; ++i) {
+    b.unsettled[i] |= !b.calm[i];
+    for (std::uint32_t k = list_.start[i]; k < list_.start[i + 1]; ++k) {
+      const std::uint32_t j = list_.nbr[k];
+      Vec3 d = p_.x[i] - p_.x[j];
+      if (cylinder_.periodic) d.z -= period * std::nearbyint(d.z / period);
+      const double reach = p_.radius[i] + p_.radius[j] + skin;
+      if (norm2(d) >= reach * reach) continue;
+      if (!b.calm[j]) b.unsettled[i] = 1;
+      if (!b.calm[i]) b.unsettled[j] = 1;
+    }
+  }
+  // The free surface: the highest particle top per column, over every rank.
+  const std::size_t columns = static_cast<std::size_t>(b.nx) * static_cast<std::size_t>(b.nz);
+  b.top.assign(columns, -1e300);
+  auto column_of = [&](const Vec3& x, int& cx, int& cz) {
+    cx = std::clamp(static_cast<int>(std::floor((x.x - b.x0) / b.bin)), 0, b.nx - 1);
+    cz = std::clamp(static_cast<int>(std::floor((x.z - b.z0) / b.bin)), 0, b.nz - 1);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    int cx, cz;
+    column_of(p_.x[i], cx, cz);
+    double& t = b.top[static_cast<std::size_t>(cx) * b.nz + cz];
+    t = std::max(t, p_.x[i].y + p_.radius[i]);
+  }
+  if (dom_)
+    MPI_Allreduce(MPI_IN_PLACE, b.top.data(), static_cast<int>(columns), MPI_DOUBLE, MPI_MAX,
+                  dom_->comm());
+  // Freeze after the dwell, thaw at once. The depth is taken below the top of the particle's own
+  // column, one d_large wide: on a surface at the repose angle the column's highest top lies at
+  // most ~tan(30 deg) d_large above the surface over the particle. (Against the lowest of the
+  // 3 x 3 columns around it, a bed at the repose angle 5 d_large deep never froze: the columns'
+  // tops differ by as much as the margin.)
+  const std::int64_t elapsed = step_ - b.last_update;
+  std::int64_t frozen = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    int cx, cz;
+    column_of(p_.x[i], cx, cz);
+    const double surface = b.top[static_cast<std::size_t>(cx) * b.nz + cz];
+    const bool deep = surface - (p_.x[i].y + p_.radius[i]) > b.margin;
+    const bool eligible = deep && !b.unsettled[i];
+    std::int32_t& s = p_.bulk_state[i];
+    if (s < 0) {
+      if (s == -2 || !eligible) s = 0;
+    } else if (!eligible) {
+      s = 0;
+    } else {
+      const std::int64_t calm = std::min<std::int64_t>(s + elapsed, std::int64_t{1} << 30);
+      s = calm >= b.dwell_steps ? -1 : static_cast<std::int32_t>(calm);
+    }
+    frozen += s < 0;
+  }
+  b.last_update = step_;
+  b.last_update_time = time_;
+  frozen_fraction_ = sum(static_cast<double>(frozen)) / sum(static_cast<double>(n));
+}
+
+void Simulation::set_pair_view() {
+  // Nothing frozen here (ghosts included): the whole list, without a copy (the rigid path then
+  // costs only its pass at each rebuild).
+  const bool any_frozen = rigid_ && std::any_of(p_.bulk_state.begin(), p_.bulk_state.end(),
+                                                [](std::int32_t s) { return s < 0; });
+  if (!any_frozen) {
+    bulk_.full.clear();
+    pairs_ = {list_.start.data(), list_.nbr.data(), list_.row.data(), list_.history.data(),
+              list_.nbr.size()};
+    return;
+  }
+  // The pairs with at least one moving particle, in list order, with copies of their springs.
+  RigidBulk& b = bulk_;
+  const std::size_t n = n_local_;
+  const std::size_t w = static_cast<std::size_t>(list_.history_layout().width);
+  const std::int32_t* state = p_.bulk_state.data();
+  b.start.resize(n + 1);
+  b.nbr.resize(list_.nbr.size());
+  b.full.resize(list_.nbr.size());
+  b.history.resize(w * list_.nbr.size());
+  std::uint32_t count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    b.start[i] = count;
+    const bool frozen_i = state[i] < 0;
+    for (std::uint32_t k = list_.start[i]; k < list_.start[i + 1]; ++k) {
+      const std::uint32_t j = list_.nbr[k];
+      if (frozen_i && state[j] < 0) continue;
+      b.nbr[count] = j;
+      b.full[count] = k;
+      for (std::size_t d = 0; d < w; ++d) b.history[w * count + d] = list_.history[w * k + d];
+      ++count;
+    }
+  }
+  b.start[n] = count;
+  b.nbr.resize(count);
+  b.full.resize(count);
+  b.history.resize(w * count);
+  b.row.resize(count);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint32_t k = b.start[i]; k < b.start[i + 1]; ++k)
+      b.row[k] = static_cast<std::uint32_t>(i);
+  pairs_ = {b.start.data(), b.nbr.data(), b.row.data(), b.history.data(), count};
+}
+
+void Simulation::sync_dormant() const {
+  if (!rigid_) return;
+  const RigidBulk& b = bulk_;
+  const std::size_t w = static_cast<std::size_t>(list_.history_layout().width);
+  for (std::size_t c = 0; c < b.full.size(); ++c)
+    for (std::size_t d = 0; d < w; ++d) list_.history[w * b.full[c] + d] = b.history[w * c + d];
+}
+
+void Simulation::check_thaw_forces() {
+  // The force on a frozen particle is its moving neighbours' alone (no frozen pairs, no wall).
+  const double limit = bulk_.thaw_acceleration;
+  bool any = false;
+  for (std::size_t i = 0; i < n_local_; ++i) {
+    if (p_.bulk_state[i] != -1) continue;
+    const double a = p_.inv_mass[i];
+    if (norm2(p_.f[i]) * (a * a) > limit * limit) {
+      p_.bulk_state[i] = -2;
+      any = true;
+    }
+  }
+  if (any) force_rebuild_ = thaw_pending_ = true;
+}
+
+// As kick_drift, with the frozen particles turned by the wall's rotation over the step (from the
+// protocol's orientations at both ends: exact across a change of segment).
+template <bool kRotation>
+double Simulation::kick_drift_rigid(double kick) {
+  const std::size_t n = n_local_;
+  Vec3* __restrict x = p_.x.data();
+  Vec3* __restrict v = p_.v.data();
+  Vec3* __restrict w = p_.w.data();
+  Vec3* __restrict f = p_.f.data();
+  Vec3* __restrict t = p_.t.data();
+  const std::int32_t* __restrict state = p_.bulk_state.data();
+  const double* __restrict im = p_.inv_mass.data();
+  const double* __restrict ii = p_.inv_inertia.data();
+  const Vec3* __restrict x_ref = list_.reference_positions().data();
+  const bool have_ref = list_.reference_positions().size() == n;
+  const Mat3 turn = turn_between(protocol_, time_, time_ + dt_);
+  const Vec3 omega = protocol_.omega(time_ + dt_);
+  for (std::size_t g = n; g < p_.size(); ++g) f[g] = t[g] = Vec3{};
+  double max_d2 = have_ref ? 0.0 : 1e300;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (state[i] < 0) {
+      x[i] = turn * x[i];
+      v[i] = cross(omega, x[i]);
+      if constexpr (kRotation) {
+        w[i] = omega;
+        t[i] = Vec3{};
+      }
+    } else {
+      v[i] += kick * (im[i] * f[i] + gravity_);
+      if constexpr (kRotation) {
+        w[i] += (kick * ii[i]) * t[i];
+        t[i] = Vec3{};
+      }
+      x[i] += dt_ * v[i];
+    }
+    f[i] = Vec3{};
+    if (have_ref) max_d2 = std::max(max_d2, norm2(x[i] - x_ref[i]));
+  }
+  return max_d2;
+}
+
+template <bool kRotation>
+void Simulation::half_kick_rigid() {
+  const std::size_t n = n_local_;
+  const double h = 0.5 * dt_;
+  Vec3* __restrict v = p_.v.data();
+  Vec3* __restrict w = p_.w.data();
+  const Vec3* __restrict f = p_.f.data();
+  const Vec3* __restrict t = p_.t.data();
+  const std::int32_t* __restrict state = p_.bulk_state.data();
+  const double* __restrict im = p_.inv_mass.data();
+  const double* __restrict ii = p_.inv_inertia.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (state[i] < 0) continue;  // already at the wall's velocity
+    v[i] += h * (im[i] * f[i] + gravity_);
+    if constexpr (kRotation) w[i] += (h * ii[i]) * t[i];
+  }
+}
+
+template double Simulation::kick_drift_rigid<true>(double);
+template double Simulation::kick_drift_rigid<false>(double);
+template void Simulation::half_kick_rigid<true>();
+template void Simulation::half_kick_rigid<false>();
+
+}  // namespace tumble

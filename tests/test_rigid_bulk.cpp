@@ -1,0 +1,278 @@
+// fidelity.bulk = "rigid" (engine/rigid_bulk.cpp): with nothing frozen it is the dynamic engine
+// bit for bit; a bed turning as a solid freezes below its surface and the frozen particles follow
+// the wall's rotation exactly; a bed tilted below its repose angle freezes and stays put; one
+// tilted above it thaws and flows as the dynamic bed does; a restart continues bitwise.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <vector>
+
+#include "bed_fixture.hpp"
+#include "engine/simulation.hpp"
+#include "io/checkpoint.hpp"
+#include "run/realization.hpp"
+
+using namespace tumble;
+using namespace tumble::testing;
+
+namespace {
+
+Scene rigid_scene(std::vector<std::string> more = {}) {
+  std::vector<std::string> o = {"protocol.mode=single_axis", "fidelity.bulk=rigid"};
+  o.insert(o.end(), more.begin(), more.end());
+  return tiny_scene(o);
+}
+
+std::size_t count_frozen(const Simulation& sim) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < sim.local_count(); ++i) n += sim.particles().bulk_state[i] < 0;
+  return n;
+}
+
+// The settled tiny bed tilted by `deg` about z (positions only: it is at rest).
+Particles tilted(Particles bed, double deg) {
+  const Mat3 q = Mat3::rotation({0, 0, 1}, deg2rad(deg));
+  for (auto& x : bed.x) x = q * x;
+  return bed;
+}
+
+// Mean displacement over the particles, in small diameters, from positions by id.
+double mean_displacement(const Particles& p, const std::vector<Vec3>& start, double d) {
+  double mean = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) mean += norm(p.x[i] - start[p.id[i]]);
+  return mean / static_cast<double>(p.size()) / d;
+}
+
+std::vector<Vec3> by_id(const Particles& p) {
+  std::vector<Vec3> x(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) x[p.id[i]] = p.x[i];
+  return x;
+}
+
+}  // namespace
+
+TEST(RigidBulk, WithNothingFrozenItIsTheDynamicEngineBitForBit) {
+  // A dwell longer than the run: no particle ever freezes, and the rigid path (its integrator,
+  // its freeze/thaw passes and forced rebuilds) must give the dynamic trajectory. (The filtered
+  // pair list is then not built; with frozen particles it is checked by the tests below and by
+  // the rank tests.)
+  const Scene dyn = tiny_scene({"protocol.mode=single_axis", "protocol.rpm=10"});
+  const Scene rig = rigid_scene({"protocol.rpm=10", "fidelity.bulk_dwell=1000"});
+  const Particles bed = tiny_settled_bed();
+  Simulation a(dyn, bed, geometry::Protocol::single_axis('x', dyn.omega()));
+  Simulation b(rig, bed, geometry::Protocol::single_axis('x', rig.omega()));
+  ASSERT_FALSE(a.rigid_bulk());
+  ASSERT_TRUE(b.rigid_bulk());
+  a.compute_forces();
+  b.compute_forces();
+  for (int k = 0; k < 3000; ++k) {
+    a.step();
+    b.step();
+  }
+  EXPECT_GT(b.rebuilds(), 2u);
+  EXPECT_EQ(count_frozen(b), 0u);
+  const Particles &p = a.particles(), &q = b.particles();
+  ASSERT_EQ(p.size(), q.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (int d = 0; d < 3; ++d)
+      differ += p.x[i][d] != q.x[i][d] || p.v[i][d] != q.v[i][d] || p.w[i][d] != q.w[i][d];
+  EXPECT_EQ(differ, 0u);
+}
+
+TEST(RigidBulk, TurningBedFreezesBelowItsSurfaceAndTheFrozenTurnWithTheWall) {
+  // 3 rpm about x for 0.4 s (7 degrees: the bed still turns as a solid).
+  const Scene s = rigid_scene();
+  const geometry::Protocol turn = geometry::Protocol::single_axis('x', s.omega());
+  Simulation sim(s, tiny_settled_bed(), turn);
+  sim.compute_forces();
+  // Dormant springs are turned at each freeze/thaw pass: end both runs of steps with one (a
+  // forced rebuild), so that they are up to date when compared below.
+  for (int k = 0; k < 20000; ++k) {
+    if (k == 19999) sim.request_rebuild();
+    sim.step();
+  }
+  const Particles& p = sim.particles();
+  const std::size_t frozen = count_frozen(sim);
+  // The bed is 5 d_large deep at its centre, the margin 2 d_large.
+  EXPECT_GT(static_cast<double>(frozen), 0.2 * static_cast<double>(p.size()));
+  EXPECT_NEAR(sim.frozen_fraction(), static_cast<double>(frozen) / p.size(), 0.02);
+  // No frozen particle within the margin of the bed's top.
+  double top = -1e300;
+  for (std::size_t i = 0; i < p.size(); ++i) top = std::max(top, p.x[i].y + p.radius[i]);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.bulk_state[i] < 0) {
+      ASSERT_LT(p.x[i].y + p.radius[i], top - s.bulk_margin * s.d_large);
+    }
+
+  // Particles frozen now and after 500 more steps (fewer than the dwell: a thawed one cannot
+  // freeze again in between) moved exactly with the wall: x(t2) = Q(t2) Q(t1)^T x(t1).
+  const double t1 = sim.time();
+  std::vector<Vec3> x1(p.size());
+  std::vector<int> was(p.size(), 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    x1[p.id[i]] = p.x[i];
+    was[p.id[i]] = p.bulk_state[i] == -1;
+  }
+  neighbor::ContactHistory h1;
+  sim.neighbors().save_history(p, h1);
+  for (int k = 0; k < 500; ++k) {
+    if (k == 499) sim.request_rebuild();
+    sim.step();
+  }
+  ASSERT_LT(500, s.bulk_dwell / s.time_step());
+  const Mat3 q1 = turn.orientation(t1), q2 = turn.orientation(sim.time());
+  const Vec3 omega = turn.omega(sim.time());
+  std::size_t checked = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!was[p.id[i]] || p.bulk_state[i] != -1) continue;
+    const Vec3 expect = q2 * q1.tmul(x1[p.id[i]]);
+    ASSERT_LT(norm(p.x[i] - expect), 1e-15 * 500 * s.radius) << "particle " << p.id[i];
+    ASSERT_LT(norm(p.v[i] - cross(omega, p.x[i])), 1e-15);
+    ASSERT_EQ(p.w[i].x, omega.x);
+    ++checked;
+  }
+  EXPECT_GT(checked, frozen / 2);
+  // The dormant springs of pairs frozen throughout turned with the wall: the same in the
+  // tumbler's frame, Q(t2)^T h(t2) = Q(t1)^T h(t1).
+  neighbor::ContactHistory h2;
+  sim.neighbors().save_history(p, h2);
+  std::vector<int> now(p.size(), 0);
+  for (std::size_t i = 0; i < p.size(); ++i) now[p.id[i]] = p.bulk_state[i] == -1;
+  std::size_t springs = 0;
+  for (const auto& r : h2.records()) {
+    if (!was[r.lo] || !was[r.hi] || !now[r.lo] || !now[r.hi]) continue;
+    const auto before = h1.lookup(r.lo, r.hi);
+    const Vec3 a = q1.tmul({before[0], before[1], before[2]});
+    const Vec3 b = q2.tmul({r.history[0], r.history[1], r.history[2]});
+    ASSERT_LE(norm(a - b), 1e-12 * norm(a)) << "pair " << r.lo << ", " << r.hi;
+    ++springs;
+  }
+  EXPECT_GT(springs, 100u);
+}
+
+TEST(RigidBulk, BedTiltedBelowReposeFreezesAndStaysPut) {
+  // The tumbler at rest (Ω = 0: the frozen particles do not move at all), the bed tilted 18°,
+  // below its ~27° repose angle, for 0.5 s: most of the bed below the surface layer freezes, and
+  // the bed moves no more than the dynamic one does (Tumbler.BedAtRestStaysAtRest...: < 0.25 d).
+  const Scene s = rigid_scene();
+  const Particles bed = tilted(tiny_settled_bed(), 18);
+  const std::vector<Vec3> start = by_id(bed);
+  Simulation sim(s, bed, geometry::Protocol::at_rest());
+  sim.compute_forces();
+  for (int k = 0; k < 25000; ++k) sim.step();
+  const Particles& p = sim.particles();
+  EXPECT_GT(static_cast<double>(count_frozen(sim)), 0.25 * static_cast<double>(p.size()));
+  EXPECT_LT(mean_displacement(p, start, s.d_small), 0.25);
+  EXPECT_LT(sim.rms_speed(), 1e-3);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.bulk_state[i] == -1) {
+      ASSERT_EQ(norm(p.v[i]), 0.0);  // carried by a wall at rest
+    }
+}
+
+TEST(RigidBulk, BedTiltedAboveReposeThawsAndFlowsAsTheDynamicBed) {
+  // Freeze the level bed at rest, then tilt it (frozen states and all) by 50°: what must flow
+  // thaws and flows. The dynamic bed from the same tilt is the reference.
+  const Scene s = rigid_scene();
+  Simulation level(s, tiny_settled_bed(), geometry::Protocol::at_rest());
+  level.compute_forces();
+  for (int k = 0; k < 20000; ++k) level.step();
+  const std::size_t frozen_before = count_frozen(level);
+  ASSERT_GT(static_cast<double>(frozen_before), 0.2 * static_cast<double>(level.local_count()));
+  const Particles bed = tilted(level.particles(), 50);
+  const std::vector<Vec3> start = by_id(bed);
+  std::vector<int> was_frozen(bed.size(), 0);
+  for (std::size_t i = 0; i < bed.size(); ++i) was_frozen[bed.id[i]] = bed.bulk_state[i] < 0;
+
+  Simulation rigid(s, bed, geometry::Protocol::at_rest());
+  Particles plain = bed;
+  for (auto& st : plain.bulk_state) st = 0;
+  Simulation dynamic(tiny_scene(), plain, geometry::Protocol::at_rest());
+  rigid.compute_forces();
+  dynamic.compute_forces();
+  std::size_t fewest_frozen = frozen_before;
+  for (int k = 0; k < 25000; ++k) {
+    rigid.step();
+    dynamic.step();
+    fewest_frozen = std::min(fewest_frozen, count_frozen(rigid));
+  }
+  const Particles& p = rigid.particles();
+  const double moved = mean_displacement(p, start, s.d_small);
+  const double moved_dynamic = mean_displacement(dynamic.particles(), start, s.d_small);
+  // Measured: the dynamic bed moves ~2 d on average; the rigid one must flow as far (within 25%).
+  EXPECT_GT(moved_dynamic, 1.0);
+  EXPECT_NEAR(moved, moved_dynamic, 0.25 * moved_dynamic);
+  // The particles frozen before the tilt thawed and moved as the same particles of the dynamic
+  // bed did (mean displacement within 25%).
+  auto mean_of_frozen = [&](const Particles& q) {
+    double sum = 0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < q.size(); ++i)
+      if (was_frozen[q.id[i]]) {
+        sum += norm(q.x[i] - start[q.id[i]]);
+        ++count;
+      }
+    return sum / static_cast<double>(count) / s.d_small;
+  };
+  const double deep = mean_of_frozen(p), deep_dynamic = mean_of_frozen(dynamic.particles());
+  EXPECT_GT(deep_dynamic, 0.2);
+  EXPECT_NEAR(deep, deep_dynamic, 0.25 * deep_dynamic);
+  // Most thawed during the slide (the slumped bed at rest freezes again afterwards).
+  EXPECT_LT(fewest_frozen, frozen_before / 4);
+  std::printf(
+      "tilted 50 deg: frozen before %zu, after %zu; mean displacement rigid %.3f d, "
+      "dynamic %.3f d; of the particles frozen before: %.3f d, %.3f d; fewest frozen %zu\n",
+      frozen_before, count_frozen(rigid), moved, moved_dynamic, deep, deep_dynamic, fewest_frozen);
+}
+
+TEST(RigidBulk, RestartContinuesBitwise) {
+  const std::string base = test_dir("rigid_restart");
+  std::filesystem::remove_all(base);
+  auto scene = [&](const std::string& out) {
+    // A short dwell so that particles freeze and thaw within the 3,000 steps; a checkpoint every
+    // 1,000 steps.
+    return rigid_scene({"fidelity.bulk_dwell=0.004", "fidelity.bulk_calm_speed=0.5",
+                        "protocol.duration=1", "scene.output_dir=" + base + "/" + out,
+                        "output.checkpoint_interval=0.02", "output.snapshot_interval=0.02"});
+  };
+  RunOptions full;
+  full.max_steps = 3000;
+  run_realization(scene("full"), full);
+  RunOptions first;
+  first.max_steps = 2000;
+  run_realization(scene("split"), first);
+  RunOptions second;
+  second.resume = true;
+  second.max_steps = 1000;
+  run_realization(scene("split"), second);
+
+  const io::CheckpointData a = io::read_checkpoint(base + "/full/checkpoint.h5");
+  const io::CheckpointData b = io::read_checkpoint(base + "/split/checkpoint.h5");
+  ASSERT_EQ(a.step, 3000);
+  ASSERT_EQ(b.step, 3000);
+  ASSERT_EQ(a.particles.size(), b.particles.size());
+  std::size_t differ = 0, frozen = 0;
+  for (std::size_t i = 0; i < a.particles.size(); ++i) {
+    const auto& p = a.particles;
+    const auto& q = b.particles;
+    for (int d = 0; d < 3; ++d)
+      differ += p.x[i][d] != q.x[i][d] || p.v[i][d] != q.v[i][d] || p.w[i][d] != q.w[i][d] ||
+                p.wall_spring[i][d] != q.wall_spring[i][d];
+    differ += p.id[i] != q.id[i] || p.bulk_state[i] != q.bulk_state[i];
+    frozen += p.bulk_state[i] < 0;
+  }
+  EXPECT_EQ(differ, 0u);
+  EXPECT_GT(frozen, 50u) << "nothing frozen at the end: the test would pass without the bulk";
+  ASSERT_EQ(a.history.records().size(), b.history.records().size());
+  for (std::size_t k = 0; k < a.history.records().size(); ++k) {
+    const auto& r = a.history.records()[k];
+    const auto& t = b.history.records()[k];
+    EXPECT_TRUE(r.lo == t.lo && r.hi == t.hi && r.history == t.history);
+  }
+  ASSERT_EQ(a.series.frozen_fraction.size(), b.series.frozen_fraction.size());
+  EXPECT_EQ(a.series.frozen_fraction, b.series.frozen_fraction);
+}
