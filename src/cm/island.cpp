@@ -205,6 +205,22 @@ std::optional<Vec2> scan_ray(const SectionMap& map, const CentreFrame& f, const 
   return c + lo * dir;
 }
 
+// The chart steps per unit of the normal-form radius of `rays` rays from the centre, evenly
+// spaced in the normal-form angle, the first towards the chart centre (which keeps it inside the
+// chart).
+std::vector<Vec2> ray_directions(const CentreFrame& f, int rays) {
+  const Vec2 towards = f.c.norm() > 1e-9 ? Vec2(-f.c) : Vec2(1, 0);
+  const Vec2 w0 = (f.W * towards).normalized();
+  const Eigen::Matrix2d Winv = f.W.inverse();
+  std::vector<Vec2> dirs;
+  for (int k = 0; k < std::max(1, rays); ++k) {
+    const double a = 2 * kPi * k / std::max(1, rays);
+    dirs.push_back(Winv * Vec2(std::cos(a) * w0.x() - std::sin(a) * w0.y(),
+                               std::sin(a) * w0.x() + std::cos(a) * w0.y()));
+  }
+  return dirs;
+}
+
 }  // namespace
 
 std::optional<Island> island_around(const SectionMap& map, const PeriodicPoint& centre,
@@ -213,20 +229,12 @@ std::optional<Island> island_around(const SectionMap& map, const PeriodicPoint& 
   const Vec2 c = centre.v;
   const int n = centre.period;
   // Scan in the normal-form radius rho (invariant ellipses near c are circles rho = const of
-  // area pi rho^2). The first ray points towards the chart centre, which keeps it inside the
-  // chart; the others turn from it by equal normal-form angles. Invariant curves around c are
-  // nested, so the largest certified one is the outermost found.
-  const Vec2 towards = c.norm() > 1e-9 ? Vec2(-c) : Vec2(1, 0);
-  const Vec2 w0 = (f.W * towards).normalized();
-  const Eigen::Matrix2d Winv = f.W.inverse();
+  // area pi rho^2). Invariant curves around c are nested, so the largest certified one is the
+  // outermost found.
   std::vector<Vec2> curve;
   std::optional<Vec2> launch;
   double best_area = -1;
-  for (int k = 0; k < std::max(1, opt.rays); ++k) {
-    const double a = 2 * kPi * k / std::max(1, opt.rays);
-    const Vec2 w(std::cos(a) * w0.x() - std::sin(a) * w0.y(),
-                 std::sin(a) * w0.x() + std::cos(a) * w0.y());
-    const Vec2 dir = Winv * w;  // chart step per unit rho
+  for (const Vec2& dir : ray_directions(f, opt.rays)) {
     std::vector<Vec2> pts;
     const auto l = scan_ray(map, f, dir, n, opt, pts);
     if (!l) continue;
@@ -475,14 +483,8 @@ std::vector<Island> chain_islands(const SectionMap& map, const PeriodicPoint& ce
   const CentreFrame f = CentreFrame::of(centre);
   const Vec2 c = centre.v;
   const int n = centre.period;
-  const Vec2 towards = c.norm() > 1e-9 ? Vec2(-c) : Vec2(1, 0);
-  const Vec2 w0 = (f.W * towards).normalized();
-  const Eigen::Matrix2d Winv = f.W.inverse();
   std::vector<Island> chains;
-  for (int r = 0; r < std::max(1, opt.rays); ++r) {
-    const double a = 2 * kPi * r / std::max(1, opt.rays);
-    const Vec2 dir = Winv * Vec2(std::cos(a) * w0.x() - std::sin(a) * w0.y(),
-                                 std::sin(a) * w0.x() + std::cos(a) * w0.y());
+  for (const Vec2& dir : ray_directions(f, opt.rays)) {
     for (double d = opt.step; d * dir.norm() <= opt.max_radius; d += opt.step) {
       const Vec2 seed = c + d * dir;
       if (!map.chart().inside(seed)) break;
