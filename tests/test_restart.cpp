@@ -1,5 +1,6 @@
 // A run restarted from a checkpoint continues bitwise identically to an uninterrupted run.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <filesystem>
 
@@ -61,6 +62,47 @@ TEST(Restart, ContinuesBitwiseIdentically) {
 
 // The drift grid's sums are part of the checkpoint: a run killed after one drift sample (every
 // 0.1 s = 5,000 steps) and resumed writes the grid of the uninterrupted run, bit for bit.
+// A checkpoint written before the rigid bulk's `bulk_state` column existed restarts (the column is
+// read as 0: every particle dynamic) and continues bitwise like the uninterrupted run.
+TEST(Restart, ACheckpointWithoutTheBulkStateColumnRestarts) {
+  const std::string base = test_dir("restart_no_bulk_state");
+  std::filesystem::remove_all(base);
+  auto scene = [&](const std::string& out) {
+    return tiny_scene({"protocol.mode=biaxial", "protocol.repose=27",
+                       "scene.output_dir=" + base + "/" + out, "output.checkpoint_interval=0.006",
+                       "protocol.iterations=0.002"});
+  };
+  RunOptions full;
+  full.max_steps = 600;
+  run_realization(scene("full"), full);
+  RunOptions first;
+  first.max_steps = 300;
+  run_realization(scene("old"), first);
+  {  // make it an older checkpoint
+    const std::string path = base + "/old/checkpoint.h5";
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    ASSERT_GE(H5Ldelete(file, "particles/bulk_state", H5P_DEFAULT), 0);
+    H5Fclose(file);
+  }
+  RunOptions second;
+  second.resume = true;
+  second.max_steps = 300;
+  run_realization(scene("old"), second);
+  const io::CheckpointData a = io::read_checkpoint(base + "/full/checkpoint.h5");
+  const io::CheckpointData b = io::read_checkpoint(base + "/old/checkpoint.h5");
+  ASSERT_EQ(a.step, 600);
+  ASSERT_EQ(b.step, 600);
+  ASSERT_EQ(a.particles.size(), b.particles.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < a.particles.size(); ++i)
+    for (int d = 0; d < 3; ++d)
+      differ +=
+          a.particles.x[i][d] != b.particles.x[i][d] || a.particles.v[i][d] != b.particles.v[i][d];
+  EXPECT_EQ(differ, 0u);
+  for (std::int32_t state : b.particles.bulk_state) EXPECT_EQ(state, 0);
+}
+
 TEST(Restart, DriftGridSumsSurviveAResume) {
   const std::string base = test_dir("restart_drift");
   std::filesystem::remove_all(base);
