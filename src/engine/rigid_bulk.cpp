@@ -198,68 +198,6 @@ void Simulation::check_thaw_forces() {
   if (any) force_rebuild_ = thaw_pending_ = true;
 }
 
-// As kick_drift, with the frozen particles turned by the wall's rotation over the step (from the
-// protocol's orientations at both ends: exact across a change of segment).
-template <bool kRotation>
-double Simulation::kick_drift_rigid(double kick) {
-  const std::size_t n = n_local_;
-  Vec3* __restrict x = p_.x.data();
-  Vec3* __restrict v = p_.v.data();
-  Vec3* __restrict w = p_.w.data();
-  Vec3* __restrict f = p_.f.data();
-  Vec3* __restrict t = p_.t.data();
-  const std::int32_t* __restrict state = p_.bulk_state.data();
-  const double* __restrict im = p_.inv_mass.data();
-  const double* __restrict ii = p_.inv_inertia.data();
-  const Vec3* __restrict x_ref = list_.reference_positions().data();
-  const bool have_ref = list_.reference_positions().size() == n;
-  const Mat3 turn = turn_between(protocol_, time_, time_ + dt_);
-  const Vec3 omega = protocol_.omega(time_ + dt_);
-  for (std::size_t g = n; g < p_.size(); ++g) f[g] = t[g] = Vec3{};
-  double max_d2 = have_ref ? 0.0 : 1e300;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (state[i] < 0) {
-      x[i] = turn * x[i];
-      v[i] = cross(omega, x[i]);
-      if constexpr (kRotation) {
-        w[i] = omega;
-        t[i] = Vec3{};
-      }
-    } else {
-      v[i] += kick * (im[i] * f[i] + gravity_);
-      if constexpr (kRotation) {
-        w[i] += (kick * ii[i]) * t[i];
-        t[i] = Vec3{};
-      }
-      x[i] += dt_ * v[i];
-    }
-    f[i] = Vec3{};
-    if (have_ref) max_d2 = std::max(max_d2, norm2(x[i] - x_ref[i]));
-  }
-  return max_d2;
-}
-
-template <bool kRotation>
-void Simulation::half_kick_rigid() {
-  const std::size_t n = n_local_;
-  const double h = 0.5 * dt_;
-  Vec3* __restrict v = p_.v.data();
-  Vec3* __restrict w = p_.w.data();
-  const Vec3* __restrict f = p_.f.data();
-  const Vec3* __restrict t = p_.t.data();
-  const std::int32_t* __restrict state = p_.bulk_state.data();
-  const double* __restrict im = p_.inv_mass.data();
-  const double* __restrict ii = p_.inv_inertia.data();
-  for (std::size_t i = 0; i < n; ++i) {
-    if (state[i] < 0) continue;  // already at the wall's velocity
-    v[i] += h * (im[i] * f[i] + gravity_);
-    if constexpr (kRotation) w[i] += (h * ii[i]) * t[i];
-  }
-}
-
-template double Simulation::kick_drift_rigid<true>(double);
-template double Simulation::kick_drift_rigid<false>(double);
-template void Simulation::half_kick_rigid<true>();
-template void Simulation::half_kick_rigid<false>();
+Mat3 Simulation::wall_turn_over_step() const { return turn_between(protocol_, time_, time_ + dt_); }
 
 }  // namespace tumble

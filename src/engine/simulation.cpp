@@ -87,17 +87,19 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     select_kernels<Law>(Law::pair_friction(s), Law::wall_friction(s), cylinder_.periodic);
   });
   if (force_general) rotation_ = true;
-  kick_drift_ = rotation_ ? &Simulation::kick_drift<true> : &Simulation::kick_drift<false>;
-  half_kick_ = rotation_ ? &Simulation::half_kick<true> : &Simulation::half_kick<false>;
+  kick_drift_ =
+      rotation_ ? &Simulation::kick_drift<true, false> : &Simulation::kick_drift<false, false>;
+  half_kick_ =
+      rotation_ ? &Simulation::half_kick<true, false> : &Simulation::half_kick<false, false>;
   // The rigid bulk (scene validation refuses it without rotation). Its calm speed is a fraction
   // of the wall's speed; the free surface is found per column of d_large in the lab's x-z plane
   // (about half a large particle of the surface's rise per column at the repose angle).
   rigid_ = s.bulk == Bulk::rigid;
   if (rigid_) {
     kick_drift_ =
-        rotation_ ? &Simulation::kick_drift_rigid<true> : &Simulation::kick_drift_rigid<false>;
+        rotation_ ? &Simulation::kick_drift<true, true> : &Simulation::kick_drift<false, true>;
     half_kick_ =
-        rotation_ ? &Simulation::half_kick_rigid<true> : &Simulation::half_kick_rigid<false>;
+        rotation_ ? &Simulation::half_kick<true, true> : &Simulation::half_kick<false, true>;
     bulk_.calm_speed = s.bulk_calm_speed * s.omega() * s.radius;
     bulk_.dwell_steps = static_cast<std::int64_t>(std::ceil(s.bulk_dwell / dt_));
     bulk_.update_every = std::max<std::int64_t>(10, bulk_.dwell_steps / 4);
@@ -299,8 +301,10 @@ void Simulation::maybe_rebuild(double max_displacement2) {
 
 // First kick and drift; the force and torque accumulators are cleared and the largest
 // displacement since the last neighbour rebuild found in the same pass. kRotation = false (no
-// friction anywhere: no torque ever) leaves the spins alone.
-template <bool kRotation>
+// friction anywhere: no torque ever) leaves the spins alone. kRigid: a frozen particle (bulk_state
+// < 0) is turned by the wall's rotation over the step instead (from the protocol's orientations
+// at both ends: exact across a change of segment), with the wall's velocity and spin.
+template <bool kRotation, bool kRigid>
 double Simulation::kick_drift(double kick) {
   const std::size_t n = n_local_;
   Vec3* __restrict x = p_.x.data();
@@ -312,23 +316,39 @@ double Simulation::kick_drift(double kick) {
   const double* __restrict ii = p_.inv_inertia.data();
   const Vec3* __restrict x_ref = list_.reference_positions().data();
   const bool have_ref = list_.reference_positions().size() == n;
+  const std::int32_t* __restrict state = p_.bulk_state.data();
+  Mat3 turn;
+  Vec3 omega{};
+  if constexpr (kRigid) {
+    turn = wall_turn_over_step();
+    omega = protocol_.omega(time_ + dt_);
+  }
   // Ghost accumulators collect the partner halves of border pairs; they are thrown away.
   for (std::size_t g = n; g < p_.size(); ++g) f[g] = t[g] = Vec3{};
   double max_d2 = have_ref ? 0.0 : 1e300;
   for (std::size_t i = 0; i < n; ++i) {
-    v[i] += kick * (im[i] * f[i] + gravity_);
-    if constexpr (kRotation) {
-      w[i] += (kick * ii[i]) * t[i];
-      t[i] = Vec3{};
+    if (kRigid && state[i] < 0) {
+      x[i] = turn * x[i];
+      v[i] = cross(omega, x[i]);
+      if constexpr (kRotation) {
+        w[i] = omega;
+        t[i] = Vec3{};
+      }
+    } else {
+      v[i] += kick * (im[i] * f[i] + gravity_);
+      if constexpr (kRotation) {
+        w[i] += (kick * ii[i]) * t[i];
+        t[i] = Vec3{};
+      }
+      x[i] += dt_ * v[i];
     }
-    x[i] += dt_ * v[i];
     f[i] = Vec3{};
     if (have_ref) max_d2 = std::max(max_d2, norm2(x[i] - x_ref[i]));
   }
   return max_d2;
 }
 
-template <bool kRotation>
+template <bool kRotation, bool kRigid>
 void Simulation::half_kick() {
   const std::size_t n = n_local_;
   const double h = 0.5 * dt_;
@@ -338,7 +358,9 @@ void Simulation::half_kick() {
   const Vec3* __restrict t = p_.t.data();
   const double* __restrict im = p_.inv_mass.data();
   const double* __restrict ii = p_.inv_inertia.data();
+  const std::int32_t* __restrict state = p_.bulk_state.data();
   for (std::size_t i = 0; i < n; ++i) {
+    if (kRigid && state[i] < 0) continue;  // already at the wall's velocity
     v[i] += h * (im[i] * f[i] + gravity_);
     if constexpr (kRotation) w[i] += (h * ii[i]) * t[i];
   }

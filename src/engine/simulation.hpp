@@ -117,15 +117,14 @@ class Simulation {
   // pairs, lane kernel, accumulation (engine/contact_lanes.hpp); bitwise equal to pair_forces.
   // The scene's options (friction, periodic, one species) are in lane_kernel_, chosen once.
   void pair_forces_lanes();
-  template <bool kRotation>
+  // The integrator. kRigid (fidelity.bulk = rigid): frozen particles turn with the wall instead.
+  template <bool kRotation, bool kRigid>
   double kick_drift(double kick);
-  template <bool kRotation>
+  template <bool kRotation, bool kRigid>
   void half_kick();
-  // The rigid bulk's integrator: frozen particles turn with the wall, the others as above.
-  template <bool kRotation>
-  double kick_drift_rigid(double kick);
-  template <bool kRotation>
-  void half_kick_rigid();
+  // The wall's rotation over the coming step and its angular velocity at the step's end (the
+  // frozen particles' motion; rigid_bulk.cpp).
+  Mat3 wall_turn_over_step() const;
   // Rigid bulk, at a neighbour rebuild: freezes and thaws (before the particles move to their
   // cells and ranks), then the pairs the force loops run.
   void update_bulk_states();
