@@ -26,4 +26,17 @@ inline Scene tiny_scene(std::vector<std::string> o = {}) {
 
 inline Particles tiny_settled_bed() { return settled_bed(tiny_scene(), nullptr); }
 
+// How many state values of two runs' particles differ (positions, velocities, spins, wall springs,
+// ids, bulk states, compared bitwise): 0 for a restart that continued exactly.
+inline std::size_t state_differences(const Particles& p, const Particles& q) {
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (int d = 0; d < 3; ++d)
+      differ += p.x[i][d] != q.x[i][d] || p.v[i][d] != q.v[i][d] || p.w[i][d] != q.w[i][d] ||
+                p.wall_spring[i][d] != q.wall_spring[i][d];
+    differ += p.id[i] != q.id[i] || p.bulk_state[i] != q.bulk_state[i];
+  }
+  return differ;
+}
+
 }  // namespace tumble::testing

@@ -40,16 +40,8 @@ TEST(Restart, ContinuesBitwiseIdentically) {
   ASSERT_EQ(a.step, 900);
   ASSERT_EQ(b.step, 900);
   ASSERT_EQ(a.particles.size(), b.particles.size());
-  std::size_t differ = 0;
-  for (std::size_t i = 0; i < a.particles.size(); ++i) {
-    const auto& p = a.particles;
-    const auto& q = b.particles;
-    for (int d = 0; d < 3; ++d)
-      differ += p.x[i][d] != q.x[i][d] || p.v[i][d] != q.v[i][d] || p.w[i][d] != q.w[i][d] ||
-                p.wall_spring[i][d] != q.wall_spring[i][d];
-    differ += p.id[i] != q.id[i];
-  }
-  EXPECT_EQ(differ, 0u) << "values differ between the restarted and the uninterrupted run";
+  EXPECT_EQ(state_differences(a.particles, b.particles), 0u)
+      << "values differ between the restarted and the uninterrupted run";
   ASSERT_EQ(a.history.records().size(), b.history.records().size());
   for (std::size_t k = 0; k < a.history.records().size(); ++k) {
     const auto& r = a.history.records()[k];
@@ -94,12 +86,7 @@ TEST(Restart, ACheckpointWithoutTheBulkStateColumnRestarts) {
   ASSERT_EQ(a.step, 600);
   ASSERT_EQ(b.step, 600);
   ASSERT_EQ(a.particles.size(), b.particles.size());
-  std::size_t differ = 0;
-  for (std::size_t i = 0; i < a.particles.size(); ++i)
-    for (int d = 0; d < 3; ++d)
-      differ +=
-          a.particles.x[i][d] != b.particles.x[i][d] || a.particles.v[i][d] != b.particles.v[i][d];
-  EXPECT_EQ(differ, 0u);
+  EXPECT_EQ(state_differences(a.particles, b.particles), 0u);
   for (std::int32_t state : b.particles.bulk_state) EXPECT_EQ(state, 0);
 }
 
