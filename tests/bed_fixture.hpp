@@ -33,7 +33,8 @@ inline std::size_t state_differences(const Particles& p, const Particles& q) {
   for (std::size_t i = 0; i < p.size(); ++i) {
     for (int d = 0; d < 3; ++d)
       differ += p.x[i][d] != q.x[i][d] || p.v[i][d] != q.v[i][d] || p.w[i][d] != q.w[i][d] ||
-                p.wall_spring[i][d] != q.wall_spring[i][d];
+                p.wall_spring[i][d] != q.wall_spring[i][d] ||
+                p.bulk_anchor[i][d] != q.bulk_anchor[i][d];
     differ += p.id[i] != q.id[i] || p.bulk_state[i] != q.bulk_state[i];
   }
   return differ;

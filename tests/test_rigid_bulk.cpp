@@ -235,7 +235,7 @@ TEST(RigidBulk, RestartContinuesBitwise) {
   auto scene = [&](const std::string& out) {
     // A short dwell so that particles freeze and thaw within the 3,000 steps; a checkpoint every
     // 1,000 steps.
-    return rigid_scene({"fidelity.bulk_dwell=0.004", "fidelity.bulk_calm_speed=0.5",
+    return rigid_scene({"fidelity.bulk_dwell=0.004", "fidelity.bulk_calm_distance=0.1",
                         "protocol.duration=1", "scene.output_dir=" + base + "/" + out,
                         "output.checkpoint_interval=0.02", "output.snapshot_interval=0.02"});
   };

@@ -52,7 +52,9 @@ constexpr unsigned kMotion = kState | kGhostRefresh;  // ... that neighbours rea
   X(std::int32_t, species, field::kState)                                                       \
   X(std::int64_t, id, field::kState)        /* global id, stable for the whole run (< 2^53) */ \
   X(std::int32_t, bulk_state,               /* fidelity.bulk = "rigid" (engine/rigid_bulk.cpp): */ \
-    field::kState | field::kOptionalOnRead) /* 0 moving, > 0 steps calm, -1 frozen, -2 thawing */
+    field::kState | field::kOptionalOnRead) /* 0 moving, > 0 steps calm, -1 frozen, -2 thawing */ \
+  X(Vec3, bulk_anchor,                      /* rigid bulk: tumbler-frame position where its */   \
+    field::kState | field::kOptionalOnRead) /* stay began (calm while it moves less from it) */
 // clang-format on
 
 // A build may append fields of its own: define TUMBLE_EXTRA_PARTICLE_FIELDS_HEADER as a header

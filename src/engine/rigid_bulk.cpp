@@ -1,20 +1,21 @@
 // fidelity.bulk = "rigid": the calm bulk of a rolling bed turns with the wall as a solid.
 //
 // A particle is *frozen* (bulk_state -1) when, at a neighbour rebuild, it and every particle of
-// its neighbour list within reach have moved with the wall's rigid rotation (speed relative to
-// Ω × r below bulk_calm_speed ω R) for bulk_dwell seconds, and its top lies more than
-// bulk_margin d_large below the free surface of its column. A frozen particle is carried exactly
-// by the wall's rotation (positions by the protocol's orientation, v = Ω × r, w = Ω), feels no
-// wall, and its pairs with other frozen particles are left out of the force loops: their springs
+// its neighbour list within reach have stayed put in the tumbler's frame (within
+// bulk_calm_distance d_large of where their stay began) for bulk_dwell seconds, and its top lies
+// more than bulk_margin d_large below the free surface of its column. A frozen particle is carried
+// exactly by the wall's rotation (positions by the protocol's orientation, v = Ω × r, w = Ω), feels
+// no wall, and its pairs with other frozen particles are left out of the force loops: their springs
 // stay in the whole list (dormant) and restart from there. Pairs with a moving particle are
 // computed as for any pair (the frozen one acts as a rough wall grain). It thaws at the next
-// rebuild when a neighbour stops being calm or the surface comes within the margin, and at the
-// very next step when its moving neighbours push it harder than bulk_thaw_force times its weight.
+// rebuild when a neighbour moves (leaves its calm distance) or the surface comes within the
+// margin, at the first rebuild of a new protocol segment, and at the very next step when its
+// moving neighbours push it harder than bulk_thaw_force times its weight.
 //
 // States change only at rebuilds, which every rank passes at the same step, and every decision is
-// a comparison of values that serial and decomposed runs compute alike (speeds from refreshed
-// ghost state, integer flags, maxima): the ghosts learn the new states from the exchange of the
-// rebuild that follows.
+// a comparison of values that serial and decomposed runs compute alike (displacements from
+// refreshed ghost positions and the anchors of the last pass, integer flags, maxima): the ghosts
+// learn the new states from the exchange of the rebuild that follows.
 #include <algorithm>
 #include <cmath>
 
@@ -40,7 +41,6 @@ Mat3 turn_between(const geometry::Protocol& protocol, double from, double to) {
 
 void Simulation::update_bulk_states() {
   const std::size_t n = n_local_, all = p_.size();
-  const Vec3 omega = protocol_.omega(time_);
   RigidBulk& b = bulk_;
   // The dormant springs (pairs frozen since the last pass) and the wall springs of frozen
   // particles turned with the wall in the meantime: turn them too, so that a thawed contact
@@ -61,13 +61,23 @@ void Simulation::update_bulk_states() {
       }
     }
   }
-  // Calm: moving with the wall (ghosts too: their motion is refreshed every step). Without
-  // rotation in the scene the spins never change, so only the velocity counts.
+  // Calm: within calm_distance of its anchor, the tumbler-frame position where its present stay
+  // began. A displacement, not a speed: the bulk of a rolling bed rattles (deep particles move at
+  // ~0.1 omega R and spin at ~4 omega relative to the wall at any instant) while it stays put to
+  // a few thousandths of d_large per degree of rotation (docs/accuracy.md, "Rigid bulk"). Ghosts
+  // too: their positions are refreshed every step and their anchors are their owners' as of the
+  // last pass (sent with the ghost copies of the rebuild that followed it), which is what the
+  // owner's own test below reads, so serial and decomposed runs decide alike.
+  const Mat3 q = protocol_.orientation(time_);
+  const double calm2 = b.calm_distance * b.calm_distance;
   b.calm.assign(all, 0);
   for (std::size_t i = 0; i < all; ++i) {
-    double rel = norm(p_.v[i] - cross(omega, p_.x[i]));
-    if (rotation_) rel += p_.radius[i] * norm(p_.w[i] - omega);
-    b.calm[i] = rel < b.calm_speed;
+    Vec3 d = q.tmul(p_.x[i]) - p_.bulk_anchor[i];
+    // The periodic cylinder turns about z: a particle wrapped across the period (or a ghost
+    // image of it) has not moved.
+    if (cylinder_.periodic)
+      d.z -= 2 * cylinder_.half_length * std::nearbyint(d.z / (2 * cylinder_.half_length));
+    b.calm[i] = norm2(d) < calm2;
   }
   // Unsettled: itself or a neighbour within reach not calm. Each pair of the (half) list marks
   // both ends; a pair across a rank border is in the list of both ranks.
@@ -107,14 +117,21 @@ void Simulation::update_bulk_states() {
   // most ~tan(30 deg) d_large above the surface over the particle. (Against the lowest of the
   // 3 x 3 columns around it, a bed at the repose angle 5 d_large deep never froze: the columns'
   // tops differ by as much as the margin.)
+  // A change of the protocol's segment (a new axis or speed, a tilt) thaws everything: the bed
+  // re-forms its free surface and flowing layer about the new axis, and whatever stays put
+  // refreezes one dwell later.
   const std::int64_t elapsed = step_ - b.last_update;
+  const std::int64_t segment = protocol_.segment_count(time_);
+  const bool new_segment = segment != b.segment;
+  b.segment = segment;
   std::int64_t frozen = 0;
   for (std::size_t i = 0; i < n; ++i) {
+    if (!b.calm[i]) p_.bulk_anchor[i] = q.tmul(p_.x[i]);  // it moved: a new stay begins here
     int cx, cz;
     column_of(p_.x[i], cx, cz);
     const double surface = b.top[static_cast<std::size_t>(cx) * b.nz + cz];
     const bool deep = surface - (p_.x[i].y + p_.radius[i]) > b.margin;
-    const bool eligible = deep && !b.unsettled[i];
+    const bool eligible = deep && !b.unsettled[i] && !new_segment;
     std::int32_t& s = p_.bulk_state[i];
     if (s < 0) {
       if (s == -2 || !eligible) s = 0;

@@ -91,8 +91,8 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
       rotation_ ? &Simulation::kick_drift<true, false> : &Simulation::kick_drift<false, false>;
   half_kick_ =
       rotation_ ? &Simulation::half_kick<true, false> : &Simulation::half_kick<false, false>;
-  // The rigid bulk (scene validation refuses it without rotation). Its calm speed is a fraction
-  // of the wall's speed; the free surface is found per column of d_large in the lab's x-z plane
+  // The rigid bulk (scene validation refuses it without rotation). Its calm distance is a
+  // fraction of d_large; the free surface is found per column of d_large in the lab's x-z plane
   // (about half a large particle of the surface's rise per column at the repose angle).
   rigid_ = s.bulk == Bulk::rigid;
   if (rigid_) {
@@ -100,7 +100,7 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
         rotation_ ? &Simulation::kick_drift<true, true> : &Simulation::kick_drift<false, true>;
     half_kick_ =
         rotation_ ? &Simulation::half_kick<true, true> : &Simulation::half_kick<false, true>;
-    bulk_.calm_speed = s.bulk_calm_speed * s.omega() * s.radius;
+    bulk_.calm_distance = s.bulk_calm_distance * s.d_large;
     bulk_.dwell_steps = static_cast<std::int64_t>(std::ceil(s.bulk_dwell / dt_));
     bulk_.update_every = std::max<std::int64_t>(10, bulk_.dwell_steps / 4);
     bulk_.margin = s.bulk_margin * s.d_large;
@@ -252,6 +252,7 @@ void Simulation::compute_forces() {
   last_build_step_ = step_;
   bulk_.last_update = step_;
   bulk_.last_update_time = time_;
+  bulk_.segment = protocol_.segment_count(time_);
   for (std::size_t i = 0; i < p_.size(); ++i) p_.f[i] = p_.t[i] = Vec3{};
   (this->*pair_kernel_)();
   (this->*wall_kernel_)();
@@ -273,6 +274,7 @@ void Simulation::restore(const neighbor::ContactHistory& history) {
   // rebuilds at the next one if a particle was thawing (check_thaw_forces).
   bulk_.last_update = step_;
   bulk_.last_update_time = time_;
+  bulk_.segment = protocol_.segment_count(time_);
   for (std::size_t i = 0; i < n_local_; ++i)
     if (p_.bulk_state[i] == -2) force_rebuild_ = true;
 }

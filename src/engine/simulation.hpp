@@ -200,7 +200,7 @@ class Simulation {
   // fidelity.bulk = "rigid": the scene's thresholds in SI units, the free surface's height per
   // column of the lab's x-z plane, the active pairs (and each one's index in list_), scratch.
   struct RigidBulk {
-    double calm_speed = 0;          // [m/s]
+    double calm_distance = 0;       // [m] in the tumbler's frame, from the particle's anchor
     std::int64_t dwell_steps = 0;   // steps calm before freezing
     std::int64_t update_every = 0;  // the longest run of steps without a freeze/thaw pass
     double margin = 0;              // [m] below the free surface
@@ -211,6 +211,7 @@ class Simulation {
     std::vector<std::uint8_t> calm, unsettled;
     std::vector<std::uint32_t> start, nbr, row, full;
     std::vector<double> history;
+    std::int64_t segment = 0;      // the protocol's segment at the last pass
     std::int64_t last_update = 0;  // step of the last freeze/thaw pass
     double last_update_time = 0;   // ... and its time
   };

@@ -92,4 +92,12 @@ const char* Protocol::phase(double t) const {
   return segments_[segment_at(t, into)].label;
 }
 
+std::int64_t Protocol::segment_count(double t) const {
+  if (constant_) return 0;
+  double into;
+  const auto seg = static_cast<std::int64_t>(segment_at(t, into));
+  const auto periods = static_cast<std::int64_t>(std::floor(t / period_));
+  return periods * static_cast<std::int64_t>(segments_.size()) + seg;
+}
+
 }  // namespace tumble::geometry

@@ -3,6 +3,7 @@
 // with velocity Ω(t) × r. The protocol is a list of segments of constant Ω; the orientation
 // (tumbler frame -> lab frame) is composed exactly segment by segment, so analyses can express
 // particles in the tumbler frame without integration error.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,9 @@ class Protocol {
   bool periodic() const { return period_ > 0; }
   // Segment label at time t (for progress output).
   const char* phase(double t) const;
+  // Which segment of the whole run time t lies in (periods completed x segments per period +
+  // segment): two times share it exactly when Ω is constant between them. 0 for a constant Ω.
+  std::int64_t segment_count(double t) const;
 
  private:
   // Segment of time t within its period, and the time `into` it has run.

@@ -292,7 +292,7 @@ void validate_scene(const Scene& s) {
     throw InputError("scene error: key '" + key + "' " + what);
   };
   // The rigid bulk turns with the wall: a scene without rotation has no wall motion to carry it
-  // and no calm speed (a fraction of omega R) to measure it by.
+  // (a frozen particle is carried by the wall's rotation).
   if (s.bulk == Bulk::rigid && (s.mode == Mode::rest || s.omega() <= 0))
     fail("fidelity.bulk", "= 'rigid' needs a rotating tumbler (protocol.mode = '" +
                               std::string(name_of(s.mode)) +

@@ -128,8 +128,8 @@ struct ReposeTilt {
   /* The rigid bulk (docs/accuracy.md, "Rigid bulk"; engine/rigid_bulk.cpp). */ \
   X(Bulk, bulk, "fidelity.bulk", Bulk::dynamic, 0, 0, \
     "dynamic: every particle integrated; rigid: calm particles deep in the bed turn with the wall as a solid (no contacts among them)") \
-  X(double, bulk_calm_speed, "fidelity.bulk_calm_speed", 0.2, 1e-4, 1, \
-    "rigid bulk: calm below this speed relative to the wall's rotation, |v - Omega x r| + r |w - Omega|, as a fraction of omega R") \
+  X(double, bulk_calm_distance, "fidelity.bulk_calm_distance", 0.05, 1e-3, 1, \
+    "rigid bulk: calm while it stays within this many d_large of where its stay began, in the tumbler's frame") \
   X(double, bulk_dwell, "fidelity.bulk_dwell", 0.05, 0, 1e3, \
     "rigid bulk: a particle and its neighbours stay calm this long [s] before it freezes") \
   X(double, bulk_margin, "fidelity.bulk_margin", 2, 0.5, 1e3, \

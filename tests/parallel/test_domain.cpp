@@ -206,11 +206,11 @@ TEST(Domain, CylinderScenesMatchSerial) {
 // fidelity.bulk = "rigid" on P ranks against 1: the frozen state migrates with its particles and
 // reaches the ghosts, the free surface is reduced over the ranks, and every freeze/thaw decision
 // comes out the same, so the trajectories agree to round-off as the dynamic ones do. A short dwell
-// and a generous calm speed make particles freeze (and some thaw) within the 2,000 steps; a thin
+// and a generous calm distance make particles freeze (and some thaw) within the 2,000 steps; a thin
 // skin moves particles between ranks every few steps.
 TEST(Domain, RigidBulkMatchesSerial) {
   const Scene s =
-      tiny({"fidelity.bulk=rigid", "fidelity.bulk_dwell=0.004", "fidelity.bulk_calm_speed=1",
+      tiny({"fidelity.bulk=rigid", "fidelity.bulk_dwell=0.004", "fidelity.bulk_calm_distance=0.1",
             "neighbor.skin=0.05", "parallel.rebalance_threshold=1.02"});
   const Particles bed = tiny_bed(s);
   Simulation serial(s, bed, biaxial(s));
@@ -237,15 +237,16 @@ TEST(Domain, RigidBulkMatchesSerial) {
   EXPECT_EQ(par.global_count(), static_cast<std::int64_t>(bed.size()));
 }
 
-// The same on the Rapaport cylinder (closed ends, axis z) from its settled bed. Its bed is not
-// calm at the scenes' defaults (Froude 0.08, beyond the rolling regime: nothing freezes); a calm
-// speed of one wall speed freezes 10-30% of it at a time, with frequent thaws. This bed amplifies
+// The same on the Rapaport cylinder (closed ends, axis z) from its settled bed (Froude 0.08,
+// beyond the rolling regime); a calm distance of 0.1 d_large freezes more than 5% of it within the
+// 1,000 steps. This bed amplifies
 // round-off ~10x per 100 steps (measured: 3e-11 d after 1,000 steps, 3e-9 d after 1,300, a first
 // freeze decision of its own at 1,966 with the runs 7e-3 d apart), so it runs 1,000 steps.
 TEST(Domain, RigidBulkCylinderMatchesSerial) {
-  const Scene s = load_scene(std::string(TUMBLE_SOURCE_DIR) + "/scenes/rapaport/mini/E.toml",
-                             {"fill.bed_cache=" + scratch("beds"), "fidelity.bulk=rigid",
-                              "fidelity.bulk_calm_speed=1", "parallel.rebalance_threshold=1.02"});
+  const Scene s =
+      load_scene(std::string(TUMBLE_SOURCE_DIR) + "/scenes/rapaport/mini/E.toml",
+                 {"fill.bed_cache=" + scratch("beds"), "fidelity.bulk=rigid",
+                  "fidelity.bulk_calm_distance=0.1", "parallel.rebalance_threshold=1.02"});
   if (world_rank() == 0) settled_bed(s, nullptr);
   MPI_Barrier(MPI_COMM_WORLD);
   const Particles bed = settled_bed(s, nullptr);
