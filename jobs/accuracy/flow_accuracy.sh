@@ -8,7 +8,7 @@
 # TIERS="standard fast preview" leaves the reference out (the errors are then against standard).
 # BULK=rigid also runs each tier with fidelity.bulk = "rigid" (runs in OUT/<tier>-rigid; the
 # table then has a row for each, against the first tier that ran dynamic: docs/accuracy.md,
-# "Rigid bulk"); BULK_SET="--set fidelity.bulk_calm_speed=0.5 ..." passes more keys to those runs.
+# "Rigid bulk"); BULK_SET="--set fidelity.bulk_margin=4 ..." passes more keys to those runs.
 # A run whose results.h5 exists is not run again (runs are deterministic: copy the dynamic runs
 # of an earlier OUT in to compare another rigid setting against them).
 set -euo pipefail

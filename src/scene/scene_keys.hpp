@@ -132,9 +132,9 @@ struct ReposeTilt {
     "rigid bulk: calm while it stays within this many d_large of where its stay began, in the tumbler's frame") \
   X(double, bulk_dwell, "fidelity.bulk_dwell", 0.05, 0, 1e3, \
     "rigid bulk: a particle and its neighbours stay calm this long [s] before it freezes") \
-  X(double, bulk_margin, "fidelity.bulk_margin", 2, 0.5, 1e3, \
+  X(double, bulk_margin, "fidelity.bulk_margin", 3, 0.5, 1e3, \
     "rigid bulk: only particles deeper than this many d_large below the free surface freeze") \
-  X(double, bulk_thaw_force, "fidelity.bulk_thaw_force", 20, 0.1, 1e6, \
+  X(double, bulk_thaw_force, "fidelity.bulk_thaw_force", 200, 0.1, 1e6, \
     "rigid bulk: a frozen particle thaws when its moving neighbours push it harder than this many times its weight") \
   X(double, rebalance_threshold, "parallel.rebalance_threshold", 1.1, 1, 100, \
     "domain-decomposed runs: re-bisect when max/mean particles per rank exceeds this") \
