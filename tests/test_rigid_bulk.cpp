@@ -1,7 +1,8 @@
 // fidelity.bulk = "rigid" (engine/rigid_bulk.cpp): with nothing frozen it is the dynamic engine
 // bit for bit; a bed turning as a solid freezes below its surface and the frozen particles follow
 // the wall's rotation exactly; a bed tilted below its repose angle freezes and stays put; one
-// tilted above it thaws and flows as the dynamic bed does; a restart continues bitwise.
+// tilted above it thaws and flows as the dynamic bed does; a change of the protocol's segment
+// thaws the bed; a restart continues bitwise.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -229,6 +230,34 @@ TEST(RigidBulk, BedTiltedAboveReposeThawsAndFlowsAsTheDynamicBed) {
       "tilted 50 deg: frozen before %zu, after %zu; mean displacement rigid %.3f d, "
       "dynamic %.3f d; of the particles frozen before: %.3f d, %.3f d; fewest frozen %zu\n",
       frozen_before, count_frozen(rigid), moved, moved_dynamic, deep, deep_dynamic, fewest_frozen);
+}
+
+TEST(RigidBulk, AChangeOfSegmentThawsTheBedAndItRefreezes) {
+  // The biaxial protocol's segments at 10 rpm, short: tilt 3 deg, rotate 6 deg about z, ... The
+  // bed turning with the wall freezes below its surface during the tilt; at the first pass after
+  // the tilt ends (a quarter of the dwell at most) nothing is frozen; one dwell later the bulk is
+  // frozen again.
+  const Scene s = tiny_scene({"protocol.mode=biaxial", "protocol.rpm=10", "fidelity.bulk=rigid",
+                              "fidelity.bulk_dwell=0.004"});
+  const auto proto = geometry::Protocol::biaxial(deg2rad(6), deg2rad(6), deg2rad(3), s.omega());
+  Simulation sim(s, tiny_settled_bed(), proto);
+  sim.compute_forces();
+  const double tilt_end = deg2rad(3) / s.omega();
+  while (sim.time() + sim.dt() < tilt_end) sim.step();
+  const std::size_t before = count_frozen(sim);
+  EXPECT_GT(static_cast<double>(before), 0.1 * static_cast<double>(sim.local_count()));
+  std::size_t fewest = before;
+  const double quarter_dwell = 0.25 * 0.004 + 10 * sim.dt();
+  while (sim.time() < tilt_end + quarter_dwell + sim.dt()) {
+    sim.step();
+    fewest = std::min(fewest, count_frozen(sim));
+  }
+  EXPECT_EQ(fewest, 0u);
+  while (sim.time() < tilt_end + 4 * 0.004) sim.step();
+  const std::size_t after = count_frozen(sim);
+  EXPECT_GT(static_cast<double>(after), 0.1 * static_cast<double>(sim.local_count()));
+  std::printf("segment change: frozen %zu before, %zu fewest after, %zu four dwells later\n",
+              before, fewest, after);
 }
 
 TEST(RigidBulk, RestartContinuesBitwise) {
