@@ -68,28 +68,22 @@ void Simulation::update_bulk_states() {
   // too: their positions are refreshed every step and their anchors are their owners' as of the
   // last pass (sent with the ghost copies of the rebuild that followed it), which is what the
   // owner's own test below reads, so serial and decomposed runs decide alike.
+  // (The periodic cylinder turns about z: a particle wrapped across the period, or a ghost image
+  // of it, has not moved.)
   const Mat3 q = protocol_.orientation(time_);
   const double calm2 = b.calm_distance * b.calm_distance;
   b.calm.assign(all, 0);
-  for (std::size_t i = 0; i < all; ++i) {
-    Vec3 d = q.tmul(p_.x[i]) - p_.bulk_anchor[i];
-    // The periodic cylinder turns about z: a particle wrapped across the period (or a ghost
-    // image of it) has not moved.
-    if (cylinder_.periodic)
-      d.z -= 2 * cylinder_.half_length * std::nearbyint(d.z / (2 * cylinder_.half_length));
-    b.calm[i] = norm2(d) < calm2;
-  }
+  for (std::size_t i = 0; i < all; ++i)
+    b.calm[i] = norm2(cylinder_.nearest_image(q.tmul(p_.x[i]) - p_.bulk_anchor[i])) < calm2;
   // Unsettled: itself or a neighbour within reach not calm. Each pair of the (half) list marks
   // both ends; a pair across a rank border is in the list of both ranks.
   b.unsettled.assign(all, 0);
   const double skin = list_.skin();
-  const double period = 2 * cylinder_.half_length;
   for (std::size_t i = 0; i < n; ++i) {
     b.unsettled[i] |= !b.calm[i];
     for (std::uint32_t k = list_.start[i]; k < list_.start[i + 1]; ++k) {
       const std::uint32_t j = list_.nbr[k];
-      Vec3 d = p_.x[i] - p_.x[j];
-      if (cylinder_.periodic) d.z -= period * std::nearbyint(d.z / period);
+      const Vec3 d = cylinder_.nearest_image(p_.x[i] - p_.x[j]);
       const double reach = p_.radius[i] + p_.radius[j] + skin;
       if (norm2(d) >= reach * reach) continue;
       if (!b.calm[j]) b.unsettled[i] = 1;

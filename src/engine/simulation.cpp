@@ -568,7 +568,6 @@ double Simulation::wall_overlap(const Vec3& x, double r, Vec3& n, Vec3& point) c
 template <class Law>
 double Simulation::elastic_energy() const {
   double e = 0;
-  const double period = 2 * cylinder_.half_length;
   const auto& tab = tables<Law>();
   for (std::size_t i = 0; i < n_local_; ++i) {
     Vec3 nrm, point;
@@ -582,8 +581,7 @@ double Simulation::elastic_energy() const {
     }
     for (std::uint32_t k = list_.start[i]; k < list_.start[i + 1]; ++k) {
       const std::uint32_t j = list_.nbr[k];
-      Vec3 d = p_.x[i] - p_.x[j];
-      if (cylinder_.periodic) d.z -= period * std::nearbyint(d.z / period);
+      const Vec3 d = cylinder_.nearest_image(p_.x[i] - p_.x[j]);
       const double ovp = p_.radius[i] + p_.radius[j] - norm(d);
       // A pair across a rank border is held by both ranks: half from each.
       const double share = j >= n_local_ ? 0.5 : 1.0;

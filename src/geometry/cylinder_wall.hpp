@@ -45,6 +45,12 @@ struct CylinderWall {
   bool near_cap(const Vec3& x, double r, double skin) const {
     return !periodic && std::fabs(x.z) > half_length - r - skin;
   }
+  // The separation d of two points as its nearest periodic image (z wrapped into one period when
+  // periodic; unchanged otherwise). The pair loops keep their own inline copy (kPeriodic).
+  Vec3 nearest_image(Vec3 d) const {
+    if (periodic) d.z -= 2 * half_length * std::nearbyint(d.z / (2 * half_length));
+    return d;
+  }
   // A particle whose centre left the cylinder has escaped (periodic: only radially).
   bool escaped(const Vec3& x) const {
     return x.x * x.x + x.y * x.y > radius * radius || (!periodic && std::fabs(x.z) > half_length);
