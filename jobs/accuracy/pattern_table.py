@@ -6,8 +6,13 @@ over replicas (Student t) and each tier's difference from the reference with Wel
 The first tier present in the order reference, standard, fast, preview is the reference.
 
 usage: jobs/accuracy/pattern_table.py OUT ITERATIONS [--point "theta_z=57;theta_x=57"]
+                                      [--split KEY=REF,OTHER,...]
 (--point: only the cases whose params hold every given name=value, for campaigns of several
 points, jobs/accuracy/campaign_tiers.sh;
+--split: OUT is one campaign, and its cases are compared by the value of a swept KEY instead of by
+tier folder, the first value being the reference, e.g. --split fidelity.bulk=dynamic,rigid
+(jobs/accuracy/rigid_pattern.sh); points that differ only in such a key share their replicas'
+beds, so the differences are also given paired by replica (Student t on the differences);
 radial segregation reported at iterations 1..ITERATIONS; each tier's wall per iteration from its
 own runs' length, so tiers run for different numbers of iterations can share one table)"""
 import glob
@@ -62,14 +67,14 @@ def load_tier(d, iterations, point=""):
                 continue
             cid = text(f.attrs["case_id"])
             it, rs = f["series/iteration"][:], f["series/radial_segregation"][:]
-            c = dict(id=cid, c_L=f["concentration/c_L"][:].ravel(),
+            c = dict(id=cid, replica=int(f.attrs.get("replica", -1)), c_L=f["concentration/c_L"][:].ravel(),
                      radial=[float(rs[np.argmin(np.abs(it - k))]) for k in range(1, iterations + 1)],
                      enrichment=enrich.get(cid, np.nan), wall=np.nan)
         log = os.path.join(os.path.dirname(path), "log.txt")
         if os.path.exists(log):
             txt = open(log).read()
             m = re.findall(r"\[run\] done: \d+ steps in ([0-9.e+]+) s", txt)
-            n = re.findall(r"s simulated, ([0-9.]+) iterations\)", txt)  # the run's own length
+            n = re.findall(r"s simulated, ([0-9.]+) iterations[,)]", txt)  # the run's own length
             if m and n:
                 c["wall"] = float(m[-1]) / float(n[-1])
         cases.append(c)
@@ -90,13 +95,29 @@ def main():
         k = args.index("--point")
         point = args[k + 1]
         del args[k:k + 2]
+    split = ""
+    if "--split" in args:
+        k = args.index("--split")
+        split = args[k + 1]
+        del args[k:k + 2]
     out, iterations = args[0], int(args[1])
-    data = {t: load_tier(os.path.join(out, t), iterations, point) for t in TIERS
-            if glob.glob(os.path.join(out, t, "cases", "*", "fields.h5"))}
-    data = {t: cases for t, cases in data.items() if cases}
-    if not data:
-        raise SystemExit(f"{out}: no finished case of any tier")
-    ref = next(t for t in TIERS if t in data)
+    if split:
+        key, values = split.split("=", 1)
+        data = {v: load_tier(out, iterations, ";".join(filter(None, [point, f"{key}={v}"])))
+                for v in values.split(",")}
+        data = {v: cases for v, cases in data.items() if cases}
+        if not data:
+            raise SystemExit(f"{out}: no finished case with any value of {key}")
+        ref = values.split(",")[0]
+        if ref not in data:
+            raise SystemExit(f"{out}: no finished case with {key}={ref} (the reference)")
+    else:
+        data = {t: load_tier(os.path.join(out, t), iterations, point) for t in TIERS
+                if glob.glob(os.path.join(out, t, "cases", "*", "fields.h5"))}
+        data = {t: cases for t, cases in data.items() if cases}
+        if not data:
+            raise SystemExit(f"{out}: no finished case of any tier")
+        ref = next(t for t in TIERS if t in data)
     ref_maps = np.array([c["c_L"] for c in data[ref]])
     for t, cases in data.items():
         for k, c in enumerate(cases):
@@ -111,7 +132,8 @@ def main():
                 for k in range(iterations)]
     if point:
         print(f"# point: {point}")
-    print(f"# reference tier: {ref}; mean ± 95% CI (N replicas); Δ = tier − {ref} ± Welch 95%")
+    what = split.split("=")[0] if split else "tier"
+    print(f"# reference {what}: {ref}; mean ± 95% CI (N replicas); Δ = {what} − {ref} ± Welch 95%")
     print("| observable | " + " | ".join(data) + " |")
     print("|---|" + "---|" * len(data))
     for name, get in metrics:
@@ -125,6 +147,12 @@ def main():
                 if len(va) >= 2 and len(vb) >= 2:
                     h = welch_half_width([va.var(ddof=1)], [len(va)], [vb.var(ddof=1)], [len(vb)])[0]
                     s += f"; Δ {va.mean() - vb.mean():+.3g} ± {h:.2g}"
+                if split:  # common beds: the same replica's difference, paired by Student t
+                    ref_by = {c["replica"]: get(c) for c in data[ref]}
+                    d = [get(c) - ref_by[c["replica"]] for c in cases if c["replica"] in ref_by]
+                    m, ci, n = mean_ci(d)
+                    if n >= 2:
+                        s += f"; paired Δ {m:+.3g} ± {ci:.2g}"
             cells.append(s)
         print(f"| {name} | " + " | ".join(cells) + " |")
 

@@ -124,9 +124,13 @@ Expansion expand(const CampaignSpec& spec) {
       for (const auto& p : c.params) {
         canon += ";" + p.name + "=" + p.value.text;
         shown += (shown.empty() ? "" : ";") + p.name + "=" + display(p.value);
-        const bool protocol = p.name == "theta_z" || p.name == "theta_x" ||
-                              p.name.rfind("protocol.", 0) == 0 || p.name.rfind("output.", 0) == 0;
-        if (!protocol) c.bed_text += p.name + "=" + p.value.text + ";";
+        // Keys that act only after the bed is settled (the protocol, the output, the rigid-bulk
+        // option) leave the seed alone: points that differ only in them run on common beds, so
+        // their differences are paired (e.g. fidelity.bulk = dynamic against rigid).
+        const bool after_bed =
+            p.name == "theta_z" || p.name == "theta_x" || p.name.rfind("protocol.", 0) == 0 ||
+            p.name.rfind("output.", 0) == 0 || p.name.rfind("fidelity.bulk", 0) == 0;
+        if (!after_bed) c.bed_text += p.name + "=" + p.value.text + ";";
       }
       canon += ";scene=" + e.base_hash + ";collect=" + spec.collect.canonical();
       c.params_text = shown;

@@ -338,5 +338,27 @@ TEST(Expand, RigidBulkKeysEnterTheIdOnlyWhenTheBulkIsRigid) {
   EXPECT_NE(expand(s).cases[0].id, rigid);
 }
 
+TEST(Expand, ASweptBulkOptionKeepsTheBedsCommon) {
+  // dynamic against rigid is a paired comparison: the same replica runs on the same bed in both
+  // points. A key that shapes the bed (the fill fraction) still gives another seed.
+  const CampaignSpec s = parse_campaign(
+      with_campaign("[[sweep]]\n\"fidelity.bulk\" = [\"dynamic\", \"rigid\"]\n", "replicas = 2"),
+      "test.toml", ".");
+  const Expansion e = expand(s);
+  ASSERT_EQ(e.cases.size(), 4u);
+  ASSERT_EQ(e.points.size(), 2u);
+  for (const auto& a : e.cases)
+    for (const auto& b : e.cases)
+      if (a.point_id != b.point_id) {
+        EXPECT_EQ(case_seed(s, a, 1) == case_seed(s, b, 1), a.replica == b.replica)
+            << a.params_text << " / " << b.params_text;
+      }
+  const CampaignSpec f =
+      parse_campaign(with_campaign("[[sweep]]\nf = [0.15, 0.3]\n"), "test.toml", ".");
+  const Expansion ef = expand(f);
+  ASSERT_EQ(ef.cases.size(), 2u);
+  EXPECT_NE(case_seed(f, ef.cases[0], 1), case_seed(f, ef.cases[1], 1));
+}
+
 }  // namespace
 }  // namespace tumble::campaign

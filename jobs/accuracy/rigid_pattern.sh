@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# The rigid bulk where there is a pattern (docs/accuracy.md, "Rigid bulk"): one campaign of SCENE
+# at TIER and one protocol point (default (57°, 57°)) with `fidelity.bulk` swept over dynamic and
+# rigid, REPLICAS replicas on common beds (the bulk option does not enter the seed), ITERATIONS
+# iterations, NP ranks (cases on 1-rank groups, side by side, so both options see the same load);
+# then `tumble analyze campaign` (island enrichment) and jobs/accuracy/pattern_table.py --split:
+# wall per iteration, island enrichment, c_L pattern correlation with dynamic's mean map, radial
+# segregation at the end of every iteration, each with rigid − dynamic by Welch and paired.
+# usage: jobs/accuracy/rigid_pattern.sh [SCENE=scenes/bst_small.toml] [TIER=fast] [REPLICAS=3]
+#                                       [ITERATIONS=8] [NP=2]
+#   THETA="57 57" the point; ACCURACY_OUT (default results/rigid_pattern/<scene>_<tier>)
+# Rerunning resumes: the campaign skips its finished cases.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+SCENE=${1:-scenes/bst_small.toml}
+TIER=${2:-fast}
+REPLICAS=${3:-3}
+ITERATIONS=${4:-8}
+NP=${5:-2}
+read -r TZ TX <<< "${THETA:-57 57}"
+source jobs/lib/bench_common.sh
+OUT=$(realpath -m "${ACCURACY_OUT:-results/rigid_pattern/$(basename "$SCENE" .toml)_$TIER}")
+mkdir -p "$OUT"
+bench_header
+echo "# $SCENE at $TIER, ($TZ, $TX), dynamic vs rigid, $REPLICAS replicas, $ITERATIONS iterations, $NP ranks"
+# The maps average the stroboscopic samples from iteration 3 on (the pattern, not the mixing
+# transient: docs/report.md Sec. 5b), on the 16 x 16 lab-frame grid of campaign/bst_small_islands.
+from=$(( ITERATIONS < 6 ? ITERATIONS / 2 : 3 ))
+cat > "$OUT/campaign.toml" <<EOF
+# Written by jobs/accuracy/rigid_pattern.sh.
+[campaign]
+name = "rigid_pattern"
+scene = "$(realpath "$SCENE")"
+output_dir = "$OUT"
+seed = 57
+replicas = $REPLICAS
+tier = "$TIER"
+bed_cache = "$(realpath -m beds)"
+progress_interval = 120
+
+[overrides]
+"protocol.iterations" = $ITERATIONS
+
+[[sweep]]
+theta_z = $TZ
+theta_x = $TX
+"fidelity.bulk" = ["dynamic", "rigid"]
+
+[collect]
+fields = ["concentration", "series"]
+iterations = [$from, $ITERATIONS]
+samples_per_iteration = 1
+grid = 16
+frame = "lab"
+EOF
+run_tier_campaign "$OUT" "$TIER" "$NP"
+/usr/bin/python3 jobs/accuracy/pattern_table.py "$OUT" "$ITERATIONS" \
+  --split fidelity.bulk=dynamic,rigid
