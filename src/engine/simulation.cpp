@@ -133,6 +133,7 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     const parallel::Box root{{-R, -R, -hz}, {R, R, hz}};
     dom_ = std::make_unique<parallel::Domain>(comm, root, cylinder_.periodic ? s.length : 0.0,
                                               s.rebalance_threshold);
+    if (s.bulk == Bulk::rigid) dom_->weigh_frozen(s.frozen_weight);
     halo_reach_ = 2 * rmax + skin;
   }
 }

@@ -44,8 +44,15 @@ Domain::~Domain() {
   if (!finalized && comm_ != MPI_COMM_NULL) MPI_Comm_free(&comm_);
 }
 
-double Domain::measure_imbalance(std::size_t n_local) const {
-  const double n = static_cast<double>(n_local);
+void Domain::weigh(const Particles& p) {
+  weight_.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i)
+    weight_[i] = p.bulk_state[i] == -1 ? frozen_weight_ : 1.0;
+}
+
+double Domain::measure_imbalance() const {
+  double n = 0;
+  for (double w : weight_) n += w;
   double mx = 0, sum = 0;
   MPI_Allreduce(&n, &mx, 1, MPI_DOUBLE, MPI_MAX, comm_);
   MPI_Allreduce(&n, &sum, 1, MPI_DOUBLE, MPI_SUM, comm_);
@@ -76,17 +83,20 @@ void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& record
                         int history_width) {
   const double t0 = MPI_Wtime();
   if (!have_tree_) {
-    tree_ = RcbTree::build(comm_, root_, p.x, p.size());
+    weigh(p);
+    tree_ = RcbTree::build(comm_, root_, p.x, p.size(), weight_.data());
     have_tree_ = true;
     ++bisections_;
   }
   migrate(p);
-  imbalance_ = measure_imbalance(p.size());
-  if (imbalance_ > threshold_) {  // the bed has moved: bisect again on the current positions
-    tree_ = RcbTree::build(comm_, root_, p.x, p.size());
+  weigh(p);
+  imbalance_ = measure_imbalance();
+  if (imbalance_ > threshold_) {  // the bed has moved (or frozen): bisect again where it is now
+    tree_ = RcbTree::build(comm_, root_, p.x, p.size(), weight_.data());
     ++bisections_;
     migrate(p);
-    imbalance_ = measure_imbalance(p.size());
+    weigh(p);
+    imbalance_ = measure_imbalance();
   }
   // Contact records: to every rank near the pair (both owners are within `reach` of the anchor).
   std::vector<std::vector<double>> out(size_);

@@ -15,7 +15,8 @@ double distance2(const Box& b, const Vec3& p) {
 }
 
 RcbTree RcbTree::build(MPI_Comm comm, const Box& root, const std::vector<Vec3>& x,
-                       std::size_t count) {
+                       std::size_t count, const double* weight) {
+  const auto w = [weight](std::size_t i) { return weight ? weight[i] : 1.0; };
   int nranks = 1;
   MPI_Comm_size(comm, &nranks);
   RcbTree t;
@@ -57,10 +58,10 @@ RcbTree RcbTree::build(MPI_Comm comm, const Box& root, const std::vector<Vec3>& 
       a[s] = bx.lo[dim[s]];
       b[s] = bx.hi[dim[s]];
     }
-    // Totals per node and the target count below each cut.
+    // Totals per node and the target weight below each cut.
     std::vector<double> local(m, 0), total(m);
     for (std::size_t i = 0; i < count; ++i)
-      if (slot[node_of[i]] >= 0) local[slot[node_of[i]]] += 1;
+      if (slot[node_of[i]] >= 0) local[slot[node_of[i]]] += w(i);
     MPI_Allreduce(local.data(), total.data(), static_cast<int>(m), MPI_DOUBLE, MPI_SUM, comm);
     std::vector<double> target(m);
     for (std::size_t s = 0; s < m; ++s) {
@@ -74,7 +75,7 @@ RcbTree RcbTree::build(MPI_Comm comm, const Box& root, const std::vector<Vec3>& 
       std::fill(local.begin(), local.end(), 0.0);
       for (std::size_t i = 0; i < count; ++i) {
         const int s = slot[node_of[i]];
-        if (s >= 0 && x[i][dim[s]] < cut[s]) local[s] += 1;
+        if (s >= 0 && x[i][dim[s]] < cut[s]) local[s] += w(i);
       }
       MPI_Allreduce(local.data(), total.data(), static_cast<int>(m), MPI_DOUBLE, MPI_SUM, comm);
       for (std::size_t s = 0; s < m; ++s) (total[s] < target[s] ? a[s] : b[s]) = cut[s];

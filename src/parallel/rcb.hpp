@@ -1,11 +1,11 @@
 #pragma once
 // Recursive coordinate bisection of a box over the ranks of a communicator, weighted by particle
-// count: a half-full tumbler is far from uniform, so equal boxes would leave ranks idle. Every
-// node splits its rank range [r0, r1) into halves n/2 and n - n/2 (any rank count works, 3 too)
-// along the longest side of its particles' bounding box, at the coordinate that puts the same
-// fraction of the node's particles below the cut. Each cut is found by bisection on the coordinate
-// with one Allreduce per trial for a whole tree level at once, so building the tree costs ~60
-// log2(P) reductions whatever P is.
+// count (or by a work weight per particle): a half-full tumbler is far from uniform, so equal
+// boxes would leave ranks idle. Every node splits its rank range [r0, r1) into halves n/2 and
+// n - n/2 (any rank count works, 3 too) along the longest side of its particles' bounding box, at
+// the coordinate that puts the same fraction of the node's weight below the cut. Each cut is found
+// by bisection on the coordinate with one Allreduce per trial for a whole tree level at once, so
+// building the tree costs ~60 log2(P) reductions whatever P is.
 #include <mpi.h>
 
 #include <cstdint>
@@ -26,8 +26,9 @@ class RcbTree {
   explicit RcbTree(const Box& root) : root_(root) { nodes_.push_back({-1, 0, 0, 1, -1, -1, root}); }
 
   // Collective over `comm`: builds the tree for its size from every rank's local positions.
+  // `weight`: each particle's share of the work (nullptr: 1 each, the particle count).
   static RcbTree build(MPI_Comm comm, const Box& root, const std::vector<Vec3>& x,
-                       std::size_t count);
+                       std::size_t count, const double* weight = nullptr);
 
   // Owner rank of a point (points outside the root box go to the nearest leaf along each cut).
   int owner(const Vec3& p) const;

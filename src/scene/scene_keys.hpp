@@ -138,6 +138,8 @@ struct ReposeTilt {
     "rigid bulk: a frozen particle thaws when its moving neighbours push it harder than this many times its weight") \
   X(double, rebalance_threshold, "parallel.rebalance_threshold", 1.1, 1, 100, \
     "domain-decomposed runs: re-bisect when max/mean particles per rank exceeds this") \
+  X(double, frozen_weight, "parallel.frozen_weight", 1, 0.01, 1, \
+    "rigid bulk on several ranks: a frozen particle's share of a moving one's work when the ranks' regions are cut (1: by count)") \
   X(double, snapshot_interval, "output.snapshot_interval", 0, 0, 1e9, \
     "simulated time between snapshots (0 = once per iteration)") \
   X(double, checkpoint_interval, "output.checkpoint_interval", 0, 0, 1e9, \

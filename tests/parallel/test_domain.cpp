@@ -203,15 +203,50 @@ TEST(Domain, CylinderScenesMatchSerial) {
   }
 }
 
+// The bisection weighted by work: points spread evenly along x, those at x < 0 weighing 0.1 (a
+// frozen bulk), the others 1. Cut by count, the ranks' weights differ by far more than the 10%
+// a rebalance tolerates; cut by weight, every rank holds the same weight to within a few points
+// (the cuts fall between points), and the ranks on the light side hold more points.
+TEST(Domain, BisectionWeightedByWorkSharesTheWeight) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const parallel::Box root{{-1, -0.1, -0.1}, {1, 0.1, 0.1}};
+  const int n = 6000;  // over all ranks; this rank holds every size-th, so all ranks take part
+  std::vector<Vec3> x;
+  std::vector<double> w;
+  for (int k = rank; k < n; k += size) {
+    const double xk = -1 + 2 * (k + 0.5) / n;
+    x.push_back({xk, 0.05 * std::sin(7.0 * k), 0.05 * std::cos(5.0 * k)});
+    w.push_back(xk < 0 ? 0.1 : 1.0);
+  }
+  const auto spread = [&](const parallel::RcbTree& t, bool by_weight) {
+    std::vector<double> per(size, 0.0);
+    for (std::size_t i = 0; i < x.size(); ++i) per[t.owner(x[i])] += by_weight ? w[i] : 1.0;
+    MPI_Allreduce(MPI_IN_PLACE, per.data(), size, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    double mx = 0, sum = 0;
+    for (double v : per) mx = std::max(mx, v), sum += v;
+    return mx / (sum / size);
+  };
+  const parallel::RcbTree by_count = parallel::RcbTree::build(MPI_COMM_WORLD, root, x, x.size());
+  const parallel::RcbTree by_work =
+      parallel::RcbTree::build(MPI_COMM_WORLD, root, x, x.size(), w.data());
+  EXPECT_LT(spread(by_count, false), 1.01);
+  EXPECT_GT(spread(by_count, true), 1.3);
+  EXPECT_LT(spread(by_work, true), 1.01);
+  EXPECT_GT(spread(by_work, false), 1.3);
+}
+
 // fidelity.bulk = "rigid" on P ranks against 1: the frozen state migrates with its particles and
 // reaches the ghosts, the free surface is reduced over the ranks, and every freeze/thaw decision
 // comes out the same, so the trajectories agree to round-off as the dynamic ones do. A short dwell
 // and a generous calm distance make particles freeze (and some thaw) within the 2,000 steps; a thin
-// skin moves particles between ranks every few steps.
+// skin moves particles between ranks every few steps; the cuts, made afresh at every rebuild, weigh
+// a frozen particle 0.12 of a moving one, so the regions move as the bulk freezes and thaws.
 TEST(Domain, RigidBulkMatchesSerial) {
-  const Scene s =
-      tiny({"fidelity.bulk=rigid", "fidelity.bulk_dwell=0.004", "fidelity.bulk_calm_distance=0.1",
-            "neighbor.skin=0.05", "parallel.rebalance_threshold=1.02"});
+  const Scene s = tiny({"fidelity.bulk=rigid", "fidelity.bulk_dwell=0.004",
+                        "fidelity.bulk_calm_distance=0.1", "neighbor.skin=0.05",
+                        "parallel.rebalance_threshold=1.0", "parallel.frozen_weight=0.12"});
   const Particles bed = tiny_bed(s);
   Simulation serial(s, bed, biaxial(s));
   Simulation par(s, share_of(bed, MPI_COMM_WORLD), biaxial(s), 0, 0, MPI_COMM_WORLD);
@@ -235,6 +270,7 @@ TEST(Domain, RigidBulkMatchesSerial) {
   EXPECT_EQ(differ, 0u);
   EXPECT_LT(max_deviation(serial.particles(), all), 1e-9 * s.d_small);
   EXPECT_EQ(par.global_count(), static_cast<std::int64_t>(bed.size()));
+  EXPECT_GT(par.domain()->bisections(), 1);
 }
 
 // The same on the Rapaport cylinder (closed ends, axis z) from its settled bed (Froude 0.08,
