@@ -142,9 +142,15 @@ void write_results(const std::string& path, const RunState& s, const RunResult& 
 void log_done(std::ostream* log, const RunState& s, const RunResult& res) {
   const Simulation& sim = s.sim;
   long long ghosts = 0;  // over all ranks (collective, before the rank-0-only log)
+  // The least and most time any rank spent in the halo refresh: the refresh waits for the slowest
+  // neighbour, so the spread says how unevenly the work is shared (the busiest rank waits least).
+  double refresh_min = 0, refresh_max = 0;
   if (const parallel::Domain* dom = sim.domain()) {
     long long mine = dom->ghosts();
     MPI_Allreduce(&mine, &ghosts, 1, MPI_LONG_LONG, MPI_SUM, dom->comm());
+    const double t = dom->refresh_seconds();
+    MPI_Allreduce(&t, &refresh_min, 1, MPI_DOUBLE, MPI_MIN, dom->comm());
+    MPI_Allreduce(&t, &refresh_max, 1, MPI_DOUBLE, MPI_MAX, dom->comm());
   }
   if (!log) return;
   *log << "[run] done: " << res.steps << " steps in " << std::setprecision(4) << res.wall_seconds
@@ -154,8 +160,8 @@ void log_done(std::ostream* log, const RunState& s, const RunResult& res) {
     *log << " on " << dom->size() << " ranks, imbalance " << std::fixed << std::setprecision(3)
          << dom->imbalance() << ", " << ghosts << " ghosts, " << dom->bisections()
          << " bisections, " << sim.rebuilds() << " rebuilds; rank 0 in halo refresh "
-         << dom->refresh_seconds() << " s, in migration + ghost exchange " << dom->rebuild_seconds()
-         << " s";
+         << dom->refresh_seconds() << " s (ranks " << refresh_min << "-" << refresh_max
+         << " s), in migration + ghost exchange " << dom->rebuild_seconds() << " s";
   *log << "); results in " << res.results_file << ", snapshots in " << s.scene.output_dir
        << "/snapshots.xdmf\n";
 }
