@@ -185,14 +185,20 @@ void Dispatcher::line(const std::string& event, bool counts) {
     eta_in.queued_cost -= c;
   }
   const double eta = estimate_eta(eta_in);
-  const int running = static_cast<int>(running_.size());
-  const int left = in_.total - done_ - failed_ - running;
+  // A group that still runs a case may already hold its next one (started() says "next"): that
+  // one is counted as next, not as running, so "running" never exceeds the groups.
+  std::set<std::vector<int>> groups;
+  for (const auto& [idx, held] : running_) groups.insert(held.ranks);
+  const int running = static_cast<int>(groups.size());
+  const int next = static_cast<int>(running_.size()) - running;
+  const int left = in_.total - done_ - failed_ - static_cast<int>(running_.size());
   std::ostringstream os;
   os << "[campaign] ";
   if (!event.empty()) os << event << "\n[campaign] ";
-  os << "done " << done_ << " | running " << running << " | failed " << failed_ << " | left "
-     << left << " of " << in_.total << " | elapsed " << format_hms(since(t0_)) << " | ETA "
-     << format_hms(eta);
+  os << "done " << done_ << " | running " << running;
+  if (next > 0) os << " | next " << next;
+  os << " | failed " << failed_ << " | left " << left << " of " << in_.total << " | elapsed "
+     << format_hms(since(t0_)) << " | ETA " << format_hms(eta);
   *in_.out << os.str() << std::endl;
   last_line_ = Clock::now();
 }

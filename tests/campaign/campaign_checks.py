@@ -6,6 +6,7 @@ import glob
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 
@@ -191,6 +192,20 @@ def compare_ensembles(a, b, tol):
                     if not np.array_equal(fa["series"][axis][ra][:k], fb["series"][axis][rb][:k]):
                         fail("%s: series %s differs" % (pid, axis))
     return worst
+
+
+def running_within_groups(out, text, groups):
+    """Every progress line counts at most one running case per group (a group's next case, held
+    while it finishes the last, is "next"), and the counts add up to the total."""
+    seen = 0
+    for m in re.finditer(r"\[campaign\] done (\d+) \| running (\d+)(?: \| next (\d+))? \| "
+                         r"failed (\d+) \| left (\d+) of (\d+)", text):
+        done, running, nxt, failed, left, total = (int(g or 0) for g in m.groups())
+        seen += 1
+        if running > groups or done + running + nxt + failed + left != total:
+            fail("%s: progress line '%s' (%d groups)" % (out, m.group(0), groups))
+    if not seen:
+        fail("%s: no progress line" % out)
 
 
 def mpiexec_command(mpiexec, np_flag, n):

@@ -87,6 +87,7 @@ def groups_of(out):
 
 
 ref_out = run("groups_k1", 2, 1)
+cc.running_within_groups("groups_k1", ref_out, 2)
 done_ref, _, _ = cc.check_against_cases("groups_k1")
 if len(done_ref) != 4:
     cc.fail("the 1-rank reference has %d cases done, not 4" % len(done_ref))
@@ -99,6 +100,7 @@ for out, ranks, want_groups, layout in (
         ("groups_4ranks_k2", 4, {"0-1", "2-3"}, "groups of 2: 2 groups)"),
         ("groups_3ranks_k2", 3, {"0-1"}, "groups of 2: 1 group, rank 2 idle")):
     text = run(out, ranks, 2)
+    cc.running_within_groups(out, text, len(want_groups))
     if layout not in text:
         cc.fail("%s: the start line does not say '%s':\n%s" % (out, layout, text))
     done, failed, _ = cc.check_against_cases(out)
