@@ -90,7 +90,7 @@ void Dispatcher::started(const CaseTask& t, const std::vector<int>& ranks) {
   // that one ends, and the line says so rather than "start".
   bool held = false;
   for (const auto& [idx, other] : running_) held = held || other.ranks == ranks;
-  running_[t.case_index] = {ranks, Clock::now()};
+  running_[t.case_index] = {ranks, Clock::now(), t};
   CaseRecord r = record(t, ranks);
   r.status = "running";
   r.start = utc_now();
@@ -104,8 +104,16 @@ void Dispatcher::started(const CaseTask& t, const std::vector<int>& ranks) {
 std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
   const Held held = running_.at(t.case_index);
   running_.erase(t.case_index);
-  for (auto& [idx, other] : running_)  // the group's next case, held while this one ran
-    if (other.ranks == held.ranks) other.handed = std::max(other.handed, Clock::now());
+  // The group's next case, held while this one ran, starts now: its age counts from here, and
+  // the manifest gets its real start (its first record has the hand-out time).
+  for (auto& [idx, other] : running_)
+    if (other.ranks == held.ranks) {
+      other.handed = std::max(other.handed, Clock::now());
+      CaseRecord next = record(other.task, other.ranks);
+      next.status = "running";
+      next.start = utc_now();
+      in_.manifest->append(next);
+    }
   const double k = static_cast<double>(held.ranks.size());
   CaseRecord r = record(t, held.ranks);
   r.start = o.start;

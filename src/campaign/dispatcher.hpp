@@ -56,7 +56,8 @@ class Dispatcher {
   std::map<std::size_t, Clock::time_point> not_before_;  // case index -> earliest retry
   struct Held {
     std::vector<int> ranks;    // the group's world ranks, leader first
-    Clock::time_point handed;  // when the case was handed out
+    Clock::time_point handed;  // when the case was handed out (or, if held, when it started)
+    CaseTask task;
   };
   std::map<std::size_t, Held> running_;  // case index -> who runs it
   int done_ = 0, failed_ = 0;
