@@ -10,7 +10,8 @@
 // computed as for any pair (the frozen one acts as a rough wall grain). It thaws at the next
 // rebuild when a neighbour moves (leaves its calm distance) or the surface comes within the
 // margin, at the first rebuild of a new protocol segment, and at the very next step when its
-// moving neighbours push it harder than bulk_thaw_force times its weight.
+// moving neighbours push it harder than bulk_thaw_force times its weight (checked in kick_drift,
+// simulation.cpp). Frozen ghosts are turned by every rank itself, not refreshed.
 //
 // States change only at rebuilds, which every rank passes at the same step, and every decision is
 // a comparison of values that serial and decomposed runs compute alike (displacements from
@@ -192,21 +193,6 @@ void Simulation::sync_dormant() const {
   const std::size_t w = static_cast<std::size_t>(list_.history_layout().width);
   for (std::size_t c = 0; c < b.full.size(); ++c)
     for (std::size_t d = 0; d < w; ++d) list_.history[w * b.full[c] + d] = b.history[w * c + d];
-}
-
-void Simulation::check_thaw_forces() {
-  // The force on a frozen particle is its moving neighbours' alone (no frozen pairs, no wall).
-  const double limit = bulk_.thaw_acceleration;
-  bool any = false;
-  for (std::size_t i = 0; i < n_local_; ++i) {
-    if (p_.bulk_state[i] != -1) continue;
-    const double a = p_.inv_mass[i];
-    if (norm2(p_.f[i]) * (a * a) > limit * limit) {
-      p_.bulk_state[i] = -2;
-      any = true;
-    }
-  }
-  if (any) force_rebuild_ = thaw_pending_ = true;
 }
 
 Mat3 Simulation::wall_turn_over_step() const { return turn_between(protocol_, time_, time_ + dt_); }

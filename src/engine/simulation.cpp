@@ -271,8 +271,10 @@ void Simulation::restore(const neighbor::ContactHistory& history) {
   h.set_records(history.records());
   rebuild_lists(&h);
   last_build_step_ = step_;
-  // The uninterrupted run passed its freeze/thaw pass at this step (the checkpoint's rebuild), and
-  // rebuilds at the next one if a particle was thawing (check_thaw_forces).
+  // The uninterrupted run passed its freeze/thaw pass at this step (the checkpoint's rebuild). Its
+  // thaw-force check comes at the next step's start (kick_drift), from the force kept in the
+  // checkpoint; a checkpoint of a binary before that check moved holds its thawing particles (-2)
+  // instead, which rebuild at the next step.
   bulk_.last_update = step_;
   bulk_.last_update_time = time_;
   bulk_.segment = protocol_.segment_count(time_);
@@ -306,7 +308,10 @@ void Simulation::maybe_rebuild(double max_displacement2) {
 // displacement since the last neighbour rebuild found in the same pass. kRotation = false (no
 // friction anywhere: no torque ever) leaves the spins alone. kRigid: a frozen particle (bulk_state
 // < 0) is turned by the wall's rotation over the step instead (from the protocol's orientations
-// at both ends: exact across a change of segment), with the wall's velocity and spin.
+// at both ends: exact across a change of segment), with the wall's velocity and spin; so are the
+// frozen ghosts, which the halo refresh leaves out. Its force, still the last step's (its moving
+// neighbours' alone: no frozen pairs, no wall), is checked first: pushed harder than
+// bulk_thaw_force times its weight, it thaws at this step's rebuild (it still turns this step).
 template <bool kRotation, bool kRigid>
 double Simulation::kick_drift(double kick) {
   const std::size_t n = n_local_;
@@ -319,7 +324,6 @@ double Simulation::kick_drift(double kick) {
   const double* __restrict ii = p_.inv_inertia.data();
   const Vec3* __restrict x_ref = list_.reference_positions().data();
   const bool have_ref = list_.reference_positions().size() == n;
-  const std::int32_t* __restrict state = p_.bulk_state.data();
   Mat3 turn;
   Vec3 omega{};
   if constexpr (kRigid) {
@@ -329,8 +333,15 @@ double Simulation::kick_drift(double kick) {
   // Ghost accumulators collect the partner halves of border pairs; they are thrown away.
   for (std::size_t g = n; g < p_.size(); ++g) f[g] = t[g] = Vec3{};
   double max_d2 = have_ref ? 0.0 : 1e300;
+  const double thaw2 = kRigid ? bulk_.thaw_acceleration * bulk_.thaw_acceleration : 0.0;
+  bool thawing = false;
+  std::int32_t* __restrict state = p_.bulk_state.data();
   for (std::size_t i = 0; i < n; ++i) {
     if (kRigid && state[i] < 0) {
+      if (state[i] == -1 && norm2(f[i]) * (im[i] * im[i]) > thaw2) {
+        state[i] = -2;
+        thawing = true;
+      }
       x[i] = turn * x[i];
       v[i] = cross(omega, x[i]);
       if constexpr (kRotation) {
@@ -347,6 +358,16 @@ double Simulation::kick_drift(double kick) {
     }
     f[i] = Vec3{};
     if (have_ref) max_d2 = std::max(max_d2, norm2(x[i] - x_ref[i]));
+  }
+  if constexpr (kRigid) {
+    // The same operations on the same values as the owner's: bitwise the owner's result.
+    for (std::size_t g = n; g < p_.size(); ++g) {
+      if (state[g] >= 0) continue;
+      x[g] = turn * x[g];
+      v[g] = cross(omega, x[g]);
+      if constexpr (kRotation) w[g] = omega;
+    }
+    if (thawing) force_rebuild_ = thaw_pending_ = true;
   }
   return max_d2;
 }
@@ -375,13 +396,12 @@ void Simulation::step() {
   // the same positions (the forces see the half-step velocity in either form).
   const double kick = leapfrog_ && step_ > 0 ? dt_ : 0.5 * dt_;
   const double max_d2 = (this->*kick_drift_)(kick);
-  if (dom_) dom_->refresh_ghosts(p_, n_local_);
+  if (dom_) dom_->refresh_ghosts(p_, n_local_, rigid_);
   time_ += dt_;
   ++step_;
   maybe_rebuild(max_d2);  // may permute particles
   (this->*pair_kernel_)();
   (this->*wall_kernel_)();
-  if (rigid_) check_thaw_forces();
   if (leapfrog_) return;
   (this->*half_kick_)();
 }

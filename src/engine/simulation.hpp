@@ -132,9 +132,6 @@ class Simulation {
   // Rigid bulk: writes the active pairs' springs back into the whole list (before it is rebuilt
   // or read).
   void sync_dormant() const;
-  // Rigid bulk, after the forces: a frozen particle pushed hard by moving neighbours thaws at the
-  // next step's (forced) rebuild.
-  void check_thaw_forces();
   template <class Law, bool kFriction, class Wall>
   void rough_wall_forces(const Wall& wall);
   template <class Law, bool kFriction>
@@ -218,7 +215,7 @@ class Simulation {
   bool rigid_ = false;
   RigidBulk bulk_;
   double frozen_fraction_ = 0;
-  bool thaw_pending_ = false;  // check_thaw_forces asked for the next rebuild
+  bool thaw_pending_ = false;  // kick_drift found a thaw: this step's rebuild is forced by it
   std::uint64_t thaw_rebuilds_ = 0;
   double (Simulation::*elastic_energy_)() const = nullptr;  // of the scene's law
 };

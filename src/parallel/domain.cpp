@@ -140,35 +140,41 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach) {
   rebuild_seconds_ += MPI_Wtime() - t0;
 }
 
-void Domain::refresh_ghosts(Particles& p, std::size_t n_local) {
+void Domain::refresh_ghosts(Particles& p, std::size_t n_local, bool skip_frozen) {
   // Point to point with the neighbours only: what each sends and receives is fixed until the
-  // next rebuild, and arrives in the same order as the ghosts were appended.
+  // next rebuild, and arrives in the same order as the ghosts were appended (by source rank).
   const double t0 = MPI_Wtime();
+  const std::int32_t* state = p.bulk_state.data();
+  auto sent = [&](std::size_t i) { return !skip_frozen || state[i] >= 0; };
   std::size_t total_out = 0;
   for (const auto& s : send_) total_out += s.size();
   buf_out_.resize(total_out * kMotionDoubles);
   buf_in_.resize((p.size() - n_local) * kMotionDoubles);
   std::vector<MPI_Request> req;
   req.reserve(2 * size_);
-  std::size_t at = 0;
+  std::size_t at = 0, g = n_local;
   for (int r = 0; r < size_; ++r) {
     if (recv_rows_[r] == 0) continue;
+    int rows = 0;
+    for (const std::size_t end = g + recv_rows_[r]; g < end; ++g) rows += sent(g);
+    if (rows == 0) continue;
     req.emplace_back();
-    MPI_Irecv(buf_in_.data() + at, recv_rows_[r] * kMotionDoubles, MPI_DOUBLE, r, 7, comm_,
-              &req.back());
-    at += static_cast<std::size_t>(recv_rows_[r]) * kMotionDoubles;
+    MPI_Irecv(buf_in_.data() + at, rows * kMotionDoubles, MPI_DOUBLE, r, 7, comm_, &req.back());
+    at += static_cast<std::size_t>(rows) * kMotionDoubles;
   }
   double* o = buf_out_.data();
   for (int r = 0; r < size_; ++r) {
-    if (send_[r].empty()) continue;
     double* begin = o;
-    for (std::uint32_t i : send_[r]) put_row<field::kGhostRefresh>(o, p, i);
+    for (std::uint32_t i : send_[r])
+      if (sent(i)) put_row<field::kGhostRefresh>(o, p, i);
+    if (o == begin) continue;
     req.emplace_back();
     MPI_Isend(begin, static_cast<int>(o - begin), MPI_DOUBLE, r, 7, comm_, &req.back());
   }
   MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
   const double* in = buf_in_.data();
-  for (std::size_t g = n_local; g < p.size(); ++g) take_row<field::kGhostRefresh>(in, p, g);
+  for (std::size_t q = n_local; q < p.size(); ++q)
+    if (sent(q)) take_row<field::kGhostRefresh>(in, p, q);
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 

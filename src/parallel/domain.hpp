@@ -45,7 +45,10 @@ class Domain {
   // rank's particle that lies within `reach` of this rank's domain; remembers what went where.
   void exchange_ghosts(Particles& p, std::size_t n_local, double reach);
   // Collective, every step: refreshes the ghosts' positions and velocities from their owners.
-  void refresh_ghosts(Particles& p, std::size_t n_local);
+  // `skip_frozen` (the rigid bulk): particles with bulk_state < 0 are left out on both sides;
+  // every rank turns its frozen ghosts with the wall itself, as their owners turn them (the
+  // states of both sides are those of the last exchange_ghosts, so both agree on what is sent).
+  void refresh_ghosts(Particles& p, std::size_t n_local, bool skip_frozen = false);
 
   // Collective. All particles of every rank, sorted by id (analyses, bed files).
   Particles gather_all(const Particles& p, std::size_t n_local) const;
