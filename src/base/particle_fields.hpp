@@ -54,7 +54,9 @@ constexpr unsigned kMotion = kState | kGhostRefresh;  // ... that neighbours rea
   X(std::int32_t, bulk_state,               /* fidelity.bulk = "rigid" (engine/rigid_bulk.cpp): */ \
     field::kState | field::kOptionalOnRead) /* 0 moving, > 0 steps calm, -1 frozen, -2 thawing */ \
   X(Vec3, bulk_anchor,                      /* rigid bulk: tumbler-frame position where its */   \
-    field::kState | field::kOptionalOnRead) /* stay began (calm while it moves less from it) */
+    field::kState | field::kOptionalOnRead) /* stay began (calm while it moves less from it) */  \
+  X(Vec3, bulk_gravity,                     /* rigid bulk, frozen: gravity's direction in the */ \
+    field::kState | field::kOptionalOnRead) /* tumbler's frame when it froze */
 // clang-format on
 
 // A build may append fields of its own: define TUMBLE_EXTRA_PARTICLE_FIELDS_HEADER as a header

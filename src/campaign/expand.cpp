@@ -65,13 +65,15 @@ Expansion expand(const CampaignSpec& spec) {
   // The rigid bulk's keys change nothing while the bulk is dynamic (bitwise: test_rigid_bulk.cpp),
   // and leaving them out then keeps the ids that campaigns had before the keys existed.
   // parallel.frozen_weight moves only the cuts between ranks (round-off, as the rank count does,
-  // which is not in the id either).
+  // which is not in the id either). fidelity.bulk_thaw_gravity came after rigid campaigns
+  // existed: at its default (2: the rule off, as before it) it stays out, and their ids stand.
   const bool dynamic_bulk = e.base.bulk == Bulk::dynamic;
   std::string base_text;
   for (const auto& [k, v] : e.base.resolved)
     if (!campaign_controlled_key(k) &&
         (k.rfind("output.", 0) != 0 || k == "output.checkpoint_interval") &&
-        k != "parallel.frozen_weight" && !(dynamic_bulk && k.rfind("fidelity.bulk", 0) == 0))
+        k != "parallel.frozen_weight" && !(dynamic_bulk && k.rfind("fidelity.bulk", 0) == 0) &&
+        !(k == "fidelity.bulk_thaw_gravity" && e.base.bulk_thaw_gravity == 2))
       base_text += k + "=" + v + "\n";
   e.base_hash = hex16(fnv1a64(base_text));
   // A window beyond the base run is a campaign error, not one failure per case.

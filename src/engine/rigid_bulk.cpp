@@ -9,9 +9,11 @@
 // stay in the whole list (dormant) and restart from there. Pairs with a moving particle are
 // computed as for any pair (the frozen one acts as a rough wall grain). It thaws at the next
 // rebuild when a neighbour moves (leaves its calm distance) or the surface comes within the
-// margin, at the first rebuild of a new protocol segment, and at the very next step when its
-// moving neighbours push it harder than bulk_thaw_force times its weight (checked in kick_drift,
-// simulation.cpp). Frozen ghosts are turned by every rank itself, not refreshed.
+// margin, at the first rebuild of a new protocol segment, at a rebuild when gravity, seen from the
+// tumbler, has changed by more than bulk_thaw_gravity g since it froze (off at the default 2), and
+// at the very next step when its moving neighbours push it harder than bulk_thaw_force times its
+// weight (checked in kick_drift, simulation.cpp). Frozen ghosts are turned by every rank itself,
+// not refreshed.
 //
 // States change only at rebuilds, which every rank passes at the same step, and every decision is
 // a comparison of values that serial and decomposed runs compute alike (displacements from
@@ -115,6 +117,13 @@ void Simulation::update_bulk_states() {
   // A change of the protocol's segment (a new axis or speed, a tilt) thaws everything: the bed
   // re-forms its free surface and flowing layer about the new axis, and whatever stays put
   // refreezes one dwell later.
+  // Gravity's turn: a frozen particle's held contacts carried its weight when it froze, and still
+  // do so as they were; gravity, seen from the tumbler, has since turned with the wall. Released,
+  // it would accelerate relative to the wall by about g |ĝ_T(now) - ĝ_T(freeze)| (its moving
+  // neighbours' push aside, which the thaw force covers): past bulk_thaw_gravity g it thaws.
+  const Vec3 g_now = q.tmul(gravity_ * (1 / std::sqrt(norm2(gravity_))));
+  const double thaw_g2 = b.thaw_gravity * b.thaw_gravity;
+  const bool gravity_rule = b.thaw_gravity < 2;  // |ĝ - ĝ'| <= 2: at 2 the rule never fires
   const std::int64_t elapsed = step_ - b.last_update;
   const std::int64_t segment = protocol_.segment_count(time_);
   const bool new_segment = segment != b.segment;
@@ -128,13 +137,19 @@ void Simulation::update_bulk_states() {
     const bool deep = surface - (p_.x[i].y + p_.radius[i]) > b.margin;
     const bool eligible = deep && !b.unsettled[i] && !new_segment;
     std::int32_t& s = p_.bulk_state[i];
+    Vec3& g_frozen = p_.bulk_gravity[i];
     if (s < 0) {
-      if (s == -2 || !eligible) s = 0;
+      // (A checkpoint from before the field has no direction: it counts from the restart.)
+      if (norm2(g_frozen) == 0) g_frozen = g_now;
+      const bool turned = gravity_rule && norm2(g_now - g_frozen) > thaw_g2;
+      if (s == -2 || !eligible || turned) s = 0;
+      gravity_thaws_ += turned;
     } else if (!eligible) {
       s = 0;
     } else {
       const std::int64_t calm = std::min<std::int64_t>(s + elapsed, std::int64_t{1} << 30);
       s = calm >= b.dwell_steps ? -1 : static_cast<std::int32_t>(calm);
+      if (s < 0) g_frozen = g_now;
     }
     frozen += s < 0;
   }

@@ -105,6 +105,7 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     bulk_.update_every = std::max<std::int64_t>(10, bulk_.dwell_steps / 4);
     bulk_.margin = s.bulk_margin * s.d_large;
     bulk_.thaw_acceleration = s.bulk_thaw_force * s.g;
+    bulk_.thaw_gravity = s.bulk_thaw_gravity;
     bulk_.bin = s.d_large;
     const double hz = is_cylinder_ ? 0.5 * s.length : s.radius;
     bulk_.x0 = -s.radius;

@@ -87,6 +87,9 @@ class Simulation {
   // Rebuilds forced by a frozen particle pushed past fidelity.bulk_thaw_force (this rank's count;
   // a diagnostic of the rigid bulk's cost).
   std::uint64_t thaw_rebuilds() const { return thaw_rebuilds_; }
+  // Frozen particles thawed because gravity had turned past fidelity.bulk_thaw_gravity since
+  // they froze (this rank's count).
+  std::uint64_t gravity_thaws() const { return gravity_thaws_; }
   // Which pair loop runs: "plain" (one contact at a time, the reference) or the lane kernel
   // chosen for this CPU (engine/contact_lanes.hpp).
   const char* pair_kernel_name() const { return pair_kernel_name_; }
@@ -202,6 +205,7 @@ class Simulation {
     std::int64_t update_every = 0;  // the longest run of steps without a freeze/thaw pass
     double margin = 0;              // [m] below the free surface
     double thaw_acceleration = 0;   // [m/s^2]: thaw_force g
+    double thaw_gravity = 2;        // |change of gravity's direction| since freezing (2: never)
     double bin = 0, x0 = 0, z0 = 0;
     int nx = 0, nz = 0;
     std::vector<double> top;  // highest particle top per column (-1e300: empty)
@@ -217,6 +221,7 @@ class Simulation {
   double frozen_fraction_ = 0;
   bool thaw_pending_ = false;  // kick_drift found a thaw: this step's rebuild is forced by it
   std::uint64_t thaw_rebuilds_ = 0;
+  std::uint64_t gravity_thaws_ = 0;
   double (Simulation::*elastic_energy_)() const = nullptr;  // of the scene's law
 };
 

@@ -243,7 +243,8 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
       res.wall_seconds > 0 ? res.steps * static_cast<double>(res.particles) / res.wall_seconds : 0;
   if (sim->rigid_bulk() && log)  // rank 0's counts (every rank rebuilds together)
     *log << "[run] rigid bulk: " << sim->rebuilds() << " neighbour rebuilds, "
-         << sim->thaw_rebuilds() << " of them forced by thaws on rank 0\n";
+         << sim->thaw_rebuilds() << " of them forced by thaws, " << sim->gravity_thaws()
+         << " particles thawed by gravity's turn on rank 0\n";
   if (sim->fast_rebuilds() > 0 && log)
     *log << "[run] warning: " << sim->fast_rebuilds() << " of " << sim->rebuilds()
          << " neighbour rebuilds came < 10 steps apart (one every " << std::setprecision(3)

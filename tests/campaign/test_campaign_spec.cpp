@@ -334,6 +334,13 @@ TEST(Expand, RigidBulkKeysEnterTheIdOnlyWhenTheBulkIsRigid) {
   s.overrides.push_back("fidelity.bulk=rigid");
   const std::string rigid = expand(s).cases[0].id;
   EXPECT_NE(rigid, plain);
+  // The gravity rule (added later) at its default, off, leaves the rigid ids alone; on, it
+  // enters them.
+  s.overrides.push_back("fidelity.bulk_thaw_gravity=2");
+  EXPECT_EQ(expand(s).cases[0].id, rigid);
+  s.overrides.push_back("fidelity.bulk_thaw_gravity=0.5");
+  EXPECT_NE(expand(s).cases[0].id, rigid);
+  s.overrides.push_back("fidelity.bulk_thaw_gravity=2");
   s.overrides.push_back("fidelity.bulk_dwell=8");
   EXPECT_NE(expand(s).cases[0].id, rigid);
 }

@@ -24,7 +24,7 @@
 using namespace tumble;
 
 // The row width and the checkpoint come from the list: one more double per particle, no edit.
-static_assert(parallel::kStateDoubles == 27 + 1, "the dummy field travels in the state rows");
+static_assert(parallel::kStateDoubles == 30 + 1, "the dummy field travels in the state rows");
 static_assert(parallel::kMotionDoubles == 9, "but not in the ghost refresh");
 
 namespace {
