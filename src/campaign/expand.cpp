@@ -138,7 +138,6 @@ Expansion expand(const CampaignSpec& spec) {
       }
       canon += ";scene=" + e.base_hash + ";collect=" + spec.collect.canonical();
       c.params_text = shown;
-      c.point_id = hex16(mix64(fnv1a64(canon)));
       c.time_limit = sw.time_limit >= 0 ? sw.time_limit : spec.time_limit;
       c.ranks = sw.ranks_per_case > 0 ? sw.ranks_per_case : spec.ranks_per_case;
       c.ranks_key = sw.ranks_per_case > 0 ? sw.ranks_key : "campaign.ranks_per_case";
@@ -148,6 +147,14 @@ Expansion expand(const CampaignSpec& spec) {
       std::string scene_error;
       try {
         Scene s = case_scene(spec, c, "case", "beds", 1);
+        // A point the sweep makes rigid on a dynamic template: the template's hash left the bulk's
+        // thresholds out, so they enter here (as they would for a rigid template), and a change
+        // of their defaults gives other cases instead of mixing two settings in one point.
+        if (dynamic_bulk && s.bulk == Bulk::rigid)
+          for (const auto& [k, v] : s.resolved)
+            if (k.rfind("fidelity.bulk_", 0) == 0 &&
+                !(k == "fidelity.bulk_thaw_gravity" && s.bulk_thaw_gravity == 2))
+              canon += ";" + k + "=" + v;
         (void)make_collect_plan(spec.collect, s);
         const double steps = std::llround(s.run_time() / s.time_step());
         double particles = 1000;  // a given bed file: its size is not known without reading it
@@ -156,6 +163,7 @@ Expansion expand(const CampaignSpec& spec) {
       } catch (const InputError& err) {
         scene_error = err.what();
       }
+      c.point_id = hex16(mix64(fnv1a64(canon)));
 
       const int replicas = sw.replicas > 0 ? sw.replicas : spec.replicas;
       for (int r = 0; r < replicas; ++r) {

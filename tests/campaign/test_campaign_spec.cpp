@@ -345,6 +345,28 @@ TEST(Expand, RigidBulkKeysEnterTheIdOnlyWhenTheBulkIsRigid) {
   EXPECT_NE(expand(s).cases[0].id, rigid);
 }
 
+TEST(Expand, ASweptRigidBulkHasItsThresholdsInItsId) {
+  // A dynamic template swept to rigid: the template's hash leaves the bulk's keys out (they change
+  // nothing while it is dynamic), so the rigid point's id must take them from its own scene, or a
+  // change of a threshold would mix two settings in one point. The dynamic point keeps its id.
+  CampaignSpec s = parse_campaign(
+      with_campaign("[[sweep]]\n\"fidelity.bulk\" = [\"dynamic\", \"rigid\"]\n"), "test.toml", ".");
+  const Expansion a = expand(s);
+  s.overrides.push_back("fidelity.bulk_dwell=0.1");
+  const Expansion b = expand(s);
+  ASSERT_EQ(a.cases.size(), 2u);
+  ASSERT_EQ(b.cases.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const bool rigid = a.cases[k].params_text.find("rigid") != std::string::npos;
+    EXPECT_EQ(a.cases[k].id == b.cases[k].id, !rigid) << a.cases[k].params_text;
+    EXPECT_EQ(a.cases[k].point_id == b.cases[k].point_id, !rigid) << a.cases[k].params_text;
+  }
+  // The gravity rule at its "off" value stays out here too.
+  s.overrides.back() = "fidelity.bulk_thaw_gravity=2";
+  const Expansion c = expand(s);
+  for (std::size_t k = 0; k < 2; ++k) EXPECT_EQ(a.cases[k].id, c.cases[k].id);
+}
+
 TEST(Expand, ASweptBulkOptionKeepsTheBedsCommon) {
   // dynamic against rigid is a paired comparison: the same replica runs on the same bed in both
   // points. A key that shapes the bed (the fill fraction) still gives another seed.
