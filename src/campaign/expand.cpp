@@ -49,6 +49,13 @@ ParamValue num(double v) {
 
 std::string display(const ParamValue& v) { return v.numeric ? display_number(v.num) : v.text; }
 
+// A rigid-bulk key added after rigid campaigns existed, at the value that turns its rule off
+// (as it was before the key): it stays out of case ids, so their ids stand.
+// fidelity.bulk_thaw_gravity = 2 is the only one.
+bool added_bulk_key_off(const std::string& key, const Scene& scene) {
+  return key == "fidelity.bulk_thaw_gravity" && scene.bulk_thaw_gravity == 2;
+}
+
 }  // namespace
 
 Expansion expand(const CampaignSpec& spec) {
@@ -65,15 +72,14 @@ Expansion expand(const CampaignSpec& spec) {
   // The rigid bulk's keys change nothing while the bulk is dynamic (bitwise: test_rigid_bulk.cpp),
   // and leaving them out then keeps the ids that campaigns had before the keys existed.
   // parallel.frozen_weight moves only the cuts between ranks (round-off, as the rank count does,
-  // which is not in the id either). fidelity.bulk_thaw_gravity came after rigid campaigns
-  // existed: at its default (2: the rule off, as before it) it stays out, and their ids stand.
+  // which is not in the id either).
   const bool dynamic_bulk = e.base.bulk == Bulk::dynamic;
   std::string base_text;
   for (const auto& [k, v] : e.base.resolved)
     if (!campaign_controlled_key(k) &&
         (k.rfind("output.", 0) != 0 || k == "output.checkpoint_interval") &&
         k != "parallel.frozen_weight" && !(dynamic_bulk && k.rfind("fidelity.bulk", 0) == 0) &&
-        !(k == "fidelity.bulk_thaw_gravity" && e.base.bulk_thaw_gravity == 2))
+        !added_bulk_key_off(k, e.base))
       base_text += k + "=" + v + "\n";
   e.base_hash = hex16(fnv1a64(base_text));
   // A window beyond the base run is a campaign error, not one failure per case.
@@ -152,8 +158,7 @@ Expansion expand(const CampaignSpec& spec) {
         // of their defaults gives other cases instead of mixing two settings in one point.
         if (dynamic_bulk && s.bulk == Bulk::rigid)
           for (const auto& [k, v] : s.resolved)
-            if (k.rfind("fidelity.bulk_", 0) == 0 &&
-                !(k == "fidelity.bulk_thaw_gravity" && s.bulk_thaw_gravity == 2))
+            if (k.rfind("fidelity.bulk_", 0) == 0 && !added_bulk_key_off(k, s))
               canon += ";" + k + "=" + v;
         (void)make_collect_plan(spec.collect, s);
         const double steps = std::llround(s.run_time() / s.time_step());

@@ -155,8 +155,11 @@ void Domain::refresh_ghosts(Particles& p, std::size_t n_local, bool skip_frozen)
   std::size_t at = 0, g = n_local;
   for (int r = 0; r < size_; ++r) {
     if (recv_rows_[r] == 0) continue;
-    int rows = 0;
-    for (const std::size_t end = g + recv_rows_[r]; g < end; ++g) rows += sent(g);
+    int rows = recv_rows_[r];  // all of them, unless the frozen are left out
+    if (skip_frozen) {
+      rows = 0;
+      for (const std::size_t end = g + recv_rows_[r]; g < end; ++g) rows += sent(g);
+    }
     if (rows == 0) continue;
     req.emplace_back();
     MPI_Irecv(buf_in_.data() + at, rows * kMotionDoubles, MPI_DOUBLE, r, 7, comm_, &req.back());
