@@ -12,8 +12,13 @@
 // margin, at the first rebuild of a new protocol segment, at a rebuild when gravity, seen from the
 // tumbler, has changed by more than bulk_thaw_gravity g since it froze (off at the default 2), and
 // at the very next step when its moving neighbours push it harder than bulk_thaw_force times its
-// weight (checked in kick_drift, simulation.cpp). Frozen ghosts are turned by every rank itself,
-// not refreshed.
+// weight (checked in kick_drift_rigid below).
+//
+// A frozen particle's place is a function of time alone: turn(t_b -> t) x_b, from its position
+// x_b at the last rebuild (time t_b), so every rank computes the same bits for it, owner or ghost
+// holder, whenever it asks. The step computes it only for the frozen particles that are in a pair
+// with a moving one; the others wait for the next rebuild or reader (sync_frozen), and frozen
+// ghosts are not refreshed. A step then costs nothing for a frozen particle no moving one touches.
 //
 // States change only at rebuilds, which every rank passes at the same step, and every decision is
 // a comparison of values that serial and decomposed runs compute alike (displacements from
@@ -159,25 +164,33 @@ void Simulation::update_bulk_states() {
 }
 
 void Simulation::set_pair_view() {
-  // Nothing frozen here (ghosts included): the whole list, without a copy (the rigid path then
-  // costs only its pass at each rebuild).
-  const bool any_frozen = rigid_ && std::any_of(p_.bulk_state.begin(), p_.bulk_state.end(),
-                                                [](std::int32_t s) { return s < 0; });
-  if (!any_frozen) {
-    bulk_.full.clear();
+  RigidBulk& b = bulk_;
+  const std::size_t n = n_local_, all = p_.size();
+  const std::int32_t* state = p_.bulk_state.data();
+  // Nothing frozen here (ghosts included): the whole list, without a copy, and every particle
+  // moves (the rigid path then costs only its pass at each rebuild).
+  b.any_frozen = rigid_ && std::any_of(p_.bulk_state.begin(), p_.bulk_state.end(),
+                                       [](std::int32_t s) { return s < 0; });
+  b.moving.clear();
+  b.exposed.clear();
+  b.exposed_ghosts.clear();
+  if (!b.any_frozen) {
+    b.full.clear();
+    b.x_build.clear();
+    b.moving.resize(n);
+    for (std::size_t i = 0; i < n; ++i) b.moving[i] = static_cast<std::uint32_t>(i);
     pairs_ = {list_.start.data(), list_.nbr.data(), list_.row.data(), list_.history.data(),
               list_.nbr.size()};
     return;
   }
-  // The pairs with at least one moving particle, in list order, with copies of their springs.
-  RigidBulk& b = bulk_;
-  const std::size_t n = n_local_;
+  // The pairs with at least one moving particle, in list order, with copies of their springs;
+  // their frozen ends are the frozen particles the step must turn.
   const std::size_t w = static_cast<std::size_t>(list_.history_layout().width);
-  const std::int32_t* state = p_.bulk_state.data();
   b.start.resize(n + 1);
   b.nbr.resize(list_.nbr.size());
   b.full.resize(list_.nbr.size());
   b.history.resize(w * list_.nbr.size());
+  b.touched.assign(all, 0);
   std::uint32_t count = 0;
   for (std::size_t i = 0; i < n; ++i) {
     b.start[i] = count;
@@ -185,6 +198,8 @@ void Simulation::set_pair_view() {
     for (std::uint32_t k = list_.start[i]; k < list_.start[i + 1]; ++k) {
       const std::uint32_t j = list_.nbr[k];
       if (frozen_i && state[j] < 0) continue;
+      b.touched[i] |= frozen_i;
+      b.touched[j] |= state[j] < 0;
       b.nbr[count] = j;
       b.full[count] = k;
       for (std::size_t d = 0; d < w; ++d) b.history[w * count + d] = list_.history[w * k + d];
@@ -200,6 +215,134 @@ void Simulation::set_pair_view() {
     for (std::uint32_t k = b.start[i]; k < b.start[i + 1]; ++k)
       b.row[k] = static_cast<std::uint32_t>(i);
   pairs_ = {b.start.data(), b.nbr.data(), b.row.data(), b.history.data(), count};
+  // Who the step moves, and where the frozen are now (their origin until the next rebuild). A
+  // frozen particle outside every pair keeps no force or torque: none reaches it until it is in a
+  // pair again (the thaw-force check reads it then).
+  b.frozen_reach2 = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto k = static_cast<std::uint32_t>(i);
+    if (state[i] >= 0) {
+      b.moving.push_back(k);
+      continue;
+    }
+    b.frozen_reach2 = std::max(b.frozen_reach2, norm2(p_.x[i]));
+    if (b.touched[i]) {
+      b.exposed.push_back(k);
+    } else {
+      p_.f[i] = p_.t[i] = Vec3{};
+    }
+  }
+  for (std::size_t g = n; g < all; ++g)
+    if (state[g] < 0 && b.touched[g]) b.exposed_ghosts.push_back(static_cast<std::uint32_t>(g));
+  b.x_build.assign(p_.x.begin(), p_.x.end());
+  b.build_time = b.synced_time = time_;
+}
+
+// The first kick and drift with the rigid bulk: the moving particles as kick_drift does (in their
+// order), then the frozen ones in a pair with a moving one, turned with the wall from where they
+// were at the last rebuild, with the wall's velocity and spin at the step's end. Their force,
+// still the last step's (their moving neighbours' alone: no frozen pairs, no wall), is checked
+// first: pushed harder than bulk_thaw_force times its weight, a particle thaws at this step's
+// rebuild (it still turns this step). The frozen particles' displacement since the rebuild, a
+// rotation, is at most |turn - 1| |x_b|: that bound stands for theirs in the rebuild criterion.
+template <bool kRotation>
+double Simulation::kick_drift_rigid(double kick) {
+  RigidBulk& b = bulk_;
+  const std::size_t n = n_local_;
+  Vec3* __restrict x = p_.x.data();
+  Vec3* __restrict v = p_.v.data();
+  Vec3* __restrict w = p_.w.data();
+  Vec3* __restrict f = p_.f.data();
+  Vec3* __restrict t = p_.t.data();
+  const double* __restrict im = p_.inv_mass.data();
+  const double* __restrict ii = p_.inv_inertia.data();
+  const Vec3* __restrict x_ref = list_.reference_positions().data();
+  const bool have_ref = list_.reference_positions().size() == n;
+  // Ghost accumulators collect the partner halves of border pairs; they are thrown away.
+  for (std::size_t g = n; g < p_.size(); ++g) f[g] = t[g] = Vec3{};
+  double max_d2 = have_ref ? 0.0 : 1e300;
+  for (const std::uint32_t i : b.moving) {
+    v[i] += kick * (im[i] * f[i] + gravity_);
+    if constexpr (kRotation) {
+      w[i] += (kick * ii[i]) * t[i];
+      t[i] = Vec3{};
+    }
+    x[i] += dt_ * v[i];
+    f[i] = Vec3{};
+    if (have_ref) max_d2 = std::max(max_d2, norm2(x[i] - x_ref[i]));
+  }
+  if (!b.any_frozen) return max_d2;
+  const Mat3 turn = turn_between(protocol_, b.build_time, time_ + dt_);
+  const Vec3 omega = protocol_.omega(time_ + dt_);
+  const Vec3* __restrict xb = b.x_build.data();
+  const double thaw2 = b.thaw_acceleration * b.thaw_acceleration;
+  std::int32_t* __restrict state = p_.bulk_state.data();
+  bool thawing = false;
+  for (const std::uint32_t i : b.exposed) {
+    if (state[i] == -1 && norm2(f[i]) * (im[i] * im[i]) > thaw2) {
+      state[i] = -2;
+      thawing = true;
+    }
+    x[i] = turn * xb[i];
+    v[i] = cross(omega, x[i]);
+    if constexpr (kRotation) {
+      w[i] = omega;
+      t[i] = Vec3{};
+    }
+    f[i] = Vec3{};
+  }
+  for (const std::uint32_t g : b.exposed_ghosts) {
+    x[g] = turn * xb[g];
+    v[g] = cross(omega, x[g]);
+    if constexpr (kRotation) w[g] = omega;
+  }
+  if (have_ref) {
+    double off2 = 0;  // |turn - 1|^2, Frobenius
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        const double e = turn.a[r][c] - (r == c ? 1.0 : 0.0);
+        off2 += e * e;
+      }
+    max_d2 = std::max(max_d2, off2 * b.frozen_reach2);
+  }
+  if (thawing) force_rebuild_ = thaw_pending_ = true;
+  return max_d2;
+}
+
+template <bool kRotation>
+void Simulation::half_kick_rigid() {
+  const double h = 0.5 * dt_;
+  Vec3* __restrict v = p_.v.data();
+  Vec3* __restrict w = p_.w.data();
+  const Vec3* __restrict f = p_.f.data();
+  const Vec3* __restrict t = p_.t.data();
+  const double* __restrict im = p_.inv_mass.data();
+  const double* __restrict ii = p_.inv_inertia.data();
+  for (const std::uint32_t i : bulk_.moving) {  // the frozen are at the wall's velocity already
+    v[i] += h * (im[i] * f[i] + gravity_);
+    if constexpr (kRotation) w[i] += (h * ii[i]) * t[i];
+  }
+}
+
+template double Simulation::kick_drift_rigid<true>(double);
+template double Simulation::kick_drift_rigid<false>(double);
+template void Simulation::half_kick_rigid<true>();
+template void Simulation::half_kick_rigid<false>();
+
+void Simulation::sync_frozen() const {
+  const RigidBulk& b = bulk_;
+  if (!b.any_frozen || b.synced_time == time_) return;
+  // The same operations on the same values as kick_drift_rigid's at this time: the particles it
+  // turned come out unchanged.
+  const Mat3 turn = turn_between(protocol_, b.build_time, time_);
+  const Vec3 omega = protocol_.omega(time_);
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    if (p_.bulk_state[i] >= 0) continue;
+    p_.x[i] = turn * b.x_build[i];
+    p_.v[i] = cross(omega, p_.x[i]);
+    if (rotation_) p_.w[i] = omega;
+  }
+  b.synced_time = time_;
 }
 
 void Simulation::sync_dormant() const {
@@ -209,7 +352,5 @@ void Simulation::sync_dormant() const {
   for (std::size_t c = 0; c < b.full.size(); ++c)
     for (std::size_t d = 0; d < w; ++d) list_.history[w * b.full[c] + d] = b.history[w * c + d];
 }
-
-Mat3 Simulation::wall_turn_over_step() const { return turn_between(protocol_, time_, time_ + dt_); }
 
 }  // namespace tumble

@@ -87,19 +87,17 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     select_kernels<Law>(Law::pair_friction(s), Law::wall_friction(s), cylinder_.periodic);
   });
   if (force_general) rotation_ = true;
-  kick_drift_ =
-      rotation_ ? &Simulation::kick_drift<true, false> : &Simulation::kick_drift<false, false>;
-  half_kick_ =
-      rotation_ ? &Simulation::half_kick<true, false> : &Simulation::half_kick<false, false>;
+  kick_drift_ = rotation_ ? &Simulation::kick_drift<true> : &Simulation::kick_drift<false>;
+  half_kick_ = rotation_ ? &Simulation::half_kick<true> : &Simulation::half_kick<false>;
   // The rigid bulk (scene validation refuses it without rotation). Its calm distance is a
   // fraction of d_large; the free surface is found per column of d_large in the lab's x-z plane
   // (about half a large particle of the surface's rise per column at the repose angle).
   rigid_ = s.bulk == Bulk::rigid;
   if (rigid_) {
     kick_drift_ =
-        rotation_ ? &Simulation::kick_drift<true, true> : &Simulation::kick_drift<false, true>;
+        rotation_ ? &Simulation::kick_drift_rigid<true> : &Simulation::kick_drift_rigid<false>;
     half_kick_ =
-        rotation_ ? &Simulation::half_kick<true, true> : &Simulation::half_kick<false, true>;
+        rotation_ ? &Simulation::half_kick_rigid<true> : &Simulation::half_kick_rigid<false>;
     bulk_.calm_distance = s.bulk_calm_distance * s.d_large;
     bulk_.dwell_steps = static_cast<std::int64_t>(std::ceil(s.bulk_dwell / dt_));
     bulk_.update_every = std::max<std::int64_t>(10, bulk_.dwell_steps / 4);
@@ -151,6 +149,7 @@ std::int64_t Simulation::global_count() const {
 }
 
 Particles Simulation::gather_all() const {
+  sync_frozen();
   if (dom_) return dom_->gather_all(p_, n_local_);
   return p_;
 }
@@ -224,6 +223,7 @@ void Simulation::rebuild_lists(const neighbor::ContactHistory* history) {
     const double L = 2 * cylinder_.half_length;
     for (Vec3& x : p_.x) x.z -= L * std::floor((x.z + cylinder_.half_length) / L);
   }
+  sync_frozen();   // the frozen are binned (and migrated) where they are now
   sync_dormant();  // the rebuild carries the whole list's springs, dormant ones included
   if (dom_)
     rebuild_distributed(history);
@@ -296,7 +296,12 @@ void Simulation::maybe_rebuild(double max_displacement2) {
   }
   if (force_rebuild_ || max_displacement2 > half * half) {
     if (!force_rebuild_ && step_ - last_build_step_ < 10) ++fast_rebuilds_;
-    if (rigid_) update_bulk_states();
+    if (rigid_) {
+      // The pass reads every position; it must come before the states change (a particle
+      // frozen now is where it is, not where its last rebuild's position would put it).
+      sync_frozen();
+      update_bulk_states();
+    }
     thaw_rebuilds_ += thaw_pending_;
     thaw_pending_ = false;
     rebuild_lists(nullptr);
@@ -307,13 +312,9 @@ void Simulation::maybe_rebuild(double max_displacement2) {
 
 // First kick and drift; the force and torque accumulators are cleared and the largest
 // displacement since the last neighbour rebuild found in the same pass. kRotation = false (no
-// friction anywhere: no torque ever) leaves the spins alone. kRigid: a frozen particle (bulk_state
-// < 0) is turned by the wall's rotation over the step instead (from the protocol's orientations
-// at both ends: exact across a change of segment), with the wall's velocity and spin; so are the
-// frozen ghosts, which the halo refresh leaves out. Its force, still the last step's (its moving
-// neighbours' alone: no frozen pairs, no wall), is checked first: pushed harder than
-// bulk_thaw_force times its weight, it thaws at this step's rebuild (it still turns this step).
-template <bool kRotation, bool kRigid>
+// friction anywhere: no torque ever) leaves the spins alone. (The rigid bulk's version is
+// kick_drift_rigid, rigid_bulk.cpp.)
+template <bool kRotation>
 double Simulation::kick_drift(double kick) {
   const std::size_t n = n_local_;
   Vec3* __restrict x = p_.x.data();
@@ -325,55 +326,23 @@ double Simulation::kick_drift(double kick) {
   const double* __restrict ii = p_.inv_inertia.data();
   const Vec3* __restrict x_ref = list_.reference_positions().data();
   const bool have_ref = list_.reference_positions().size() == n;
-  Mat3 turn;
-  Vec3 omega{};
-  if constexpr (kRigid) {
-    turn = wall_turn_over_step();
-    omega = protocol_.omega(time_ + dt_);
-  }
   // Ghost accumulators collect the partner halves of border pairs; they are thrown away.
   for (std::size_t g = n; g < p_.size(); ++g) f[g] = t[g] = Vec3{};
   double max_d2 = have_ref ? 0.0 : 1e300;
-  const double thaw2 = kRigid ? bulk_.thaw_acceleration * bulk_.thaw_acceleration : 0.0;
-  bool thawing = false;
-  std::int32_t* __restrict state = p_.bulk_state.data();
   for (std::size_t i = 0; i < n; ++i) {
-    if (kRigid && state[i] < 0) {
-      if (state[i] == -1 && norm2(f[i]) * (im[i] * im[i]) > thaw2) {
-        state[i] = -2;
-        thawing = true;
-      }
-      x[i] = turn * x[i];
-      v[i] = cross(omega, x[i]);
-      if constexpr (kRotation) {
-        w[i] = omega;
-        t[i] = Vec3{};
-      }
-    } else {
-      v[i] += kick * (im[i] * f[i] + gravity_);
-      if constexpr (kRotation) {
-        w[i] += (kick * ii[i]) * t[i];
-        t[i] = Vec3{};
-      }
-      x[i] += dt_ * v[i];
+    v[i] += kick * (im[i] * f[i] + gravity_);
+    if constexpr (kRotation) {
+      w[i] += (kick * ii[i]) * t[i];
+      t[i] = Vec3{};
     }
+    x[i] += dt_ * v[i];
     f[i] = Vec3{};
     if (have_ref) max_d2 = std::max(max_d2, norm2(x[i] - x_ref[i]));
-  }
-  if constexpr (kRigid) {
-    // The same operations on the same values as the owner's: bitwise the owner's result.
-    for (std::size_t g = n; g < p_.size(); ++g) {
-      if (state[g] >= 0) continue;
-      x[g] = turn * x[g];
-      v[g] = cross(omega, x[g]);
-      if constexpr (kRotation) w[g] = omega;
-    }
-    if (thawing) force_rebuild_ = thaw_pending_ = true;
   }
   return max_d2;
 }
 
-template <bool kRotation, bool kRigid>
+template <bool kRotation>
 void Simulation::half_kick() {
   const std::size_t n = n_local_;
   const double h = 0.5 * dt_;
@@ -383,9 +352,7 @@ void Simulation::half_kick() {
   const Vec3* __restrict t = p_.t.data();
   const double* __restrict im = p_.inv_mass.data();
   const double* __restrict ii = p_.inv_inertia.data();
-  const std::int32_t* __restrict state = p_.bulk_state.data();
   for (std::size_t i = 0; i < n; ++i) {
-    if (kRigid && state[i] < 0) continue;  // already at the wall's velocity
     v[i] += h * (im[i] * f[i] + gravity_);
     if constexpr (kRotation) w[i] += (h * ii[i]) * t[i];
   }
@@ -547,6 +514,7 @@ void Simulation::cylinder_wall_forces() {
 }
 
 void Simulation::check_health() const {
+  sync_frozen();
   std::string problem;
   for (std::size_t i = 0; i < n_local_ && problem.empty(); ++i) {
     const Vec3& x = p_.x[i];
@@ -617,6 +585,7 @@ double Simulation::elastic_energy() const {
 }
 
 EnergyBreakdown Simulation::energy() const {
+  sync_frozen();
   EnergyBreakdown e;
   for (std::size_t i = 0; i < n_local_; ++i) {
     const double m = 1.0 / p_.inv_mass[i];
@@ -634,6 +603,7 @@ EnergyBreakdown Simulation::energy() const {
 }
 
 double Simulation::rms_speed() const {
+  sync_frozen();
   double s = 0;
   for (std::size_t i = 0; i < n_local_; ++i) s += norm2(p_.v[i]);
   const double n = sum(static_cast<double>(n_local_));

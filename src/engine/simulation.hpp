@@ -58,8 +58,16 @@ class Simulation {
 
   // This rank's particles: the owned ones first (local_count()), then the ghosts (parallel runs
   // only; copies of neighbours' particles, refreshed every step).
-  const Particles& particles() const { return p_; }
-  Particles& particles() { return p_; }
+  // With the rigid bulk, the frozen particles no moving one touches are brought to the present
+  // (turned with the wall) here, not every step.
+  const Particles& particles() const {
+    sync_frozen();
+    return p_;
+  }
+  Particles& particles() {
+    sync_frozen();
+    return p_;
+  }
   std::size_t local_count() const { return n_local_; }
   // Collective: every particle of the realization, sorted by id (a copy of particles() when
   // serial).
@@ -120,14 +128,21 @@ class Simulation {
   // pairs, lane kernel, accumulation (engine/contact_lanes.hpp); bitwise equal to pair_forces.
   // The scene's options (friction, periodic, one species) are in lane_kernel_, chosen once.
   void pair_forces_lanes();
-  // The integrator. kRigid (fidelity.bulk = rigid): frozen particles turn with the wall instead.
-  template <bool kRotation, bool kRigid>
+  // The integrator.
+  template <bool kRotation>
   double kick_drift(double kick);
-  template <bool kRotation, bool kRigid>
+  template <bool kRotation>
   void half_kick();
-  // The wall's rotation over the coming step and its angular velocity at the step's end (the
-  // frozen particles' motion; rigid_bulk.cpp).
-  Mat3 wall_turn_over_step() const;
+  // ... with the rigid bulk (rigid_bulk.cpp): the moving particles as above, the frozen ones that
+  // a moving particle touches turned with the wall, the other frozen ones left where they are
+  // until sync_frozen().
+  template <bool kRotation>
+  double kick_drift_rigid(double kick);
+  template <bool kRotation>
+  void half_kick_rigid();
+  // Rigid bulk: every frozen particle (owned and ghost) at its present place, velocity and spin
+  // (a no-op when they are current).
+  void sync_frozen() const;
   // Rigid bulk, at a neighbour rebuild: freezes and thaws (before the particles move to their
   // cells and ranks), then the pairs the force loops run.
   void update_bulk_states();
@@ -153,7 +168,9 @@ class Simulation {
   void rebuild_distributed(const neighbor::ContactHistory* history);
   double sum(double local) const;  // over the ranks (identity when serial)
 
-  Particles p_;
+  // mutable: with the rigid bulk the frozen particles that no moving one touches are turned with
+  // the wall lazily, by readers too (particles(), gather_all(), energy(); sync_frozen()).
+  mutable Particles p_;
   std::size_t n_local_ = 0;  // owned particles: p_[0, n_local_); ghosts after them
   std::unique_ptr<parallel::Domain> dom_;
   double halo_reach_ = 0;  // ghosts: particles within this distance of a rank's domain
@@ -209,9 +226,21 @@ class Simulation {
     double bin = 0, x0 = 0, z0 = 0;
     int nx = 0, nz = 0;
     std::vector<double> top;  // highest particle top per column (-1e300: empty)
-    std::vector<std::uint8_t> calm, unsettled;
+    std::vector<std::uint8_t> calm, unsettled, touched;
     std::vector<std::uint32_t> start, nbr, row, full;
     std::vector<double> history;
+    // Set with the pairs at every rebuild: whether anything is frozen; the owned moving particles;
+    // the frozen particles in a pair with a moving one (owned, then ghosts): the only frozen ones
+    // the step needs; every particle's position at the rebuild and its time (a frozen particle
+    // is at turn(build_time -> t) x_build at time t, whoever computes it, owner or ghost holder);
+    // the largest |x_build|^2 of an owned frozen particle (it bounds their displacement); the time
+    // up to which the frozen particles' state is current.
+    bool any_frozen = false;
+    std::vector<std::uint32_t> moving, exposed, exposed_ghosts;
+    std::vector<Vec3> x_build;
+    double build_time = 0;
+    double frozen_reach2 = 0;
+    mutable double synced_time = 0;
     std::int64_t segment = 0;      // the protocol's segment at the last pass
     std::int64_t last_update = 0;  // step of the last freeze/thaw pass
     double last_update_time = 0;   // ... and its time
