@@ -93,6 +93,9 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
   // fraction of d_large; the free surface is found per column of d_large in the lab's x-z plane
   // (about half a large particle of the surface's rise per column at the repose angle).
   rigid_ = s.bulk == Bulk::rigid;
+  // A dynamic run from a rigid run's checkpoint: every particle moves (the states are read where
+  // a particle is frozen, e.g. for the wall).
+  if (!rigid_) std::fill(p_.bulk_state.begin(), p_.bulk_state.end(), 0);
   if (rigid_) {
     kick_drift_ =
         rotation_ ? &Simulation::kick_drift_rigid<true> : &Simulation::kick_drift_rigid<false>;

@@ -48,7 +48,11 @@ std::int64_t steps_for(double interval, double dt, double fallback) {
 }
 
 // Keys that must agree between a checkpoint and the scene it is restarted with (physics and bed);
-// output, run-length and neighbour-list keys may differ (the skin changes no physics).
+// output, run-length and neighbour-list keys may differ (the skin changes no physics), and so may
+// the rigid bulk's: a rigid run's state is a state of the dynamic engine (its frozen particles at
+// the wall's velocity, their held springs in the contact records), so it may continue dynamic
+// (everything thawed: Simulation resets the states), a dynamic one rigid, or rigid with other
+// thresholds.
 void check_restart_compatible(const Scene& scene, const std::string& ckpt_scene_text) {
   const Scene old = parse_scene(ckpt_scene_text, {}, "checkpoint");
   std::string diffs;
@@ -56,7 +60,7 @@ void check_restart_compatible(const Scene& scene, const std::string& ckpt_scene_
     if (key.rfind("output.", 0) == 0 || key == "protocol.iterations" ||
         key == "protocol.duration" || key == "scene.output_dir" || key == "scene.name" ||
         key.rfind("fill.", 0) == 0 || key.rfind("neighbor.", 0) == 0 ||
-        key.rfind("parallel.", 0) == 0)
+        key.rfind("parallel.", 0) == 0 || key.rfind("fidelity.bulk", 0) == 0)
       continue;
     auto it = old.resolved.find(key);
     if (it == old.resolved.end() || it->second != value)
