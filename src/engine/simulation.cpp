@@ -166,7 +166,7 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
     records = history->records();
   } else if (list_.start.size() == n_local_ + 1) {
     neighbor::ContactHistory h;
-    list_.save_history(p_, h);
+    list_.save_history(p_, h, false);  // indexed after the move, where they arrive
     records = h.records();
   }
   p_.resize(n_local_);  // drop the ghosts

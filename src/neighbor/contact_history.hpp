@@ -57,7 +57,10 @@ class ContactHistory {
   const HistoryLayout& layout() const { return layout_; }
   int width() const { return layout_.width; }
 
-  void clear() { saved_.clear(); }
+  void clear() {
+    saved_.clear();
+    slots_.clear();
+  }
   // Phase 1: record the history of pair (id_i, id_j), `width` doubles at `h` as seen from i
   // (skips all-zero histories); `anchor` is where the pair is (the ranks whose domains lie near
   // it receive the record).
@@ -65,8 +68,11 @@ class ContactHistory {
   // Room for n records (a checkpoint saves every live spring: reserving them avoids keeping
   // twice their memory, the vector's doubling, at the checkpoint's peak).
   void reserve(std::size_t n) { saved_.reserve(n); }
-  // Sort the saved records for lookup (call between the phases).
+  // Index the saved records for lookup (call between the phases; their order is kept).
   void finalize();
+  // Order the records by (lo, hi) and index them (files: an order that does not depend on the
+  // particles' order in memory).
+  void sort_by_ids();
   // Phase 2: the history of (id_i, id_j) as seen from i into out[0, width), or zeros if the pair
   // had none.
   void lookup(std::int64_t id_i, std::int64_t id_j, double* out) const;
@@ -77,7 +83,6 @@ class ContactHistory {
   }
 
   const std::vector<SavedSpring>& records() const { return saved_; }
-  std::vector<SavedSpring>& mutable_records() { return saved_; }
   void set_records(std::vector<SavedSpring> r) {
     saved_ = std::move(r);
     finalize();
@@ -86,6 +91,12 @@ class ContactHistory {
  private:
   HistoryLayout layout_;
   std::vector<SavedSpring> saved_;
+  // Open addressing over the pair's ids: slots_[h] is a record's index + 1 (0: empty), a power of
+  // two at least twice the records. A distributed rebuild saves every live spring of the rank and
+  // looks each list pair up here; sorting the 88-byte records and searching them was a third of
+  // a 2-rank rigid step (docs/performance.md).
+  std::vector<std::uint32_t> slots_;
+  std::size_t slot_of(std::int64_t lo, std::int64_t hi) const;
 };
 
 }  // namespace tumble::neighbor

@@ -8,7 +8,7 @@
 
 namespace tumble::neighbor {
 
-void VerletList::save_history(const Particles& p, ContactHistory& out) const {
+void VerletList::save_history(const Particles& p, ContactHistory& out, bool sorted) const {
   out = ContactHistory(layout_);
   const std::size_t n = start.empty() ? 0 : start.size() - 1;
   const std::size_t w = static_cast<std::size_t>(layout_.width);
@@ -22,7 +22,7 @@ void VerletList::save_history(const Particles& p, ContactHistory& out) const {
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
       out.save(p.id[i], p.id[nbr[k]], history.data() + w * k, p.x[i]);
-  out.finalize();
+  if (sorted) out.sort_by_ids();
 }
 
 void VerletList::set_period_z(double period) {

@@ -35,8 +35,9 @@ class VerletList {
   void set_period_z(double period);
   double period_z() const { return period_z_; }
   // Saves the live histories of the current list (for a checkpoint, or migration); `out` takes
-  // this list's layout.
-  void save_history(const Particles& p, ContactHistory& out) const;
+  // this list's layout. `sorted`: ordered by ids and ready for lookup; otherwise in list order,
+  // not indexed (a migration indexes them where they arrive).
+  void save_history(const Particles& p, ContactHistory& out, bool sorted = true) const;
   const HistoryLayout& history_layout() const { return layout_; }
 
   std::vector<std::uint32_t> start;  // size n+1
