@@ -248,30 +248,14 @@ void Simulation::set_pair_view() {
 template <bool kRotation>
 double Simulation::kick_drift_rigid(double kick) {
   RigidBulk& b = bulk_;
-  const std::size_t n = n_local_;
+  double max_d2 = kick_drift_rows<kRotation>(b.moving, kick);  // ghosts' accumulators too
+  if (!b.any_frozen) return max_d2;
   Vec3* __restrict x = p_.x.data();
   Vec3* __restrict v = p_.v.data();
   Vec3* __restrict w = p_.w.data();
   Vec3* __restrict f = p_.f.data();
   Vec3* __restrict t = p_.t.data();
   const double* __restrict im = p_.inv_mass.data();
-  const double* __restrict ii = p_.inv_inertia.data();
-  const Vec3* __restrict x_ref = list_.reference_positions().data();
-  const bool have_ref = list_.reference_positions().size() == n;
-  // Ghost accumulators collect the partner halves of border pairs; they are thrown away.
-  for (std::size_t g = n; g < p_.size(); ++g) f[g] = t[g] = Vec3{};
-  double max_d2 = have_ref ? 0.0 : 1e300;
-  for (const std::uint32_t i : b.moving) {
-    v[i] += kick * (im[i] * f[i] + gravity_);
-    if constexpr (kRotation) {
-      w[i] += (kick * ii[i]) * t[i];
-      t[i] = Vec3{};
-    }
-    x[i] += dt_ * v[i];
-    f[i] = Vec3{};
-    if (have_ref) max_d2 = std::max(max_d2, norm2(x[i] - x_ref[i]));
-  }
-  if (!b.any_frozen) return max_d2;
   const Mat3 turn = turn_between(protocol_, b.build_time, time_ + dt_);
   const Vec3 omega = protocol_.omega(time_ + dt_);
   const Vec3* __restrict xb = b.x_build.data();
@@ -296,32 +280,19 @@ double Simulation::kick_drift_rigid(double kick) {
     v[g] = cross(omega, x[g]);
     if constexpr (kRotation) w[g] = omega;
   }
-  if (have_ref) {
-    double off2 = 0;  // |turn - 1|^2, Frobenius
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) {
-        const double e = turn.a[r][c] - (r == c ? 1.0 : 0.0);
-        off2 += e * e;
-      }
-    max_d2 = std::max(max_d2, off2 * b.frozen_reach2);
-  }
+  double off2 = 0;  // |turn - 1|^2, Frobenius
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      const double e = turn.a[r][c] - (r == c ? 1.0 : 0.0);
+      off2 += e * e;
+    }
   if (thawing) force_rebuild_ = thaw_pending_ = true;
-  return max_d2;
+  return std::max(max_d2, off2 * b.frozen_reach2);
 }
 
 template <bool kRotation>
 void Simulation::half_kick_rigid() {
-  const double h = 0.5 * dt_;
-  Vec3* __restrict v = p_.v.data();
-  Vec3* __restrict w = p_.w.data();
-  const Vec3* __restrict f = p_.f.data();
-  const Vec3* __restrict t = p_.t.data();
-  const double* __restrict im = p_.inv_mass.data();
-  const double* __restrict ii = p_.inv_inertia.data();
-  for (const std::uint32_t i : bulk_.moving) {  // the frozen are at the wall's velocity already
-    v[i] += h * (im[i] * f[i] + gravity_);
-    if constexpr (kRotation) w[i] += (h * ii[i]) * t[i];
-  }
+  half_kick_rows<kRotation>(bulk_.moving);  // the frozen are at the wall's velocity already
 }
 
 template double Simulation::kick_drift_rigid<true>(double);

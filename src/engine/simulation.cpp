@@ -313,12 +313,12 @@ void Simulation::maybe_rebuild(double max_displacement2) {
   }
 }
 
-// First kick and drift; the force and torque accumulators are cleared and the largest
-// displacement since the last neighbour rebuild found in the same pass. kRotation = false (no
-// friction anywhere: no torque ever) leaves the spins alone. (The rigid bulk's version is
-// kick_drift_rigid, rigid_bulk.cpp.)
-template <bool kRotation>
-double Simulation::kick_drift(double kick) {
+// First kick and drift of the particles `rows` (all owned ones, or the rigid bulk's moving ones);
+// their force and torque accumulators are cleared, and so are the ghosts', and the largest
+// displacement since the last neighbour rebuild is found in the same pass. kRotation = false (no
+// friction anywhere: no torque ever) leaves the spins alone.
+template <bool kRotation, class RowSet>
+double Simulation::kick_drift_rows(const RowSet& rows, double kick) {
   const std::size_t n = n_local_;
   Vec3* __restrict x = p_.x.data();
   Vec3* __restrict v = p_.v.data();
@@ -332,7 +332,7 @@ double Simulation::kick_drift(double kick) {
   // Ghost accumulators collect the partner halves of border pairs; they are thrown away.
   for (std::size_t g = n; g < p_.size(); ++g) f[g] = t[g] = Vec3{};
   double max_d2 = have_ref ? 0.0 : 1e300;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (const std::uint32_t i : rows) {
     v[i] += kick * (im[i] * f[i] + gravity_);
     if constexpr (kRotation) {
       w[i] += (kick * ii[i]) * t[i];
@@ -345,9 +345,8 @@ double Simulation::kick_drift(double kick) {
   return max_d2;
 }
 
-template <bool kRotation>
-void Simulation::half_kick() {
-  const std::size_t n = n_local_;
+template <bool kRotation, class RowSet>
+void Simulation::half_kick_rows(const RowSet& rows) {
   const double h = 0.5 * dt_;
   Vec3* __restrict v = p_.v.data();
   Vec3* __restrict w = p_.w.data();
@@ -355,11 +354,29 @@ void Simulation::half_kick() {
   const Vec3* __restrict t = p_.t.data();
   const double* __restrict im = p_.inv_mass.data();
   const double* __restrict ii = p_.inv_inertia.data();
-  for (std::size_t i = 0; i < n; ++i) {
+  for (const std::uint32_t i : rows) {
     v[i] += h * (im[i] * f[i] + gravity_);
     if constexpr (kRotation) w[i] += (h * ii[i]) * t[i];
   }
 }
+
+// The dynamic bulk's: every owned particle. (The rigid bulk's, kick_drift_rigid and
+// half_kick_rigid in rigid_bulk.cpp, run the same loops over its moving particles.)
+template <bool kRotation>
+double Simulation::kick_drift(double kick) {
+  return kick_drift_rows<kRotation>(Rows{static_cast<std::uint32_t>(n_local_)}, kick);
+}
+
+template <bool kRotation>
+void Simulation::half_kick() {
+  half_kick_rows<kRotation>(Rows{static_cast<std::uint32_t>(n_local_)});
+}
+
+using Indices = std::vector<std::uint32_t>;
+template double Simulation::kick_drift_rows<true, Indices>(const Indices&, double);
+template double Simulation::kick_drift_rows<false, Indices>(const Indices&, double);
+template void Simulation::half_kick_rows<true, Indices>(const Indices&);
+template void Simulation::half_kick_rows<false, Indices>(const Indices&);
 
 void Simulation::step() {
   // Leapfrog: one kick of a whole step per step (half-step velocities), except the very first,

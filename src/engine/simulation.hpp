@@ -128,7 +128,26 @@ class Simulation {
   // pairs, lane kernel, accumulation (engine/contact_lanes.hpp); bitwise equal to pair_forces.
   // The scene's options (friction, periodic, one species) are in lane_kernel_, chosen once.
   void pair_forces_lanes();
-  // The integrator.
+  // The integrator: its loops over a set of rows (particle indices), Rows (every owned particle)
+  // or a list of them, and the dynamic bulk's steps, over every owned particle.
+  struct Rows {  // 0, 1, ..., n - 1 as a range of indices
+    std::uint32_t n;
+    struct Iterator {
+      std::uint32_t i;
+      std::uint32_t operator*() const { return i; }
+      Iterator& operator++() {
+        ++i;
+        return *this;
+      }
+      bool operator!=(const Iterator& o) const { return i != o.i; }
+    };
+    Iterator begin() const { return {0}; }
+    Iterator end() const { return {n}; }
+  };
+  template <bool kRotation, class RowSet>
+  double kick_drift_rows(const RowSet& rows, double kick);
+  template <bool kRotation, class RowSet>
+  void half_kick_rows(const RowSet& rows);
   template <bool kRotation>
   double kick_drift(double kick);
   template <bool kRotation>
