@@ -15,4 +15,16 @@ void resize_with_headroom(std::vector<T>& v, std::size_t n) {
   v.resize(n);
 }
 
+// The same for an array whose contents are about to be overwritten: when it must grow, its old
+// memory is freed before the new is taken, so the process never holds both (a rebuild's peak
+// would otherwise hold the list's springs twice: docs/performance.md, "Memory").
+template <class T>
+void resize_discarding(std::vector<T>& v, std::size_t n) {
+  if (n > v.capacity()) {
+    std::vector<T>().swap(v);
+    v.reserve(n + n / 8);
+  }
+  v.resize(n);
+}
+
 }  // namespace tumble

@@ -31,6 +31,12 @@ constexpr unsigned kCheckpoint = 1u << 2;
 // value-initialised (its zero must be what every particle of such a run had).
 constexpr unsigned kOptionalOnRead = 1u << 3;
 
+// Only a run with the rigid bulk (fidelity.bulk = "rigid") keeps the column: a dynamic run's
+// Particles leaves it empty (Particles::rigid_columns), which saves its memory (52 B per particle
+// for the three of today). Rows between ranks and checkpoints then carry zeros for it, so a
+// dynamic run's files are as before and a rigid run can restart from them.
+constexpr unsigned kRigidOnly = 1u << 4;
+
 constexpr unsigned kAny = 0;  // as a mask (base/particles.hpp): every field
 
 constexpr unsigned kState = kMigrate | kCheckpoint;   // the usual per-particle state
@@ -52,11 +58,14 @@ constexpr unsigned kMotion = kState | kGhostRefresh;  // ... that neighbours rea
   X(std::int32_t, species, field::kState)                                                       \
   X(std::int64_t, id, field::kState)        /* global id, stable for the whole run (< 2^53) */ \
   X(std::int32_t, bulk_state,               /* fidelity.bulk = "rigid" (engine/rigid_bulk.cpp): */ \
-    field::kState | field::kOptionalOnRead) /* 0 moving, > 0 steps calm, -1 frozen, -2 thawing */ \
+    field::kState | field::kOptionalOnRead | field::kRigidOnly)                                  \
+                                            /* 0 moving, > 0 steps calm, -1 frozen, -2 thawing */ \
   X(Vec3, bulk_anchor,                      /* rigid bulk: tumbler-frame position where its */   \
-    field::kState | field::kOptionalOnRead) /* stay began (calm while it moves less from it) */  \
+    field::kState | field::kOptionalOnRead | field::kRigidOnly)                                  \
+                                            /* stay began (calm while it moves less from it) */  \
   X(Vec3, bulk_gravity,                     /* rigid bulk, frozen: gravity's direction in the */ \
-    field::kState | field::kOptionalOnRead) /* tumbler's frame when it froze */
+    field::kState | field::kOptionalOnRead | field::kRigidOnly)                                  \
+                                            /* tumbler's frame when it froze */
 // clang-format on
 
 // A build may append fields of its own: define TUMBLE_EXTRA_PARTICLE_FIELDS_HEADER as a header

@@ -29,10 +29,17 @@ struct Particles {
   TUMBLE_ALL_PARTICLE_FIELDS(TUMBLE_DECLARE_FIELD)
 #undef TUMBLE_DECLARE_FIELD
 
+  // false: the columns of the rigid bulk's fields (field::kRigidOnly) are empty and stay empty
+  // through resize() and permute() (a dynamic run's engine sets it; every other holder of
+  // particles keeps every column).
+  bool rigid_columns = true;
+
   std::size_t size() const { return x.size(); }
   void resize(std::size_t n);
   // Applies a permutation: new[k] = old[perm[k]] for every field (the size stays).
   void permute(const std::vector<std::uint32_t>& perm);
+  // Sets rigid_columns: sizes the rigid bulk's columns (zeros) or frees them.
+  void set_rigid_columns(bool keep);
 };
 
 // Calls fn(name, column) for every field of `p` (Particles, const or not) whose flags contain all
@@ -44,6 +51,17 @@ inline void for_each_field(P& p, Fn&& fn) {
   if constexpr (((flags)&Mask) == Mask) fn(#name, p.name);
   TUMBLE_ALL_PARTICLE_FIELDS(TUMBLE_VISIT_FIELD)
 #undef TUMBLE_VISIT_FIELD
+}
+
+// The same with the field's flags as a compile-time constant: fn(name, column, flags), flags a
+// std::integral_constant<unsigned, ...>.
+template <unsigned Mask, class P, class Fn>
+inline void for_each_field_flagged(P& p, Fn&& fn) {
+#define TUMBLE_VISIT_FIELD_FLAGGED(type, name, flags) \
+  if constexpr (((flags)&Mask) == Mask)               \
+    fn(#name, p.name, std::integral_constant<unsigned, flags>{});
+  TUMBLE_ALL_PARTICLE_FIELDS(TUMBLE_VISIT_FIELD_FLAGGED)
+#undef TUMBLE_VISIT_FIELD_FLAGGED
 }
 
 // The same, by type only (for sizes known at compile time): fn(name, FieldType<T>{}).
@@ -68,13 +86,29 @@ inline void apply_permutation(std::vector<T>& a, const std::vector<std::uint32_t
 }
 
 inline void Particles::resize(std::size_t n) {
-  for_each_field<field::kAny>(*this, [n](const char*, auto& column) { column.resize(n); });
+  for_each_field_flagged<field::kAny>(*this, [this, n](const char*, auto& column, auto flags) {
+    if (!(flags & field::kRigidOnly) || rigid_columns) column.resize(n);
+  });
 }
 
 inline void Particles::permute(const std::vector<std::uint32_t>& perm) {
-  for_each_field<field::kAny>(*this, [&perm](const char*, auto& column) {
+  for_each_field_flagged<field::kAny>(*this, [this, &perm](const char*, auto& column, auto flags) {
+    if ((flags & field::kRigidOnly) && !rigid_columns) return;
     std::remove_reference_t<decltype(column)> scratch;
     apply_permutation(column, perm, scratch);
+  });
+}
+
+inline void Particles::set_rigid_columns(bool keep) {
+  rigid_columns = keep;
+  const std::size_t n = size();
+  for_each_field_flagged<field::kRigidOnly>(*this, [keep, n](const char*, auto& column, auto) {
+    if (keep) {
+      column.resize(n);
+    } else {
+      column.clear();
+      column.shrink_to_fit();
+    }
   });
 }
 

@@ -168,7 +168,8 @@ void Simulation::set_pair_view() {
   const std::size_t n = n_local_, all = p_.size();
   const std::int32_t* state = p_.bulk_state.data();
   // Nothing frozen here (ghosts included): the whole list, without a copy, and every particle
-  // moves (the rigid path then costs only its pass at each rebuild).
+  // moves (the rigid path then costs only its pass at each rebuild; a dynamic run keeps no
+  // list of them).
   b.any_frozen = rigid_ && std::any_of(p_.bulk_state.begin(), p_.bulk_state.end(),
                                        [](std::int32_t s) { return s < 0; });
   b.moving.clear();
@@ -177,8 +178,8 @@ void Simulation::set_pair_view() {
   if (!b.any_frozen) {
     b.full.clear();
     b.x_build.clear();
-    b.moving.resize(n);
-    for (std::size_t i = 0; i < n; ++i) b.moving[i] = static_cast<std::uint32_t>(i);
+    b.moving.resize(rigid_ ? n : 0);
+    for (std::size_t i = 0; i < b.moving.size(); ++i) b.moving[i] = static_cast<std::uint32_t>(i);
     pairs_ = {list_.start.data(), list_.nbr.data(), list_.row.data(), list_.history.data(),
               list_.nbr.size()};
     return;

@@ -93,9 +93,9 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
   // fraction of d_large; the free surface is found per column of d_large in the lab's x-z plane
   // (about half a large particle of the surface's rise per column at the repose angle).
   rigid_ = s.bulk == Bulk::rigid;
-  // A dynamic run from a rigid run's checkpoint: every particle moves (the states are read where
-  // a particle is frozen, e.g. for the wall).
-  if (!rigid_) std::fill(p_.bulk_state.begin(), p_.bulk_state.end(), 0);
+  // A dynamic run keeps no rigid-bulk columns (field::kRigidOnly: their memory, 52 B per
+  // particle, is saved); from a rigid run's checkpoint every particle then moves.
+  p_.set_rigid_columns(rigid_);
   if (rigid_) {
     kick_drift_ =
         rotation_ ? &Simulation::kick_drift_rigid<true> : &Simulation::kick_drift_rigid<false>;
@@ -240,7 +240,7 @@ void Simulation::rebuild_lists(const neighbor::ContactHistory* history) {
   for (std::size_t i = 0; i < n_local_; ++i) {
     const auto k = static_cast<std::uint32_t>(i);
     // A frozen particle feels no wall (it turns with it); its wall spring waits for its thaw.
-    if (p_.bulk_state[i] < 0) continue;
+    if (rigid_ && p_.bulk_state[i] < 0) continue;
     if (is_cylinder_) {
       if (cylinder_.near_curved(p_.x[i], p_.radius[i], skin)) wall_candidates_.push_back(k);
       if (cylinder_.near_cap(p_.x[i], p_.radius[i], skin)) cap_candidates_.push_back(k);
@@ -282,8 +282,9 @@ void Simulation::restore(const neighbor::ContactHistory& history) {
   bulk_.last_update = step_;
   bulk_.last_update_time = time_;
   bulk_.segment = protocol_.segment_count(time_);
-  for (std::size_t i = 0; i < n_local_; ++i)
-    if (p_.bulk_state[i] == -2) force_rebuild_ = true;
+  if (rigid_)
+    for (std::size_t i = 0; i < n_local_; ++i)
+      if (p_.bulk_state[i] == -2) force_rebuild_ = true;
 }
 
 void Simulation::maybe_rebuild(double max_displacement2) {
@@ -478,7 +479,7 @@ void Simulation::pair_forces_lanes() {
   engine::TouchingContacts& c = touching_;
   if (c.i.size() < in.pairs + engine::kLaneBlock)
     for (auto* v : {&c.i, &c.j, &c.k, &c.miss})
-      resize_with_headroom(*v, in.pairs + engine::kLaneBlock);
+      resize_discarding(*v, in.pairs + engine::kLaneBlock);
   in.contact_i = c.i.data();
   in.contact_j = c.j.data();
   in.contact_k = c.k.data();

@@ -30,6 +30,15 @@ struct EnergyBreakdown {
   double total() const { return kinetic + potential + elastic; }
 };
 
+// The engine's memory on one rank, from its arrays' capacities (bytes; each array's high-water
+// mark). docs/performance.md measures the whole heap with valgrind's massif against it.
+struct EngineMemory {
+  std::size_t particles = 0;  // per-particle state, owned particles and ghosts
+  std::size_t neighbors = 0;  // the Verlet list with its springs, and the previous one
+  std::size_t scratch = 0;    // the pair loop's contacts, wall candidates, rigid bulk, halo
+  std::size_t total() const { return particles + neighbors + scratch; }
+};
+
 class Simulation {
  public:
   // `time` and `step` let a restart continue the clock. `comm`: the ranks that share this
@@ -55,6 +64,8 @@ class Simulation {
 
   EnergyBreakdown energy() const;
   double rms_speed() const;
+  // This rank's engine memory (engine/engine_memory.cpp; not collective).
+  EngineMemory memory() const;
 
   // This rank's particles: the owned ones first (local_count()), then the ghosts (parallel runs
   // only; copies of neighbours' particles, refreshed every step).

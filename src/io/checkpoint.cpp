@@ -164,8 +164,13 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   AtomicH5Writer out(path, sim.domain() ? sim.domain()->comm() : MPI_COMM_NULL);
   H5File& f = out.file();
   // Every field the list marks for checkpoints (base/particle_fields.hpp), in list order.
+  // The rigid bulk's columns are empty in a dynamic run (field::kRigidOnly): zeros, as every
+  // dynamic run's particles had before they were left empty.
   for_each_field<field::kCheckpoint>(p, [&](const char* name, const auto& column) {
-    write_column(f, dataset_of(name), column, n);
+    if (column.empty() && n > 0)
+      write_column(f, dataset_of(name), std::decay_t<decltype(column)>(n), n);
+    else
+      write_column(f, dataset_of(name), column, n);
   });
   neighbor::ContactHistory h;
   sim.neighbors().save_history(p, h);

@@ -51,6 +51,9 @@ class VerletList {
   double skin() const { return skin_; }
   // Positions at the last rebuild (the integrator checks displacements while it drifts).
   const std::vector<Vec3>& reference_positions() const { return x_ref_; }
+  // Bytes held by the list's arrays (capacities: a rebuild's high-water mark), the previous list
+  // kept for carrying the springs over included.
+  std::size_t memory_bytes() const;
 
  private:
   CellGrid grid_;
@@ -68,7 +71,8 @@ class VerletList {
   std::vector<Vec3> x_ref_;
   std::vector<std::uint32_t> perm_, cell_start_;
   std::vector<std::uint32_t> ghost_start_, ghost_of_cell_;  // ghosts binned by cell (not moved)
-  std::vector<std::uint32_t> old_start_, old_nbr_;          // previous list, reused buffers
+  // The previous list's live springs (rows, partners, springs) while a rebuild carries them over.
+  std::vector<std::uint32_t> old_start_, old_nbr_;
   std::vector<double> old_history_;
 };
 

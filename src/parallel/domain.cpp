@@ -46,8 +46,9 @@ Domain::~Domain() {
 
 void Domain::weigh(const Particles& p) {
   weight_.resize(p.size());
+  const bool states = !p.bulk_state.empty();  // empty: a dynamic run, nothing frozen
   for (std::size_t i = 0; i < p.size(); ++i)
-    weight_[i] = p.bulk_state[i] == -1 ? frozen_weight_ : 1.0;
+    weight_[i] = states && p.bulk_state[i] == -1 ? frozen_weight_ : 1.0;
 }
 
 double Domain::measure_imbalance() const {
@@ -222,6 +223,13 @@ Particles Domain::id_block(const Particles& p, std::size_t n_local, std::int64_t
   }
   std::vector<int> from;
   return sorted_by_id(exchange(comm_, out, from));
+}
+
+std::size_t Domain::memory_bytes() const {
+  std::size_t bytes = weight_.capacity() * sizeof(double) + recv_rows_.capacity() * sizeof(int) +
+                      (buf_out_.capacity() + buf_in_.capacity()) * sizeof(double);
+  for (const auto& s : send_) bytes += s.capacity() * sizeof(std::uint32_t);
+  return bytes;
 }
 
 }  // namespace tumble::parallel

@@ -68,6 +68,8 @@ class Domain {
   // its neighbours), and in distribute() + exchange_ghosts() at rebuilds.
   double refresh_seconds() const { return refresh_seconds_; }
   double rebuild_seconds() const { return rebuild_seconds_; }
+  // Bytes held by the halo's buffers and the work weights (capacities).
+  std::size_t memory_bytes() const;
 
  private:
   void migrate(Particles& p);

@@ -4,6 +4,7 @@
 // copies, gathers) or only what changes every step (field::kGhostRefresh: x, v, w). Ids (< 2^53)
 // and species travel as doubles exactly.
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "base/particles.hpp"
@@ -55,15 +56,33 @@ inline void take(const double*& in, double& a) { a = *in++; }
 inline void take(const double*& in, std::int32_t& a) { a = static_cast<std::int32_t>(*in++); }
 inline void take(const double*& in, std::int64_t& a) { a = static_cast<std::int64_t>(*in++); }
 
-// Appends row i of the fields with all bits of `Mask` to `o` (which has room for it).
+// Appends row i of the fields with all bits of `Mask` to `o` (which has room for it). An empty
+// column (the rigid bulk's, in a dynamic run: field::kRigidOnly) sends zeros.
 template <unsigned Mask>
 inline void put_row(double*& o, const Particles& p, std::size_t i) {
-  for_each_field<Mask>(p, [&o, i](const char*, const auto& column) { put(o, column[i]); });
+  for_each_field_flagged<Mask>(p, [&o, i](const char*, const auto& column, auto flags) {
+    using T = typename std::decay_t<decltype(column)>::value_type;
+    if constexpr ((flags & field::kRigidOnly) != 0) {
+      put(o, column.empty() ? T{} : column[i]);
+    } else {
+      put(o, column[i]);
+    }
+  });
 }
-// Reads one row of the fields with all bits of `Mask` into particle k.
+// Reads one row of the fields with all bits of `Mask` into particle k (an empty column skips its
+// values).
 template <unsigned Mask>
 inline void take_row(const double*& in, Particles& p, std::size_t k) {
-  for_each_field<Mask>(p, [&in, k](const char*, auto& column) { take(in, column[k]); });
+  for_each_field_flagged<Mask>(p, [&in, k](const char*, auto& column, auto flags) {
+    using T = typename std::decay_t<decltype(column)>::value_type;
+    if constexpr ((flags & field::kRigidOnly) != 0) {
+      T value{};
+      take(in, value);
+      if (!column.empty()) column[k] = value;
+    } else {
+      take(in, column[k]);
+    }
+  });
 }
 
 inline void pack_state(const Particles& p, std::size_t i, std::vector<double>& out) {

@@ -1,5 +1,6 @@
 #include "run/realization.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -9,6 +10,7 @@
 
 #include "base/comm.hpp"
 #include "base/error.hpp"
+#include "base/memory.hpp"
 #include "base/text_util.hpp"
 #include "engine/simulation.hpp"
 #include "h5/hdf5_file.hpp"
@@ -156,7 +158,24 @@ void log_done(std::ostream* log, const RunState& s, const RunResult& res) {
     MPI_Allreduce(&t, &refresh_min, 1, MPI_DOUBLE, MPI_MIN, dom->comm());
     MPI_Allreduce(&t, &refresh_max, 1, MPI_DOUBLE, MPI_MAX, dom->comm());
   }
+  // The engine's memory (its arrays' capacities): summed over the ranks, per particle of the
+  // realization, and the largest rank's.
+  const EngineMemory mem = sim.memory();
+  double parts[3] = {static_cast<double>(mem.particles), static_cast<double>(mem.neighbors),
+                     static_cast<double>(mem.scratch)};
+  double largest = static_cast<double>(mem.total());
+  if (const parallel::Domain* dom = sim.domain()) {
+    MPI_Allreduce(MPI_IN_PLACE, parts, 3, MPI_DOUBLE, MPI_SUM, dom->comm());
+    MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, dom->comm());
+  }
   if (!log) return;
+  const double per = 1.0 / static_cast<double>(std::max<std::int64_t>(1, s.particles));
+  *log << "[run] memory: engine " << format_bytes(parts[0] + parts[1] + parts[2]) << " ("
+       << std::fixed << std::setprecision(0) << (parts[0] + parts[1] + parts[2]) * per
+       << " B per particle: state " << parts[0] * per << ", neighbour list " << parts[1] * per
+       << ", scratch " << parts[2] * per << std::defaultfloat << ")";
+  if (sim.domain()) *log << ", largest rank " << format_bytes(largest);
+  *log << "\n";
   *log << "[run] done: " << res.steps << " steps in " << std::setprecision(4) << res.wall_seconds
        << " s (" << std::scientific << std::setprecision(3) << res.particle_steps_per_second
        << std::defaultfloat << " particle-steps/s";
