@@ -28,9 +28,9 @@ inline Scene tiny_scene(std::vector<std::string> o = {}) {
 inline Particles tiny_settled_bed() { return settled_bed(tiny_scene(), nullptr); }
 
 // How many state values of two runs' particles differ (positions, velocities, spins, wall springs,
-// ids, bulk states, compared bitwise): 0 for a restart that continued exactly.
-// (A dynamic run's engine keeps the rigid bulk's columns empty, field::kRigidOnly: they count
-// as zeros.)
+// ids, the rigid bulk's states, anchors and gravity directions, compared bitwise): 0 for a restart
+// that continued exactly. (A dynamic run's engine keeps the rigid bulk's columns empty,
+// field::kRigidOnly: they count as zeros.)
 inline std::size_t state_differences(const Particles& p, const Particles& q) {
   auto at = [](const auto& column, std::size_t i) {
     return column.empty() ? typename std::decay_t<decltype(column)>::value_type{} : column[i];
@@ -38,9 +38,11 @@ inline std::size_t state_differences(const Particles& p, const Particles& q) {
   std::size_t differ = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     const Vec3 anchor_p = at(p.bulk_anchor, i), anchor_q = at(q.bulk_anchor, i);
+    const Vec3 gravity_p = at(p.bulk_gravity, i), gravity_q = at(q.bulk_gravity, i);
     for (int d = 0; d < 3; ++d)
       differ += p.x[i][d] != q.x[i][d] || p.v[i][d] != q.v[i][d] || p.w[i][d] != q.w[i][d] ||
-                p.wall_spring[i][d] != q.wall_spring[i][d] || anchor_p[d] != anchor_q[d];
+                p.wall_spring[i][d] != q.wall_spring[i][d] || anchor_p[d] != anchor_q[d] ||
+                gravity_p[d] != gravity_q[d];
     differ += p.id[i] != q.id[i] || at(p.bulk_state, i) != at(q.bulk_state, i);
   }
   return differ;

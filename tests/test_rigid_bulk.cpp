@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <vector>
 
 #include "bed_fixture.hpp"
@@ -357,14 +358,25 @@ TEST(RigidBulk, RestartContinuesBitwise) {
   std::filesystem::remove_all(base);
   auto scene = [&](const std::string& out) {
     // A short dwell so that particles freeze and thaw within the 3,000 steps; a checkpoint every
-    // 1,000 steps.
+    // 1,000 steps. The gravity rule at its finest (0.01: a turn of 0.57 degrees since freezing,
+    // of the run's 1.1 degrees) thaws the first frozen particles in the run's second half, so the
+    // restart must carry each frozen particle's gravity direction.
     return rigid_scene({"fidelity.bulk_dwell=0.004", "fidelity.bulk_calm_distance=0.1",
-                        "protocol.duration=1", "scene.output_dir=" + base + "/" + out,
-                        "output.checkpoint_interval=0.02", "output.snapshot_interval=0.02"});
+                        "fidelity.bulk_thaw_gravity=0.01", "protocol.duration=1",
+                        "scene.output_dir=" + base + "/" + out, "output.checkpoint_interval=0.02",
+                        "output.snapshot_interval=0.02"});
   };
   RunOptions full;
   full.max_steps = 3000;
+  std::ostringstream full_log;
+  full.log = &full_log;
   run_realization(scene("full"), full);
+  // "[run] rigid bulk: ... N particles thawed by gravity's turn": the rule fired.
+  const std::string text = full_log.str();
+  const std::size_t at = text.find(" particles thawed by gravity");
+  ASSERT_NE(at, std::string::npos) << text;
+  const std::size_t from = text.rfind(' ', at - 1) + 1;
+  EXPECT_GT(std::stoul(text.substr(from, at - from)), 0u) << "the gravity rule never fired";
   RunOptions first;
   first.max_steps = 2000;
   run_realization(scene("split"), first);
