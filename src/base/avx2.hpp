@@ -55,17 +55,23 @@ inline V load3(const double* base, const std::uint32_t* idx) {
           _mm256_permute2f128_pd(xz01, xz23, 0x31)};
 }
 
+// The first three doubles of `v` to `at` with plain stores: a masked store (vmaskmovpd) is
+// microcoded on AMD's cores and cost several times as much (docs/performance.md, "Masked stores").
+inline void store_first_three(double* at, __m256d v) {
+  _mm_storeu_pd(at, _mm256_castpd256_pd128(v));
+  _mm_store_sd(at + 2, _mm256_extractf128_pd(v, 1));
+}
+
 // The inverse of load3. Lanes are written in order 0..3; padded lanes repeat a contact with the
 // same values.
 inline void store3(double* base, const std::uint32_t* idx, V a) {
-  const __m256i m = first_three();
   const __m256d zero = _mm256_setzero_pd();
   const __m256d xy02 = _mm256_unpacklo_pd(a.x, a.y), xy13 = _mm256_unpackhi_pd(a.x, a.y);
   const __m256d z02 = _mm256_unpacklo_pd(a.z, zero), z13 = _mm256_unpackhi_pd(a.z, zero);
-  _mm256_maskstore_pd(base + 3 * std::size_t{idx[0]}, m, _mm256_permute2f128_pd(xy02, z02, 0x20));
-  _mm256_maskstore_pd(base + 3 * std::size_t{idx[1]}, m, _mm256_permute2f128_pd(xy13, z13, 0x20));
-  _mm256_maskstore_pd(base + 3 * std::size_t{idx[2]}, m, _mm256_permute2f128_pd(xy02, z02, 0x31));
-  _mm256_maskstore_pd(base + 3 * std::size_t{idx[3]}, m, _mm256_permute2f128_pd(xy13, z13, 0x31));
+  store_first_three(base + 3 * std::size_t{idx[0]}, _mm256_permute2f128_pd(xy02, z02, 0x20));
+  store_first_three(base + 3 * std::size_t{idx[1]}, _mm256_permute2f128_pd(xy13, z13, 0x20));
+  store_first_three(base + 3 * std::size_t{idx[2]}, _mm256_permute2f128_pd(xy02, z02, 0x31));
+  store_first_three(base + 3 * std::size_t{idx[3]}, _mm256_permute2f128_pd(xy13, z13, 0x31));
 }
 
 // table[idx[l]] for the four lanes (the masked form: GCC 12 warns about the unmasked one's

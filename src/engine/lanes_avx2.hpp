@@ -87,11 +87,11 @@ void run_lanes(const LaneInput& in) {
     miss[missed] = static_cast<std::uint32_t>(k0);
     missed += apart;
   }
-  // A pair that does not touch starts its spring afresh.
+  // A pair that does not touch starts its spring afresh (plain stores: see store_first_three).
   if constexpr (kFriction) {
-    const __m256i first3 = first_three();
+    const __m256d zero = _mm256_setzero_pd();
     for (std::size_t q = 0; q < missed; ++q)
-      _mm256_maskstore_pd(in.history + 3 * std::size_t{miss[q]}, first3, _mm256_setzero_pd());
+      store_first_three(in.history + 3 * std::size_t{miss[q]}, zero);
   }
   if (m == 0) return;
   const std::size_t count = m;
