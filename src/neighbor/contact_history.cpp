@@ -8,9 +8,7 @@ namespace tumble::neighbor {
 void ContactHistory::save(std::int64_t id_i, std::int64_t id_j, const double* h,
                           const Vec3& anchor) {
   const int w = layout_.width;
-  bool live = false;
-  for (int d = 0; d < w; ++d) live |= h[d] != 0.0;
-  if (!live) return;
+  if (!is_live(h, w)) return;
   SavedSpring s{};
   s.anchor = anchor;
   if (id_i < id_j) {

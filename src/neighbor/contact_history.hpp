@@ -27,6 +27,14 @@ struct HistoryLayout {
 };
 using HistoryValues = std::array<double, kMaxHistoryDoubles>;  // the first `width` are used
 
+// Whether a contact's `width` doubles of history hold anything: an all-zero spring is no contact
+// to carry (saved records, the list's carry-over across rebuilds).
+inline bool is_live(const double* h, int width) {
+  bool live = false;
+  for (int d = 0; d < width; ++d) live = live || h[d] != 0.0;
+  return live;
+}
+
 struct SavedSpring {
   std::int64_t lo, hi;    // global ids, lo < hi
   HistoryValues history;  // as seen from particle `lo` (zero beyond the width)

@@ -13,25 +13,14 @@ void VerletList::save_history(const Particles& p, ContactHistory& out, bool sort
   const std::size_t n = start.empty() ? 0 : start.size() - 1;
   const std::size_t w = static_cast<std::size_t>(layout_.width);
   std::size_t live = 0;
-  for (std::size_t k = 0; k < nbr.size(); ++k) {
-    bool any = false;
-    for (std::size_t d = 0; d < w; ++d) any = any || history[w * k + d] != 0.0;
-    live += any;
-  }
+  for (std::size_t k = 0; k < nbr.size(); ++k)
+    live += is_live(history.data() + w * k, layout_.width);
   out.reserve(live);
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
       out.save(p.id[i], p.id[nbr[k]], history.data() + w * k, p.x[i]);
   if (sorted) out.sort_by_ids();
 }
-
-namespace {
-bool is_live(const double* h, std::size_t w) {
-  bool live = false;
-  for (std::size_t d = 0; d < w; ++d) live = live || h[d] != 0.0;
-  return live;
-}
-}  // namespace
 
 std::size_t VerletList::memory_bytes() const {
   std::size_t bytes = 0;
@@ -152,7 +141,8 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved) {
     // nothing, as in ContactHistory::save): about the touching pairs, 60% of the list on a
     // flowing bed, where a copy of the whole list held its memory twice.
     std::size_t live = 0;
-    for (std::size_t k = 0; k < previous; ++k) live += is_live(history.data() + w * k, w);
+    for (std::size_t k = 0; k < previous; ++k)
+      live += is_live(history.data() + w * k, layout_.width);
     resize_discarding(old_start_, n + 1);
     resize_discarding(old_nbr_, live);
     resize_discarding(old_history_, w * live);
@@ -161,7 +151,7 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved) {
       old_start_[i] = static_cast<std::uint32_t>(at);
       for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
         const double* h = history.data() + w * k;
-        if (!is_live(h, w)) continue;
+        if (!is_live(h, layout_.width)) continue;
         old_nbr_[at] = nbr[k];
         for (std::size_t d = 0; d < w; ++d) old_history_[w * at + d] = h[d];
         ++at;
