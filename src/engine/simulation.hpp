@@ -203,7 +203,9 @@ class Simulation {
   mutable Particles p_;
   std::size_t n_local_ = 0;  // owned particles: p_[0, n_local_); ghosts after them
   std::unique_ptr<parallel::Domain> dom_;
-  double halo_reach_ = 0;  // ghosts: particles within this distance of a rank's domain
+  // Contact records go to every rank within halo_reach_ (2 r_max + skin) of the pair; a particle
+  // is a ghost where its surface is within ghost_reach_ (r_max + skin) of a rank's domain.
+  double halo_reach_ = 0, ghost_reach_ = 0;
   geometry::Protocol protocol_;
   geometry::SphereWall wall_;
   geometry::CylinderWall cylinder_;

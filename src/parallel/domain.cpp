@@ -125,7 +125,7 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach) {
   std::vector<int> near;
   for (std::size_t i = 0; i < n_local; ++i) {
     near.clear();
-    tree_.ranks_near(p.x[i], reach, period_z_, near);
+    tree_.ranks_near(p.x[i], p.radius[i] + reach, period_z_, near);
     for (int r : near) {
       if (r == rank_) continue;
       send_[r].push_back(static_cast<std::uint32_t>(i));

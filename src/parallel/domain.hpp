@@ -42,7 +42,10 @@ class Domain {
   void distribute(Particles& p, std::vector<neighbor::SavedSpring>& records, double reach,
                   int history_width);
   // Collective. Appends to `p` (after its `n_local` owned particles) a ghost copy of every other
-  // rank's particle that lies within `reach` of this rank's domain; remembers what went where.
+  // rank's particle whose surface lies within `reach` of this rank's domain (its centre within
+  // its radius + `reach`); remembers what went where. With reach = r_max + skin a rank receives
+  // exactly the particles that may pair with one of its own (the list's cutoff is r_i + r_j +
+  // skin): a small particle's halo is thinner than a large one's.
   void exchange_ghosts(Particles& p, std::size_t n_local, double reach);
   // Collective, every step: refreshes the ghosts' positions and velocities from their owners.
   // `skip_frozen` (the rigid bulk): particles with bulk_state < 0 are left out on both sides;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <numeric>
 #include <random>
 #include <set>
 
@@ -82,6 +83,80 @@ TEST(Domain, RunsOnASubCommunicator) {
   EXPECT_LT(max_deviation(serial.particles(), par.gather_all()), 1e-9 * s.d_small);
   EXPECT_EQ(par.domain() != nullptr, size_of(group) > 1) << "world " << world;
   MPI_Comm_free(&group);
+}
+
+// The halo is as thin as each particle's size allows (a particle is a ghost where its surface is
+// within r_max + skin of a rank's domain) and still thick enough: on a dense random bed, half of
+// its particles large (many large-large pairs: the ones the halo must reach farthest for), the
+// pairs of every rank's list, by id, are exactly the serial list's pairs that hold one of the
+// rank's own particles, and every rank holds
+// fewer ghosts than the particles within the uniform reach 2 r_max + skin of its domain (the old
+// halo). The list is all the halo decides, so the bed is never stepped (it overlaps freely).
+TEST(Domain, ThinHaloHoldsEveryPairOfTheSerialList) {
+  const Scene s = tiny({"neighbor.skin=0.1", "protocol.mode=rest"});
+  Particles bed;
+  std::mt19937_64 rng(20261126);  // the same bed on every rank
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double R = 0.9 * s.radius;
+  while (bed.size() < 6000) {
+    const Vec3 x{R * u(rng), R * u(rng), R * u(rng)};
+    if (norm2(x) > R * R || x.y > 0) continue;
+    const std::size_t k = bed.size();
+    bed.resize(k + 1);
+    bed.x[k] = x;
+    bed.id[k] = static_cast<std::int64_t>(k);
+    bed.species[k] = static_cast<std::int32_t>(rng() % 2);
+  }
+  set_species_properties(s, bed);
+  Simulation serial(s, bed, geometry::Protocol::at_rest());
+  Simulation par(s, share_of(bed, MPI_COMM_WORLD), geometry::Protocol::at_rest(), 0, 0,
+                 MPI_COMM_WORLD);
+  serial.compute_forces();
+  par.compute_forces();
+  const auto pairs_of = [](const Simulation& sim) {
+    const Particles& p = sim.particles();
+    const neighbor::VerletList& list = sim.neighbors();
+    std::vector<std::int64_t> out;
+    for (std::size_t i = 0; i < sim.local_count(); ++i)
+      for (std::uint32_t k = list.start[i]; k < list.start[i + 1]; ++k) {
+        const std::int64_t a = p.id[i], b = p.id[list.nbr[k]];
+        out.push_back(std::min(a, b));
+        out.push_back(std::max(a, b));
+      }
+    return out;
+  };
+  // Newton off: each rank computes the force of every pair with one of its own particles, so
+  // its list must hold all of those (the union over the ranks is not enough: a pair found on
+  // one side only would move one of its particles alone).
+  std::set<std::int64_t> owned;
+  for (std::size_t i = 0; i < par.local_count(); ++i) owned.insert(par.particles().id[i]);
+  std::set<std::pair<std::int64_t, std::int64_t>> here, expected;
+  const std::vector<std::int64_t> mine = pairs_of(par), ref = pairs_of(serial);
+  for (std::size_t k = 0; k < mine.size(); k += 2) here.insert({mine[k], mine[k + 1]});
+  for (std::size_t k = 0; k < ref.size(); k += 2)
+    if (owned.count(ref[k]) || owned.count(ref[k + 1])) expected.insert({ref[k], ref[k + 1]});
+  EXPECT_GT(ref.size() / 2, 10 * bed.size());
+  EXPECT_TRUE(here == expected) << here.size() << " pairs in the list of rank "
+                                << par.domain()->rank() << ", " << expected.size()
+                                << " serial pairs with one of its particles";
+
+  // The old halo: every other rank's particle within 2 r_max + skin of this rank's box.
+  const Particles everyone = par.gather_all();
+  double r_min = 1e300, r_max = 0;
+  for (double r : everyone.radius) r_min = std::min(r_min, r), r_max = std::max(r_max, r);
+  ASSERT_LT(r_min, 0.9 * r_max) << "the test needs two sizes";
+  const parallel::Domain& dom = *par.domain();
+  const double reach = 2 * r_max + par.neighbors().skin();
+  std::int64_t uniform = 0;
+  for (std::size_t i = 0; i < everyone.size(); ++i)
+    if (dom.tree().owner(everyone.x[i]) != dom.rank()) {
+      std::vector<int> near;
+      dom.tree().ranks_near(everyone.x[i], reach, 0.0, near);
+      uniform += std::find(near.begin(), near.end(), dom.rank()) != near.end();
+    }
+  const auto ghosts = static_cast<std::int64_t>(par.particles().size() - par.local_count());
+  EXPECT_GT(ghosts, 0);
+  EXPECT_LT(ghosts, uniform);
 }
 
 // A sliding contact carried across the rank border keeps its spring: two touching particles
