@@ -67,7 +67,8 @@ def main():
     gmax = {1: 0.0}
     for k in all_k:
         if k > 1:
-            gmax[k] = ghosts_per_domain(n, k, a.reach, a.sample, np.random.default_rng(1))[0]
+            gmax[k] = ghosts_per_domain(n, k, a.reach, a.sample, np.random.default_rng(1),
+                                        a.reach_large, a.large_share)[0]
 
     def efficiency(k, c_g):
         if k == 1:

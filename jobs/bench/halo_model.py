@@ -8,8 +8,9 @@ Per step, the slowest rank of P costs
   n(P)   particles on the busiest rank (N/P times the measured imbalance)
   G(P)   ghosts held by the busiest rank: counted here by laying N particles at the measured number
          density into a half-full sphere, bisecting it as src/parallel/rcb.cpp does (longest side of
-         the particles' bounding box, count-weighted cut) and counting, for every domain, the particles of other domains
-         within one list cutoff of it
+         the particles' bounding box, count-weighted cut) and counting, for every domain, the
+         particles of other domains within their halo reach of it (r_i + r_max + skin: 1.6 d_small
+         for a small particle, 2.1 for a large one)
   c_p    seconds per particle-step on one core (measured, 1-rank run)
   c_g    seconds per ghost per step: the border pairs computed twice (Newton off), the refresh
          packing/unpacking and the amortised rebuild exchange; calibrated from the 2-rank run:
@@ -51,22 +52,31 @@ def half_sphere(n_points, rng):
     return np.concatenate(out)[:n_points]
 
 
-def ghosts_per_domain(n_total, ranks, reach_d, sample, rng):
-    """Largest ghost count and the mean over domains, for n_total particles at one per d^3."""
+def ghosts_per_domain(n_total, ranks, reach_d, sample, rng, reach_large_d=None, large_share=0.0):
+    """Largest ghost count and the mean over domains, for n_total particles at one per d^3.
+
+    reach_d: how far from a domain (centre to box, in d_small) a particle is a ghost there. With
+    reach_large_d and large_share (their share of the particles by number), that share of the
+    sampled points reaches reach_large_d instead: the engine's halo is r_i + r_max + skin, so a
+    small particle's is thinner than a large one's."""
     radius_d = (3 * n_total / (2 * np.pi)) ** (1 / 3)  # half ball of n_total d^3
     pts = half_sphere(sample, rng)
     boxes = rcb(pts, ranks, np.array([-1.0, -1, -1]), np.array([1.0, 1, 1]))
-    h = reach_d / radius_d
+    h = np.full(len(pts), reach_d / radius_d)
+    if reach_large_d is not None and large_share > 0:
+        h[rng.random(len(pts)) < large_share] = reach_large_d / radius_d
+    h_max = h.max()
     scale = n_total / sample
     counts = []
     for lo, hi, _ in boxes:
-        inside_big = np.all((pts >= lo - h) & (pts <= hi + h), axis=1)
+        inside_big = np.all((pts >= lo - h_max) & (pts <= hi + h_max), axis=1)
         inside = np.all((pts >= lo) & (pts < hi), axis=1)
         # Within the expanded box and not in the domain; corners of the shell are rounded in
         # reality (distance to a box), so subtract the points beyond the reach at the corners.
-        cand = pts[inside_big & ~inside]
+        pick = inside_big & ~inside
+        cand, hc = pts[pick], h[pick]
         dx = np.maximum(np.maximum(lo - cand, 0), cand - hi)
-        counts.append(np.count_nonzero(np.einsum("ij,ij->i", dx, dx) <= h * h) * scale)
+        counts.append(np.count_nonzero(np.einsum("ij,ij->i", dx, dx) <= hc * hc) * scale)
     counts = np.array(counts)
     return counts.max(), counts.mean(), radius_d
 
@@ -85,7 +95,13 @@ def add_model_arguments(ap, rate1=6.765e6, rate2=1.219e7, imbalance2=1.0):
     ap.add_argument("--bandwidth", type=float, default=10e9, help="network bytes/s per rank")
     ap.add_argument("--imbalance", type=float, default=1.05, help="max/mean assumed at P ranks")
     ap.add_argument("--neighbours", type=float, default=26, help="messages per step at large P")
-    ap.add_argument("--reach", type=float, default=2.1, help="ghost reach in d_small (2 r_max + skin)")
+    ap.add_argument("--reach", type=float, default=1.6,
+                    help="a small particle's ghost reach in d_small (r_small + r_max + skin)")
+    ap.add_argument("--reach-large", type=float, default=2.1,
+                    help="a large particle's ghost reach in d_small (2 r_max + skin)")
+    ap.add_argument("--large-share", type=float, default=0.0216,
+                    help="large particles' share by number (f = 0.15, size ratio 2: 0.0216); "
+                         "0 with --reach 2.1: the uniform halo before the thin one")
     ap.add_argument("--sample", type=int, default=400000, help="points sampled for ghost counts")
 
 
@@ -121,17 +137,20 @@ def main():
     if a.cg > 0:
         print(f"(calibrated c_g would be {c_g / c_p:.2f} c_p; using {a.cg} c_p)")
         c_g = a.cg * c_p
-    gmax2, gmean2, _ = ghosts_per_domain(a.particles, 2, a.reach, a.sample, rng)
+    gmax2, gmean2, _ = ghosts_per_domain(a.particles, 2, a.reach, a.sample, rng, a.reach_large,
+                                         a.large_share)
     print(f"calibration (2 ranks, {a.particles:.0f} particles): T_2 = {t2 * 1e3:.3f} ms/step, "
           f"c_p = {c_p * 1e9:.1f} ns, c_g = {c_g * 1e9:.1f} ns per ghost-step "
           f"({c_g / c_p:.2f} c_p); ghosts per rank measured {g2:.0f}, model {gmean2:.0f}")
     print(f"\n{a.target:.3g} particles (half-full sphere of radius "
-          f"{(3 * a.target / (2 * np.pi)) ** (1 / 3):.0f} d_small), reach {a.reach} d_small:")
+          f"{(3 * a.target / (2 * np.pi)) ** (1 / 3):.0f} d_small), reach {a.reach} d_small "
+          f"({a.reach_large} for the {100 * a.large_share:.2f}% large):")
     print("| ranks | particles/rank | ghosts/rank (max) | ghosts/particle | compute ms | ghost ms | "
           "latency ms | network ms | efficiency |")
     print("|---|---|---|---|---|---|---|---|---|")
     for p in a.ranks:
-        gmax, gmean, _ = ghosts_per_domain(a.target, p, a.reach, a.sample, rng)
+        gmax, gmean, _ = ghosts_per_domain(a.target, p, a.reach, a.sample, rng, a.reach_large,
+                                           a.large_share)
         compute, ghost, lat, net = step_parts(a, c_p, c_g, a.target, p, gmax)
         eff = c_p * a.target / p / (compute + ghost + lat + net)
         print(f"| {p} | {a.target / p:.0f} | {gmax:.0f} | {gmax / (a.target / p):.2f} | "
