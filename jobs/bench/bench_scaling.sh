@@ -9,6 +9,10 @@
 # MPIEXEC_OPTS (default "--bind-to core") replaces the binding options, e.g. "--bind-to none".
 # The settled bed is cached in beds/ (settled on the largest NP if missing); the warm-up rotates it
 # for WARMUP=2000 steps (flowing layer started) before the timed runs.
+# SIDE_BY_SIDE=1: each round also runs NP one-rank runs at once (one per core, taskset), the same
+# restart: the machine's own ceiling for NP ranks (shared caches, memory bandwidth, clock), and the
+# efficiency against it, rate(NP) / (NP x side-by-side one-rank rate), is what the decomposition
+# itself costs. (Only for NP <= cores; with a list of NP, the largest.)
 # Peer: with SCENE=jobs/bench/bst_R35_bench.toml (the shared reference bed) and LIGGGHTS installed,
 # LIGGGHTS runs the same bed on 1 and NP ranks in the same job (jobs/bench/liggghts/run.sh).
 set -euo pipefail
@@ -52,7 +56,21 @@ timed() {  # ranks, label
     --set scene.output_dir="$out" --set output.snapshot_interval=1e6 \
     --restart "$WORK/warm/checkpoint.h5" --max-steps "$STEPS" > "$WORK/$2.log"
 }
+side() {  # round: NPMAX one-rank runs at once, one per core
+  local c pids=()
+  for ((c = 0; c < NPMAX; ++c)); do
+    local out="$WORK/run_side_$1_$c"
+    rm -rf "$out"
+    mkdir -p "$out"
+    taskset -c "$c" "$BIN" run "$SCENE" "${common[@]}" --set scene.output_dir="$out" \
+      --set output.snapshot_interval=1e6 --restart "$WORK/warm/checkpoint.h5" \
+      --max-steps "$STEPS" > "$WORK/side_$1_$c.log" &
+    pids+=($!)
+  done
+  wait "${pids[@]}"
+}
 r1=()
+rs=()
 declare -A rn
 for ((k = 0; k < REPEATS; ++k)); do
   timed 1 "1_$k"
@@ -61,6 +79,10 @@ for ((k = 0; k < REPEATS; ++k)); do
     timed "$n" "n${n}_$k"
     rn[$n]="${rn[$n]:-} $(rate "$WORK/n${n}_$k.log")"
   done
+  if [ "${SIDE_BY_SIDE:-0}" = 1 ] && [ "$NPMAX" -le "$(nproc)" ]; then
+    side "$k"
+    for ((c = 0; c < NPMAX; ++c)); do rs+=("$(rate "$WORK/side_${k}_$c.log")"); done
+  fi
 done
 median() { printf '%s\n' "$@" | sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
 m1=$(median "${r1[@]}")
@@ -80,6 +102,13 @@ for n in "${NPS[@]}"; do
            s, 100 * mn / (np * m1), mn / m1, imb, gh, 100 * gh / n, k1 / 1024, np, kn / 1024
   }'
   echo "# last $n-rank run: $(grep '\[run\] done' "$last" | sed 's/; results in.*//')"
+  if [ "${#rs[@]}" -gt 0 ] && [ "$n" = "$NPMAX" ]; then
+    ms=$(median "${rs[@]}")
+    awk -v s="$name" -v np="$n" -v ms="$ms" -v mn="$mn" -v m1="$m1" -v runs="${rs[*]}" 'BEGIN {
+      printf "%s  side by side: %d one-rank runs at once, %.4g particle-steps/s each (median; runs %s), %.1f%% of one alone\n", s, np, ms, runs, 100 * ms / m1
+      printf "%s  efficiency against the side-by-side ceiling=%.1f%%\n", s, 100 * mn / (np * ms)
+    }'
+  fi
 done
 
 if [ "$SCENE" = jobs/bench/bst_R35_bench.toml ]; then
