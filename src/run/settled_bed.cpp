@@ -35,6 +35,7 @@ Particles share_of(const Particles& all, MPI_Comm comm) {
   Particles mine = all;
   mine.permute(rows);
   mine.resize(rows.size());
+  mine.shrink_to_fit();  // else every rank would keep room for the whole bed for the whole run
   return mine;
 }
 

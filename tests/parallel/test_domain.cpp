@@ -159,6 +159,28 @@ TEST(Domain, ThinHaloHoldsEveryPairOfTheSerialList) {
   EXPECT_LT(ghosts, uniform);
 }
 
+// The particle state on a rank holds its owned particles and ghosts with at most 1/8 of headroom:
+// the ghosts appended after the owned ones are sorted do not double the columns (they did: 180 B
+// per particle on one rank, 360 on two). Many rebuilds (thin skin) and re-bisections, so the
+// columns grow and shrink as particles migrate.
+TEST(Domain, StateKeepsAnEighthOfHeadroomNotDouble) {
+  const Scene s = tiny({"neighbor.skin=0.02", "parallel.rebalance_threshold=1.0"});
+  const Particles bed = tiny_bed(s);
+  Simulation serial(s, bed, biaxial(s));
+  Simulation par(s, share_of(bed, MPI_COMM_WORLD), biaxial(s), 0, 0, MPI_COMM_WORLD);
+  serial.compute_forces();
+  par.compute_forces();
+  for (int k = 0; k < 200; ++k) par.step();
+  ASSERT_GT(par.rebuilds(), 5u);
+  const double per_row_serial =
+      static_cast<double>(serial.memory().particles) / static_cast<double>(bed.size());
+  const double per_row = static_cast<double>(par.memory().particles) /
+                         static_cast<double>(par.particles().size());  // owned and ghosts
+  EXPECT_LE(per_row, 1.125 * per_row_serial + 1e-9)
+      << per_row << " B per particle held on rank " << par.domain()->rank() << ", serial "
+      << per_row_serial;
+}
+
 // A sliding contact carried across the rank border keeps its spring: two touching particles
 // slide past each other (relative tangential velocity along z) while both move along x through
 // the middle of the tumbler, where the first cut lies (the lattice around them is symmetric). The
