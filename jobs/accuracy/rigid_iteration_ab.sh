@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# One whole (57°, 57°) iteration of SCENE rigid and dynamic, interleaved chunk by chunk, for the
+# rigid bulk's speed-up per iteration (issue 20, docs/accuracy.md "Rigid bulk"). On a shared
+# machine two runs hours apart cannot be compared (its load moves their rates by tens of per
+# cent), so the two runs advance in turns, CHUNK steps at a time, each from its own last
+# checkpoint (a restart continues bitwise): every chunk of one has a partner of the other over the
+# same steps of the protocol, run minutes apart. The first chunk of each round alternates.
+#
+# Resumable: each variant's state is its checkpoint in OUT/<variant>, and every finished chunk is
+# a line of OUT/chunks.tsv (variant, first step, steps, wall s of the stepping, frozen share at its
+# end). A chunk cut short (the job killed) left no line and no checkpoint, and runs again whole.
+# Rerun the same command to go on; REPORT=1 prints the table of what is done without running.
+# To lend the cores to other work without spoiling a chunk's time: `touch OUT/pause`; the job
+# waits after the chunk it is in until the file is removed.
+# Each chunk's wall time is the run's own "[run] done" figure: its steps and its final checkpoint
+# (one per chunk for both variants), not the start-up.
+# usage: jobs/accuracy/rigid_iteration_ab.sh [SCENE=scenes/bst_paper.toml] [TIER=standard]
+#                                            [CHUNK=20000] [NP=2] [ROUNDS=1000000]
+# ROUNDS bounds the rounds run by this call (the job stops when both runs reach the iteration's
+# end).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+SCENE=${1:-scenes/bst_paper.toml}
+TIER=${2:-standard}
+CHUNK=${3:-20000}
+NP=${4:-2}
+ROUNDS=${5:-1000000}
+source jobs/lib/bench_common.sh
+OUT=$(realpath -m "${OUT:-results/rigid_iteration_ab/$(basename "$SCENE" .toml)_$TIER}")
+mkdir -p "$OUT"
+TSV="$OUT/chunks.tsv"
+[ -f "$TSV" ] || printf 'variant\tfirst_step\tsteps\twall_s\tfrozen\tutc\n' > "$TSV"
+
+report() {
+  /usr/bin/python3 - "$TSV" <<'EOF'
+import csv, statistics, sys
+rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
+by = {}
+for r in rows:
+    by.setdefault(r["variant"], {})[int(r["first_step"])] = r
+done = {v: sum(int(r["steps"]) for r in c.values()) for v, c in by.items()}
+wall = {v: sum(float(r["wall_s"]) for r in c.values()) for v, c in by.items()}
+for v in sorted(by):
+    print(f"# {v}: {len(by[v])} chunks, {done[v]} steps, {wall[v]:.0f} s of stepping")
+if "rigid" in by and "dynamic" in by:
+    common = sorted(set(by["rigid"]) & set(by["dynamic"]))
+    pairs = [(by["dynamic"][k], by["rigid"][k]) for k in common
+             if by["dynamic"][k]["steps"] == by["rigid"][k]["steps"]]
+    if pairs:
+        d = sum(float(a["wall_s"]) for a, _ in pairs)
+        r = sum(float(b["wall_s"]) for _, b in pairs)
+        ratios = sorted(float(a["wall_s"]) / float(b["wall_s"]) for a, b in pairs)
+        q = statistics.quantiles(ratios, n=4) if len(ratios) > 1 else ratios * 3
+        steps = sum(int(a["steps"]) for a, _ in pairs)
+        print(f"# paired chunks: {len(pairs)} ({steps} steps): dynamic {d:.0f} s, rigid {r:.0f} s,"
+              f" dynamic / rigid = {d / r:.2f} over their sum; per chunk median"
+              f" {statistics.median(ratios):.2f} (quartiles {q[0]:.2f}-{q[2]:.2f},"
+              f" range {ratios[0]:.2f}-{ratios[-1]:.2f})")
+EOF
+}
+if [ -n "${REPORT:-}" ]; then report; exit 0; fi
+
+bench_header | tee -a "$OUT/job.log"
+echo "# $SCENE at $TIER, (57, 57), beta = 27 deg, one iteration, rigid and dynamic in turns of" \
+     "$CHUNK steps, $NP ranks" | tee -a "$OUT/job.log"
+common=("$SCENE" --set fidelity.tier="$TIER" --set fill.bed_cache=beds --set protocol.repose=27
+        --set protocol.iterations=1 --set output.analysis_interval=0.05
+        --set output.snapshot_interval=1e6 --set output.checkpoint_interval=1e6
+        --set output.checkpoint_wall=0 --set output.progress_interval=60)
+
+# run_chunk VARIANT: CHUNK more steps of VARIANT; returns 1 when it has reached the end.
+run_chunk() {
+  local v=$1 dir="$OUT/$1" log first steps wall frozen
+  [ -f "$dir/finished" ] && return 1
+  while [ -f "$OUT/pause" ]; do sleep 5; done
+  log="$OUT/$v.last.log"
+  ${MPIRUN:-mpirun} --bind-to none -n "$NP" "$BIN" run "${common[@]}" --set fidelity.bulk="$v" \
+    --set scene.output_dir="$dir" --resume --max-steps "$CHUNK" > "$log" 2>&1 ||
+    { echo "# $v: run failed, see $log" | tee -a "$OUT/job.log"; exit 1; }
+  cat "$log" >> "$OUT/$v.log"
+  # "[run] done: N steps in W s" and the first step from the restart line (0 on a fresh start).
+  steps=$(sed -n 's/.*done: \([0-9]*\) steps in.*/\1/p' "$log" | tail -1)
+  wall=$(sed -n 's/.*done: [0-9]* steps in \([0-9.e+]*\) s.*/\1/p' "$log" | tail -1)
+  first=$(sed -n 's/.*restarting from .* (step \([0-9]*\).*/\1/p' "$log" | tail -1)
+  frozen=$(grep -o 'frozen [0-9.]*' "$log" | tail -1 | cut -d' ' -f2 || true)
+  [ -n "$steps" ] && [ -n "$wall" ] || { echo "# $v: no done line in $log" >&2; exit 1; }
+  if [ "$steps" -gt 0 ]; then
+    printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$v" "${first:-0}" "$steps" "$wall" "${frozen:--}" \
+      "$(date -u +%H:%MZ)" >> "$TSV"
+  fi
+  if [ "$steps" -lt "$CHUNK" ]; then touch "$dir/finished"; return 1; fi
+  return 0
+}
+
+for ((r = 1; r <= ROUNDS; r++)); do
+  order="rigid dynamic"
+  [ $((r % 2)) -eq 0 ] && order="dynamic rigid"
+  more=0
+  for v in $order; do
+    if run_chunk "$v"; then more=1; fi
+  done
+  report | tail -1 | tee -a "$OUT/job.log"
+  [ -f "$OUT/rigid/finished" ] && [ -f "$OUT/dynamic/finished" ] && break
+  [ "$more" -eq 1 ] || break
+done
+report
