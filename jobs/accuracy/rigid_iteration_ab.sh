@@ -7,8 +7,9 @@
 # same steps of the protocol, run minutes apart. The first chunk of each round alternates.
 #
 # Resumable: each variant's state is its checkpoint in OUT/<variant>, and every finished chunk is
-# a line of OUT/chunks.tsv (variant, first step, steps, wall s of the stepping, frozen share at its
-# end). A chunk cut short (the job killed) left no line and no checkpoint, and runs again whole.
+# a line of OUT/chunks.tsv (variant, first step, steps, wall s of the stepping, the frozen share of
+# the chunk's last progress line). A chunk cut short (the job killed) left no line and no
+# checkpoint, and runs again whole.
 # Rerun the same command to go on; REPORT=1 prints the table of what is done without running.
 # To lend the cores to other work without spoiling a chunk's time: `touch OUT/pause`; the job
 # waits after the chunk it is in until the file is removed.
@@ -66,7 +67,7 @@ echo "# $SCENE at $TIER, (57, 57), beta = 27 deg, one iteration, rigid and dynam
 common=("$SCENE" --set fidelity.tier="$TIER" --set fill.bed_cache=beds --set protocol.repose=27
         --set protocol.iterations=1 --set output.analysis_interval=0.05
         --set output.snapshot_interval=1e6 --set output.checkpoint_interval=1e6
-        --set output.checkpoint_wall=0 --set output.progress_interval=60)
+        --set output.checkpoint_wall=0 --set output.progress_interval=15)
 
 # run_chunk VARIANT: CHUNK more steps of VARIANT; returns 1 when it has reached the end.
 run_chunk() {
