@@ -152,6 +152,97 @@ TEST(VerletList, HistoryOfAnotherWidthAndSignPatternSurvivesRebuildsAndRecords) 
 // The list build's distance filter on AVX2 lanes returns exactly the plain filter's indices: runs
 // of every length 0..40 (whole blocks of four and tails), candidates at, inside and outside the
 // reach, with and without a z period.
+namespace {
+// The list and the dormant springs of the rigid bulk against the bed's pairs found by brute
+// force: a pair within the cutoff is dormant if both of its particles are frozen and listed once
+// otherwise, and every spring, listed or dormant, is the one `springs` holds for its pair.
+void expect_split(const Particles& p, const neighbor::VerletList& l,
+                  const neighbor::ContactHistory& dormant,
+                  const neighbor::ContactHistory& springs) {
+  auto frozen = [&](std::size_t i) { return p.bulk_state[i] < 0; };
+  std::set<std::pair<std::int64_t, std::int64_t>> listed, kept;
+  for (std::size_t i = 0; i + 1 < l.start.size(); ++i)
+    for (std::uint32_t k = l.start[i]; k < l.start[i + 1]; ++k) {
+      const std::size_t j = l.nbr[k];
+      ASSERT_FALSE(frozen(i) && frozen(j)) << "a pair of two frozen particles is listed";
+      ASSERT_TRUE(listed.insert(std::minmax(p.id[i], p.id[j])).second) << "pair listed twice";
+      const neighbor::HistoryValues want = springs.lookup(p.id[i], p.id[j]);
+      for (int d = 0; d < 3; ++d) ASSERT_EQ(l.history[3 * k + d], want[d]) << "pair " << i;
+    }
+  for (const auto& r : dormant.records()) {
+    ASSERT_TRUE(kept.insert({r.lo, r.hi}).second) << "dormant pair kept twice";
+    const neighbor::HistoryValues want = springs.lookup(r.lo, r.hi);
+    for (int d = 0; d < 3; ++d) ASSERT_EQ(r.history[d], want[d]);
+  }
+  std::size_t pairs = 0, frozen_pairs = 0, frozen_springs = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      const double cut = p.radius[i] + p.radius[j] + l.skin();
+      if (norm2(p.x[i] - p.x[j]) >= cut * cut) continue;
+      const auto ids = std::minmax(p.id[i], p.id[j]);
+      const bool live = springs.lookup(p.id[i], p.id[j])[0] != 0;
+      if (frozen(i) && frozen(j)) {
+        ++frozen_pairs;
+        frozen_springs += live;
+        EXPECT_EQ(kept.count(ids), live ? 1u : 0u) << "dormant spring of " << i << ", " << j;
+      } else {
+        ++pairs;
+        EXPECT_EQ(listed.count(ids), 1u) << "missing pair " << i << ", " << j;
+      }
+    }
+  EXPECT_EQ(listed.size(), pairs);
+  EXPECT_EQ(kept.size(), frozen_springs);
+  EXPECT_GT(frozen_springs, p.size() / 4);  // the case is not empty
+  EXPECT_GT(pairs, p.size() / 2);
+}
+}  // namespace
+
+// The rigid bulk's list: a pair of two frozen particles leaves the list, its spring kept by ids
+// (dormant), and comes back with it when one of the two thaws; freezing and thawing at the same
+// rebuild, a rebuild matched by ids (a restart) and one carried by old index split the pairs alike.
+TEST(VerletList, FrozenPairsLeaveTheListWithTheirSpringsAndComeBackWithThem) {
+  Simulation sim = flowing_bed();
+  neighbor::ContactHistory springs;  // every live spring of the bed: positions do not change here
+  sim.neighbors().save_history(sim.particles(), springs);
+  Particles p = sim.particles();
+  neighbor::VerletList list = sim.neighbors();
+  neighbor::ContactHistory dormant(list.history_layout());
+  // Freeze half of the bed (x < 0).
+  p.set_rigid_columns(true);  // (a dynamic run's particles leave them out)
+  for (std::size_t i = 0; i < p.size(); ++i) p.bulk_state[i] = p.x[i].x < 0 ? -1 : 0;
+  list.rebuild(p, nullptr, &dormant);
+  {
+    SCOPED_TRACE("half of the bed frozen");
+    expect_split(p, list, dormant, springs);
+  }
+  // Thaw the upper half of the frozen ones and freeze a band of the moving ones, at one rebuild.
+  const double r = sim.wall().radius;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.x[i].x < 0 && p.x[i].y > -0.5 * r) p.bulk_state[i] = 0;
+    if (p.x[i].x >= 0 && p.x[i].x < 0.3 * r) p.bulk_state[i] = -1;
+  }
+  list.rebuild(p, nullptr, &dormant);
+  {
+    SCOPED_TRACE("thawed and frozen at one rebuild");
+    expect_split(p, list, dormant, springs);
+  }
+  // A restart: the list's and the dormant springs saved by ids, matched into a new list.
+  neighbor::ContactHistory saved;
+  list.save_history(p, saved, false);
+  std::vector<neighbor::SavedSpring> all = saved.records();
+  all.insert(all.end(), dormant.records().begin(), dormant.records().end());
+  saved.set_records(std::move(all));
+  Particles q = p;
+  neighbor::VerletList again = list;
+  neighbor::ContactHistory dormant_again(list.history_layout());
+  again.rebuild(q, &saved, &dormant_again);
+  {
+    SCOPED_TRACE("a restart");
+    expect_split(q, again, dormant_again, springs);
+  }
+  EXPECT_EQ(dormant_again.records().size(), dormant.records().size());
+}
+
 TEST(NearFilter, LanesReturnThePlainIndices) {
   __builtin_cpu_init();
   if (!__builtin_cpu_supports("avx2")) {

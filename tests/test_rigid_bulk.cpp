@@ -127,7 +127,7 @@ TEST(RigidBulk, TurningBedFreezesBelowItsSurfaceAndTheFrozenTurnWithTheWall) {
     was[p.id[i]] = p.bulk_state[i] == -1;
   }
   neighbor::ContactHistory h1;
-  sim.neighbors().save_history(p, h1);
+  sim.save_contacts(h1);
   for (int k = 0; k < 500; ++k) {
     if (k == 499) sim.request_rebuild();
     sim.step();
@@ -148,7 +148,7 @@ TEST(RigidBulk, TurningBedFreezesBelowItsSurfaceAndTheFrozenTurnWithTheWall) {
   // The dormant springs of pairs frozen throughout turned with the wall: the same in the
   // tumbler's frame, Q(t2)^T h(t2) = Q(t1)^T h(t1).
   neighbor::ContactHistory h2;
-  sim.neighbors().save_history(p, h2);
+  sim.save_contacts(h2);
   std::vector<int> now(p.size(), 0);
   for (std::size_t i = 0; i < p.size(); ++i) now[p.id[i]] = p.bulk_state[i] == -1;
   std::size_t springs = 0;

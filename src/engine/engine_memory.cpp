@@ -20,8 +20,7 @@ EngineMemory Simulation::memory() const {
               bytes_of(wall_candidates_) + bytes_of(cap_candidates_);
   const RigidBulk& b = bulk_;
   m.scratch += bytes_of(b.top) + bytes_of(b.calm) + bytes_of(b.unsettled) + bytes_of(b.touched) +
-               bytes_of(b.start) + bytes_of(b.nbr) + bytes_of(b.row) + bytes_of(b.full) +
-               bytes_of(b.history) + bytes_of(b.moving) + bytes_of(b.exposed) +
+               b.dormant.memory_bytes() + bytes_of(b.moving) + bytes_of(b.exposed) +
                bytes_of(b.exposed_ghosts) + bytes_of(b.x_build);
   if (dom_) m.scratch += dom_->memory_bytes();
   return m;

@@ -5,14 +5,15 @@
 // bulk_calm_distance d_large of where their stay began) for bulk_dwell seconds, and its top lies
 // more than bulk_margin d_large below the free surface of its column. A frozen particle is carried
 // exactly by the wall's rotation (positions by the protocol's orientation, v = Ω × r, w = Ω), feels
-// no wall, and its pairs with other frozen particles are left out of the force loops: their springs
-// stay in the whole list (dormant) and restart from there. Pairs with a moving particle are
-// computed as for any pair (the frozen one acts as a rough wall grain). It thaws at the next
-// rebuild when a neighbour moves (leaves its calm distance) or the surface comes within the
-// margin, at the first rebuild of a new protocol segment, at a rebuild when gravity, seen from the
-// tumbler, has changed by more than bulk_thaw_gravity g since it froze (off at the default 2), and
-// at the very next step when its moving neighbours push it harder than bulk_thaw_force times its
-// weight (checked in kick_drift_rigid below).
+// no wall, and its pairs with other frozen particles are left out of the neighbour list: no force
+// loop runs them and no rebuild filters them; their springs wait by ids (dormant, turned with the
+// wall) and restart from there when one of the pair thaws (neighbor/verlet_list.hpp). Pairs with a
+// moving particle are computed as for any pair (the frozen one acts as a rough wall grain). It
+// thaws at the next rebuild when a neighbour moves (leaves its calm distance) or the surface comes
+// within the margin, at the first rebuild of a new protocol segment, at a rebuild when gravity,
+// seen from the tumbler, has changed by more than bulk_thaw_gravity g since it froze (off at the
+// default 2), and at the very next step when its moving neighbours push it harder than
+// bulk_thaw_force times its weight (checked in kick_drift_rigid below).
 //
 // A frozen particle's place is a function of time alone: turn(t_b -> t) x_b, from its position
 // x_b at the last rebuild (time t_b), so every rank computes the same bits for it, owner or ghost
@@ -52,22 +53,25 @@ void Simulation::update_bulk_states() {
   RigidBulk& b = bulk_;
   // The dormant springs (pairs frozen since the last pass) and the wall springs of frozen
   // particles turned with the wall in the meantime: turn them too, so that a thawed contact
-  // restarts from its spring as seen in the tumbler's frame. Springs are lab-frame vectors in
-  // every law of today (width 3); another history would need its own rule.
-  if (list_.history_layout().width == 3) {
+  // restarts from its spring as seen in the tumbler's frame; and the dormant records' anchors,
+  // which follow their row particle (a migration routes the records by them). Springs are
+  // lab-frame vectors in every law of today (width 3); another history would need its own rule.
+  {
     const Mat3 turn = turn_between(protocol_, b.last_update_time, time_);
-    double* h = list_.history.data();
-    for (std::size_t i = 0; i < n; ++i) {
-      if (p_.bulk_state[i] >= 0) continue;
-      p_.wall_spring[i] = turn * p_.wall_spring[i];
-      for (std::uint32_t k = list_.start[i]; k < list_.start[i + 1]; ++k) {
-        if (p_.bulk_state[list_.nbr[k]] >= 0) continue;
-        const Vec3 v = turn * Vec3{h[3 * k], h[3 * k + 1], h[3 * k + 2]};
-        h[3 * k] = v.x;
-        h[3 * k + 1] = v.y;
-        h[3 * k + 2] = v.z;
+    if (list_.history_layout().width == 3)
+      for (std::size_t i = 0; i < n; ++i)
+        if (p_.bulk_state[i] < 0) p_.wall_spring[i] = turn * p_.wall_spring[i];
+    std::vector<neighbor::SavedSpring> records = b.dormant.records();
+    for (neighbor::SavedSpring& r : records) {
+      if (list_.history_layout().width == 3) {
+        const Vec3 v = turn * Vec3{r.history[0], r.history[1], r.history[2]};
+        r.history[0] = v.x;
+        r.history[1] = v.y;
+        r.history[2] = v.z;
       }
+      r.anchor = turn * r.anchor;
     }
+    b.dormant.set_records(std::move(records));
   }
   // Calm: within calm_distance of its anchor, the tumbler-frame position where its present stay
   // began. A displacement, not a speed: the bulk of a rolling bed rattles (deep particles move at
@@ -167,55 +171,33 @@ void Simulation::set_pair_view() {
   RigidBulk& b = bulk_;
   const std::size_t n = n_local_, all = p_.size();
   const std::int32_t* state = p_.bulk_state.data();
-  // Nothing frozen here (ghosts included): the whole list, without a copy, and every particle
-  // moves (the rigid path then costs only its pass at each rebuild; a dynamic run keeps no
-  // list of them).
+  // The force loops run the whole list: with the rigid bulk it holds no pair of two frozen
+  // particles (they are dormant).
+  pairs_ = {list_.start.data(), list_.nbr.data(), list_.row.data(), list_.history.data(),
+            list_.nbr.size()};
+  // Nothing frozen here (ghosts included): every particle moves (the rigid path then costs only
+  // its pass at each rebuild; a dynamic run keeps no list of them).
   b.any_frozen = rigid_ && std::any_of(p_.bulk_state.begin(), p_.bulk_state.end(),
                                        [](std::int32_t s) { return s < 0; });
   b.moving.clear();
   b.exposed.clear();
   b.exposed_ghosts.clear();
   if (!b.any_frozen) {
-    b.full.clear();
     b.x_build.clear();
     b.moving.resize(rigid_ ? n : 0);
     for (std::size_t i = 0; i < b.moving.size(); ++i) b.moving[i] = static_cast<std::uint32_t>(i);
-    pairs_ = {list_.start.data(), list_.nbr.data(), list_.row.data(), list_.history.data(),
-              list_.nbr.size()};
     return;
   }
-  // The pairs with at least one moving particle, in list order, with copies of their springs;
-  // their frozen ends are the frozen particles the step must turn.
-  const std::size_t w = static_cast<std::size_t>(list_.history_layout().width);
-  b.start.resize(n + 1);
-  b.nbr.resize(list_.nbr.size());
-  b.full.resize(list_.nbr.size());
-  b.history.resize(w * list_.nbr.size());
+  // The frozen ends of the pairs (each has a moving one) are the frozen particles the step must
+  // turn.
   b.touched.assign(all, 0);
-  std::uint32_t count = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    b.start[i] = count;
     const bool frozen_i = state[i] < 0;
     for (std::uint32_t k = list_.start[i]; k < list_.start[i + 1]; ++k) {
-      const std::uint32_t j = list_.nbr[k];
-      if (frozen_i && state[j] < 0) continue;
       b.touched[i] |= frozen_i;
-      b.touched[j] |= state[j] < 0;
-      b.nbr[count] = j;
-      b.full[count] = k;
-      for (std::size_t d = 0; d < w; ++d) b.history[w * count + d] = list_.history[w * k + d];
-      ++count;
+      b.touched[list_.nbr[k]] |= state[list_.nbr[k]] < 0;
     }
   }
-  b.start[n] = count;
-  b.nbr.resize(count);
-  b.full.resize(count);
-  b.history.resize(w * count);
-  b.row.resize(count);
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::uint32_t k = b.start[i]; k < b.start[i + 1]; ++k)
-      b.row[k] = static_cast<std::uint32_t>(i);
-  pairs_ = {b.start.data(), b.nbr.data(), b.row.data(), b.history.data(), count};
   // Who the step moves, and where the frozen are now (their origin until the next rebuild). A
   // frozen particle outside every pair keeps no force or torque: none reaches it until it is in a
   // pair again (the thaw-force check reads it then).
@@ -315,14 +297,6 @@ void Simulation::sync_frozen() const {
     if (rotation_) p_.w[i] = omega;
   }
   b.synced_time = time_;
-}
-
-void Simulation::sync_dormant() const {
-  if (!rigid_) return;
-  const RigidBulk& b = bulk_;
-  const std::size_t w = static_cast<std::size_t>(list_.history_layout().width);
-  for (std::size_t c = 0; c < b.full.size(); ++c)
-    for (std::size_t d = 0; d < w; ++d) list_.history[w * b.full[c] + d] = b.history[w * c + d];
 }
 
 }  // namespace tumble

@@ -172,15 +172,18 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
     neighbor::ContactHistory h;
     list_.save_history(p_, h, false);  // indexed after the move, where they arrive
     records = h.records();
+    // The rigid bulk's dormant springs travel the same way (their pairs are not in the list).
+    const auto& dormant = bulk_.dormant.records();
+    records.insert(records.end(), dormant.begin(), dormant.end());
   }
   p_.resize(n_local_);  // drop the ghosts
   dom_->distribute(p_, records, halo_reach_, list_.history_layout().width);
   n_local_ = p_.size();
-  list_.sort(p_);
+  list_.sort(p_, rigid_);
   dom_->exchange_ghosts(p_, n_local_, ghost_reach_);
   neighbor::ContactHistory h(list_.history_layout());
   h.set_records(std::move(records));
-  list_.build_with_ghosts(p_, n_local_, h);
+  list_.build_with_ghosts(p_, n_local_, h, rigid_ ? &bulk_.dormant : nullptr);
 }
 
 template <class Law, bool kFriction, bool kPeriodic>
@@ -230,12 +233,11 @@ void Simulation::rebuild_lists(const neighbor::ContactHistory* history) {
     const double L = 2 * cylinder_.half_length;
     for (Vec3& x : p_.x) x.z -= L * std::floor((x.z + cylinder_.half_length) / L);
   }
-  sync_frozen();   // the frozen are binned (and migrated) where they are now
-  sync_dormant();  // the rebuild carries the whole list's springs, dormant ones included
+  sync_frozen();  // the frozen are binned (and migrated) where they are now
   if (dom_)
     rebuild_distributed(history);
   else
-    list_.rebuild(p_, history);
+    list_.rebuild(p_, history, rigid_ ? &bulk_.dormant : nullptr);
   // Only particles within one skin of the wall can touch it before the next rebuild (no particle
   // moves more than skin/2 in between).
   wall_candidates_.clear();
@@ -606,7 +608,39 @@ double Simulation::elastic_energy() const {
                                  load_history<typename Law::History>(list_.history.data(), k));
     }
   }
+  // The rigid bulk's dormant pairs (two frozen particles, not in the list): found by ids among
+  // this rank's particles and ghosts, shared as the list's pairs are.
+  const auto& dormant = bulk_.dormant.records();
+  if (!dormant.empty()) {
+    std::int64_t top = -1;
+    for (std::size_t i = 0; i < p_.size(); ++i) top = std::max(top, p_.id[i]);
+    std::vector<std::int64_t> at(static_cast<std::size_t>(top + 1), -1);
+    for (std::size_t i = 0; i < p_.size(); ++i)
+      at[static_cast<std::size_t>(p_.id[i])] = static_cast<std::int64_t>(i);
+    auto index = [&](std::int64_t id) { return id <= top ? at[static_cast<std::size_t>(id)] : -1; };
+    for (const auto& r : dormant) {
+      const std::int64_t a = index(r.lo), b = index(r.hi);
+      if (a < 0 || b < 0) continue;
+      const auto i = static_cast<std::size_t>(a), j = static_cast<std::size_t>(b);
+      const Vec3 d = cylinder_.nearest_image(p_.x[i] - p_.x[j]);
+      const double ovp = p_.radius[i] + p_.radius[j] - norm(d);
+      const double share =
+          (i < n_local_ ? 0.5 : 0.0) + (j < n_local_ ? 0.5 : 0.0);  // each rank's own half
+      if (ovp > 0)
+        e += share * Law::elastic_energy(tab.pair[p_.species[i]][p_.species[j]], ovp,
+                                         load_history<typename Law::History>(r.history.data(), 0));
+    }
+  }
   return e;
+}
+
+void Simulation::save_contacts(neighbor::ContactHistory& out) const {
+  list_.save_history(particles(), out, false);
+  std::vector<neighbor::SavedSpring> all = out.records();
+  const auto& dormant = bulk_.dormant.records();
+  all.insert(all.end(), dormant.begin(), dormant.end());
+  out.set_records(std::move(all));
+  out.sort_by_ids();
 }
 
 EnergyBreakdown Simulation::energy() const {
@@ -617,7 +651,6 @@ EnergyBreakdown Simulation::energy() const {
     e.kinetic += 0.5 * m * norm2(p_.v[i]) + 0.5 / p_.inv_inertia[i] * norm2(p_.w[i]);
     e.potential -= m * dot(gravity_, p_.x[i]);
   }
-  sync_dormant();
   e.elastic = (this->*elastic_energy_)();
   if (dom_) {
     double parts[3] = {e.kinetic, e.potential, e.elastic};

@@ -86,11 +86,12 @@ class Simulation {
   std::int64_t global_count() const;
   // The parallel layer, or nullptr for a serial run.
   const parallel::Domain* domain() const { return dom_.get(); }
-  // The whole neighbour list (with the rigid bulk: its dormant springs brought up to date).
-  const neighbor::VerletList& neighbors() const {
-    sync_dormant();
-    return list_;
-  }
+  // The neighbour list (with the rigid bulk, without the pairs of two frozen particles: their
+  // springs are dormant, see save_contacts()).
+  const neighbor::VerletList& neighbors() const { return list_; }
+  // Every live contact spring, by ids and sorted: the list's and, with the rigid bulk, the
+  // dormant ones (checkpoints).
+  void save_contacts(neighbor::ContactHistory& out) const;
   const geometry::Protocol& protocol() const { return protocol_; }
   const geometry::SphereWall& wall() const { return wall_; }
   const geometry::CylinderWall& cylinder() const { return cylinder_; }
@@ -177,9 +178,6 @@ class Simulation {
   // cells and ranks), then the pairs the force loops run.
   void update_bulk_states();
   void set_pair_view();
-  // Rigid bulk: writes the active pairs' springs back into the whole list (before it is rebuilt
-  // or read).
-  void sync_dormant() const;
   template <class Law, bool kFriction, class Wall>
   void rough_wall_forces(const Wall& wall);
   template <class Law, bool kFriction>
@@ -214,9 +212,7 @@ class Simulation {
   bool rotation_ = true;      // false: no friction anywhere, the spins never change
   bool one_species_ = false;  // every particle of species species0_: no pair-table lookups
   std::int32_t species0_ = 0;
-  // mutable: with the rigid bulk the dormant springs are written back lazily by const readers
-  // (neighbors(), energy()).
-  mutable neighbor::VerletList list_;
+  neighbor::VerletList list_;
   std::vector<std::uint32_t>
       wall_candidates_;  // particles that may touch the (curved) wall before the next rebuild
   std::vector<std::uint32_t> cap_candidates_;  // cylinder: particles that may touch an end cap
@@ -236,8 +232,8 @@ class Simulation {
   Kernel wall_kernel_ = nullptr;
   double (Simulation::*kick_drift_)(double) = nullptr;  // first kick and drift (rotation, bulk)
   Kernel half_kick_ = nullptr;                          // second kick
-  // The pairs the force loops run: the whole list (dynamic bulk), or its pairs that have at least
-  // one moving particle (rigid bulk). Set after every rebuild.
+  // The pairs the force loops run: the whole list (with the rigid bulk every pair of it has a
+  // moving particle). Set after every rebuild.
   struct PairView {
     const std::uint32_t* start = nullptr;
     const std::uint32_t* nbr = nullptr;
@@ -247,7 +243,7 @@ class Simulation {
   };
   PairView pairs_;
   // fidelity.bulk = "rigid": the scene's thresholds in SI units, the free surface's height per
-  // column of the lab's x-z plane, the active pairs (and each one's index in list_), scratch.
+  // column of the lab's x-z plane, the dormant springs, scratch.
   struct RigidBulk {
     double calm_distance = 0;       // [m] in the tumbler's frame, from the particle's anchor
     std::int64_t dwell_steps = 0;   // steps calm before freezing
@@ -259,8 +255,11 @@ class Simulation {
     int nx = 0, nz = 0;
     std::vector<double> top;  // highest particle top per column (-1e300: empty)
     std::vector<std::uint8_t> calm, unsettled, touched;
-    std::vector<std::uint32_t> start, nbr, row, full;
-    std::vector<double> history;
+    // The springs of the pairs of two frozen particles (left out of the list), by ids, as seen
+    // from the lower id, in the lab frame (turned with the wall at every pass), anchored at
+    // their row particle's present place (for migration). On more than one rank: the pairs with
+    // one of the rank's own particles.
+    neighbor::ContactHistory dormant;
     // Set with the pairs at every rebuild: whether anything is frozen; the owned moving particles;
     // the frozen particles in a pair with a moving one (owned, then ghosts): the only frozen ones
     // the step needs; every particle's position at the rebuild and its time (a frozen particle

@@ -173,7 +173,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
       write_column(f, dataset_of(name), column, n);
   });
   neighbor::ContactHistory h;
-  sim.neighbors().save_history(p, h);
+  sim.save_contacts(h);  // the list's springs and the rigid bulk's dormant ones
   std::vector<std::int64_t> pairs;
   std::vector<double> springs, anchors;
   const int width = h.width();  // the law's doubles of history per contact: the columns

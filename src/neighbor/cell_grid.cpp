@@ -22,18 +22,31 @@ std::uint32_t CellGrid::cell_of(const Vec3& p) const {
 }
 
 void CellGrid::sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& perm,
-                    std::vector<std::uint32_t>& cell_start) const {
+                    std::vector<std::uint32_t>& cell_start, const std::int32_t* state,
+                    std::vector<std::uint32_t>* moving_end) const {
   const std::size_t n = x.size();
-  std::vector<std::uint32_t> cell(n);
-  cell_start.assign(cell_count() + 1, 0);
+  // Keys: the cell, or (with the states) twice the cell plus one for a frozen particle.
+  const std::size_t per = state ? 2 : 1, keys = per * cell_count();
+  std::vector<std::uint32_t> key(n), key_start(keys + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    cell[i] = cell_of(x[i]);
-    ++cell_start[cell[i] + 1];
+    key[i] = static_cast<std::uint32_t>(per * cell_of(x[i]) + (state && state[i] < 0 ? 1 : 0));
+    ++key_start[key[i] + 1];
   }
-  for (std::size_t c = 0; c < cell_count(); ++c) cell_start[c + 1] += cell_start[c];
-  std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
+  for (std::size_t c = 0; c < keys; ++c) key_start[c + 1] += key_start[c];
+  std::vector<std::uint32_t> fill(key_start.begin(), key_start.end() - 1);
   perm.resize(n);
-  for (std::size_t i = 0; i < n; ++i) perm[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
+  for (std::size_t i = 0; i < n; ++i) perm[fill[key[i]]++] = static_cast<std::uint32_t>(i);
+  if (!state) {
+    cell_start = std::move(key_start);
+    return;
+  }
+  cell_start.resize(cell_count() + 1);
+  moving_end->resize(cell_count());
+  for (std::size_t c = 0; c < cell_count(); ++c) {
+    cell_start[c] = key_start[2 * c];
+    (*moving_end)[c] = key_start[2 * c + 1];
+  }
+  cell_start[cell_count()] = key_start[keys];
 }
 
 }  // namespace tumble::neighbor

@@ -32,8 +32,12 @@ class CellGrid {
   // Stable counting sort of particles by cell: fills `perm` (new order -> old index), `cell_start`
   // (size cell_count()+1, particles of cell c are [cell_start[c], cell_start[c+1]) after
   // permuting).
+  // With `frozen_last` (the rigid bulk: `state` is bulk_state), a cell's moving particles come
+  // first, in order, then its frozen ones (state < 0), in order; `moving_end[c]` is where cell
+  // c's frozen particles begin. Without it the order is by cell alone.
   void sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& perm,
-            std::vector<std::uint32_t>& cell_start) const;
+            std::vector<std::uint32_t>& cell_start, const std::int32_t* state = nullptr,
+            std::vector<std::uint32_t>* moving_end = nullptr) const;
 
  private:
   Vec3 lo_;

@@ -60,6 +60,10 @@ void ContactHistory::sort_by_ids() {
 }
 
 void ContactHistory::lookup(std::int64_t id_i, std::int64_t id_j, double* out) const {
+  find(id_i, id_j, out);
+}
+
+std::int64_t ContactHistory::find(std::int64_t id_i, std::int64_t id_j, double* out) const {
   const int w = layout_.width;
   const bool flip = id_i > id_j;
   const std::int64_t lo = flip ? id_j : id_i, hi = flip ? id_i : id_j;
@@ -70,10 +74,16 @@ void ContactHistory::lookup(std::int64_t id_i, std::int64_t id_j, double* out) c
       if (s.lo != lo || s.hi != hi) continue;
       for (int d = 0; d < w; ++d)
         out[d] = flip ? layout_.other_side(d, s.history[d]) : s.history[d];
-      return;
+      return static_cast<std::int64_t>(slots_[at]) - 1;
     }
   }
   for (int d = 0; d < w; ++d) out[d] = 0.0;
+  return -1;
+}
+
+bool ContactHistory::indexed(std::size_t k) const {
+  double scratch[kMaxHistoryDoubles];
+  return find(saved_[k].lo, saved_[k].hi, scratch) == static_cast<std::int64_t>(k);
 }
 
 }  // namespace tumble::neighbor

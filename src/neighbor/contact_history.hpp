@@ -84,6 +84,10 @@ class ContactHistory {
   // Phase 2: the history of (id_i, id_j) as seen from i into out[0, width), or zeros if the pair
   // had none.
   void lookup(std::int64_t id_i, std::int64_t id_j, double* out) const;
+  // As lookup, and the index of the record found (its pair's first record), or -1 (zeros).
+  std::int64_t find(std::int64_t id_i, std::int64_t id_j, double* out) const;
+  // Whether record k is the one lookups find for its pair (not a later copy of the same pair).
+  bool indexed(std::size_t k) const;
   HistoryValues lookup(std::int64_t id_i, std::int64_t id_j) const {
     HistoryValues h{};
     lookup(id_i, id_j, h.data());
@@ -91,6 +95,10 @@ class ContactHistory {
   }
 
   const std::vector<SavedSpring>& records() const { return saved_; }
+  // Bytes held (capacities).
+  std::size_t memory_bytes() const {
+    return saved_.capacity() * sizeof(SavedSpring) + slots_.capacity() * sizeof(std::uint32_t);
+  }
   void set_records(std::vector<SavedSpring> r) {
     saved_ = std::move(r);
     finalize();

@@ -24,8 +24,8 @@ void VerletList::save_history(const Particles& p, ContactHistory& out, bool sort
 
 std::size_t VerletList::memory_bytes() const {
   std::size_t bytes = 0;
-  for (const auto* v : {&start, &nbr, &row, &perm_, &cell_start_, &ghost_start_, &ghost_of_cell_,
-                        &old_start_, &old_nbr_})
+  for (const auto* v : {&start, &nbr, &row, &perm_, &cell_start_, &moving_end_, &ghost_start_,
+                        &ghost_of_cell_, &old_start_, &old_nbr_})
     bytes += v->capacity() * sizeof(std::uint32_t);
   for (const auto* v : {&history, &old_history_}) bytes += v->capacity() * sizeof(double);
   return bytes + x_ref_.capacity() * sizeof(Vec3);
@@ -43,6 +43,8 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
   grid_.coords(grid_.cell_of(p.x[i]), ci, cj, ck);
   const Vec3 xi = p.x[i];
   const double ri = p.radius[i] + skin_;
+  // A frozen row lists its moving partners only (the rigid bulk: see rebuild()).
+  const bool frozen_row = skip_frozen_ && p.bulk_state[i] < 0;
   const double* x = &p.x.data()->x;
   // Room for `more` entries after the first `count` (the filter writes up to 4 beyond its hits).
   auto room = [&](std::size_t more) {
@@ -61,7 +63,7 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
         const int c = (cc + grid_.nz()) % grid_.nz();
         const std::uint32_t cell = grid_.index(a, b, c);
         const std::uint32_t lo = std::max<std::uint32_t>(cell_start_[cell], i + 1);
-        const std::uint32_t hi = cell_start_[cell + 1];
+        const std::uint32_t hi = frozen_row ? moving_end_[cell] : cell_start_[cell + 1];
         if (lo < hi) {
           room(hi - lo + 4);
           count += near_(x, p.radius.data(), lo, hi, &xi.x, ri, period_z_, nbr.data() + count);
@@ -69,6 +71,7 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
         if (with_ghosts)
           for (std::uint32_t g = ghost_start_[cell]; g < ghost_start_[cell + 1]; ++g) {
             const std::uint32_t j = ghost_of_cell_[g];
+            if (frozen_row && p.bulk_state[j] < 0) continue;
             room(1);
             count += near_filter_plain(x, p.radius.data(), j, j + 1, &xi.x, ri, period_z_,
                                        nbr.data() + count);
@@ -84,13 +87,28 @@ void VerletList::fill_rows() {
     for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) row[k] = static_cast<std::uint32_t>(i);
 }
 
-void VerletList::sort(Particles& p) {
-  grid_.sort(p.x, perm_, cell_start_);
+void VerletList::sort(Particles& p, bool frozen_last) {
+  skip_frozen_ = frozen_last;
+  grid_.sort(p.x, perm_, cell_start_, frozen_last ? p.bulk_state.data() : nullptr, &moving_end_);
   p.permute(perm_);
 }
 
+namespace {
+// The dormant springs after a rebuild: `kept` (pairs that left the list at it) and every record
+// of `from` that no pair of the new list took (`taken`), is the one lookups find for its pair,
+// and has a particle `mine` says is this rank's.
+template <class Mine>
+void keep_untaken(const ContactHistory& from, const std::vector<std::uint8_t>& taken, Mine mine,
+                  std::vector<SavedSpring>& kept) {
+  for (std::size_t k = 0; k < from.records().size(); ++k) {
+    const SavedSpring& r = from.records()[k];
+    if (!taken[k] && (mine(r.lo) || mine(r.hi)) && from.indexed(k)) kept.push_back(r);
+  }
+}
+}  // namespace
+
 void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
-                                   const ContactHistory& saved) {
+                                   const ContactHistory& saved, ContactHistory* dormant) {
   // Bin the ghosts by cell without moving them: their order is the order refresh_ghosts() fills.
   const std::size_t cells = grid_.cell_count();
   ghost_start_.assign(cells + 1, 0);
@@ -117,14 +135,30 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
   const std::size_t w = static_cast<std::size_t>(layout_.width);
   resize_discarding(history, w * nbr.size());
   std::fill(history.begin(), history.end(), 0.0);
+  std::vector<std::uint8_t> taken(dormant ? saved.records().size() : 0, 0);
   for (std::size_t i = 0; i < n_local; ++i)
-    for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
-      saved.lookup(p.id[i], p.id[nbr[k]], history.data() + w * k);
+    for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
+      const std::int64_t at = saved.find(p.id[i], p.id[nbr[k]], history.data() + w * k);
+      if (dormant && at >= 0) taken[static_cast<std::size_t>(at)] = 1;
+    }
+  if (dormant) {
+    // A record no pair took is a dormant pair's (a live spring is a touching pair's, within every
+    // rank's reach of its particles) or another rank's pair routed here: this rank keeps those
+    // with one of its own particles.
+    std::int64_t top = -1;
+    for (std::size_t i = 0; i < n_local; ++i) top = std::max(top, p.id[i]);
+    std::vector<std::uint8_t> own(static_cast<std::size_t>(top + 1), 0);
+    for (std::size_t i = 0; i < n_local; ++i) own[static_cast<std::size_t>(p.id[i])] = 1;
+    auto mine = [&](std::int64_t id) { return id <= top && own[static_cast<std::size_t>(id)]; };
+    std::vector<SavedSpring> kept;
+    keep_untaken(saved, taken, mine, kept);
+    dormant->set_records(std::move(kept));
+  }
   x_ref_.assign(p.x.begin(), p.x.begin() + static_cast<std::ptrdiff_t>(n_local));
   ++builds;
 }
 
-void VerletList::rebuild(Particles& p, const ContactHistory* saved) {
+void VerletList::rebuild(Particles& p, const ContactHistory* saved, ContactHistory* dormant) {
   const std::size_t n = p.size();
   // Keep the old list: within one process the histories are carried over by old index (a short
   // scan of one old row), which is far cheaper than matching global ids. The id-keyed
@@ -132,9 +166,23 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved) {
   const bool carry_local = saved == nullptr && old_start_capacity_ok(n);
   const std::size_t w = static_cast<std::size_t>(layout_.width);
   const std::size_t previous = nbr.size();
+  // The rigid bulk: the old list's pairs whose particles are both frozen now leave the list; their
+  // springs join the dormant ones (old indices: before the sort).
+  std::vector<SavedSpring> kept;
+  if (dormant && !saved && old_start_capacity_ok(n)) {
+    ContactHistory leaving(layout_);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (p.bulk_state[i] >= 0) continue;
+      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
+        if (p.bulk_state[nbr[k]] < 0)
+          leaving.save(p.id[i], p.id[nbr[k]], history.data() + w * k, p.x[i]);
+    }
+    kept = leaving.records();
+  }
   // The particles are sorted first: the permutation's scratch column then never coincides with
   // the copy of the old springs below (the rebuild's peak is the lower for it).
-  grid_.sort(p.x, perm_, cell_start_);
+  skip_frozen_ = dormant != nullptr;
+  grid_.sort(p.x, perm_, cell_start_, dormant ? p.bulk_state.data() : nullptr, &moving_end_);
   p.permute(perm_);
   if (carry_local) {
     // Only the live springs of the old list are kept (a pair whose spring is zero carries
@@ -197,6 +245,34 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved) {
       for (std::uint32_t k = start[i]; k < start[i + 1]; ++k)
         saved->lookup(p.id[i], p.id[nbr[k]], history.data() + w * k);
   }  // else: the first build, nothing to carry
+  if (dormant) {
+    // A pair back in the list (one of its particles thawed) takes its dormant spring; on a restart
+    // `saved` holds the dormant springs too. What no pair took stays dormant (one process: every
+    // particle is its own).
+    const ContactHistory& from = saved ? *saved : *dormant;
+    std::vector<std::uint8_t> taken(from.records().size(), 0);
+    // Only a pair of two particles with records can have one: most pairs are passed over by a
+    // look at two flags instead of a search.
+    std::int64_t top = -1;
+    for (const SavedSpring& r : from.records()) top = std::max(top, r.hi);
+    std::vector<std::uint8_t> has(static_cast<std::size_t>(top + 1), 0);
+    for (const SavedSpring& r : from.records())
+      has[static_cast<std::size_t>(r.lo)] = has[static_cast<std::size_t>(r.hi)] = 1;
+    auto listed = [&](std::int64_t id) { return id <= top && has[static_cast<std::size_t>(id)]; };
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!listed(p.id[i])) continue;
+      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
+        double* h = history.data() + w * k;
+        if (!listed(p.id[nbr[k]])) continue;
+        if (!saved && is_live(h, layout_.width)) continue;  // carried from the old list
+        const std::int64_t at = from.find(p.id[i], p.id[nbr[k]], h);
+        if (at >= 0) taken[static_cast<std::size_t>(at)] = 1;
+      }
+    }
+    keep_untaken(
+        from, taken, [](std::int64_t) { return true; }, kept);
+    dormant->set_records(std::move(kept));
+  }
   x_ref_ = p.x;
   ++builds;
 }

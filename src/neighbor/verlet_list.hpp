@@ -24,13 +24,25 @@ class VerletList {
   // histories over (by old index; negated per the layout where the pair is now seen from its
   // other particle). `history`, if non-null, supplies them instead, matched by global id
   // (restart, migration).
-  void rebuild(Particles& p, const ContactHistory* history = nullptr);
+  //
+  // The rigid bulk (`dormant` non-null; p.bulk_state < 0: frozen): a pair of two frozen particles
+  // is left out of the list (no force loop reads it, and no rebuild filters it: a cell's frozen
+  // particles are sorted after its moving ones and a frozen row looks at moving partners only).
+  // Its spring waits in *dormant, by ids: a pair of the old list whose particles are both frozen
+  // now moves there (anchored at its row particle), a pair that comes back into the list (one
+  // of its particles thawed) takes its spring from there, and what no pair took stays.
+  void rebuild(Particles& p, const ContactHistory* history = nullptr,
+               ContactHistory* dormant = nullptr);
   // Domain-decomposed runs, in two phases around the ghost exchange: sort(p) orders the owned
   // particles by cell; build_with_ghosts() then lists, for each of the first `n_local`
   // particles, its owned partners of higher index and every ghost (index >= n_local) in reach,
   // with histories from `history` (matched by global id).
-  void sort(Particles& p);
-  void build_with_ghosts(const Particles& p, std::size_t n_local, const ContactHistory& history);
+  // With `dormant` (the rigid bulk, as in rebuild(); sort with frozen_last then): `history` also
+  // holds the rank's dormant springs, and *dormant becomes those of them that no pair of the new
+  // list took and that have one of this rank's own particles.
+  void sort(Particles& p, bool frozen_last = false);
+  void build_with_ghosts(const Particles& p, std::size_t n_local, const ContactHistory& history,
+                         ContactHistory* dormant = nullptr);
   // Makes z periodic with this period (the cell grid must span exactly one period in z).
   void set_period_z(double period);
   double period_z() const { return period_z_; }
@@ -70,6 +82,10 @@ class VerletList {
   bool old_start_capacity_ok(std::size_t n) const { return start.size() == n + 1; }
   std::vector<Vec3> x_ref_;
   std::vector<std::uint32_t> perm_, cell_start_;
+  // The rigid bulk: frozen rows skip frozen partners; moving_end_[c]: where cell c's frozen
+  // particles begin (the sort puts them last).
+  bool skip_frozen_ = false;
+  std::vector<std::uint32_t> moving_end_;
   std::vector<std::uint32_t> ghost_start_, ghost_of_cell_;  // ghosts binned by cell (not moved)
   // The previous list's live springs (rows, partners, springs) while a rebuild carries them over.
   std::vector<std::uint32_t> old_start_, old_nbr_;

@@ -1,0 +1,162 @@
+#!/usr/bin/python3
+"""The rigid bulk's speed-up over a whole iteration, from jobs/accuracy/rigid_iteration_ab.sh.
+
+usage: jobs/accuracy/rigid_iteration_table.py OUT [-o plot.png] [--boot 10000] [--rigid NAME]
+
+Reads OUT/chunks.tsv (one line per chunk: variant, first step, steps, wall s) and the rigid run's
+OUT/rigid/results.h5 (--rigid rigid_before: the run of the script's OTHER binary instead) (its frozen share per analysis sample and the resolved scene, whose protocol
+gives the six segments of a biaxial iteration). Pairs each rigid chunk with the dynamic chunk over
+the same steps (run minutes apart, so the machine's load falls on both alike) and prints, per
+segment of the protocol, the steps covered, the two wall times, their ratio and the mean frozen
+share; then the iteration's ratio dynamic / rigid as the ratio of the summed wall times, with a
+95% interval from a bootstrap over the paired chunks (resampled within each segment, so that every
+segment keeps its weight). The interval says how much the chunks' scatter (the machine's noise)
+moves the ratio; it does not cover a change of machine.
+
+While the job is not finished, the second half of the iteration (tilt, rotation about x, tilt
+back) can be estimated from the first by the protocol's symmetry (the same angles about the other
+axis): printed as an estimate, labelled so, where the second half is not yet run.
+"""
+import argparse
+import csv
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "postproc"))
+from plot_frozen import load as load_frozen  # noqa: E402
+from plot_frozen import segment_edges  # noqa: E402
+
+NAMES = ["tilt by beta", "rotate about z", "tilt back", "tilt by beta (2)", "rotate about x",
+         "tilt back (2)"]
+
+
+def read_chunks(path):
+    by = {}
+    with open(path) as f:
+        for r in csv.DictReader(f, delimiter="\t"):
+            by.setdefault(r["variant"], {})[int(r["first_step"])] = (int(r["steps"]),
+                                                                     float(r["wall_s"]))
+    return by
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("out")
+    ap.add_argument("-o", "--output", help="plot of the chunks' wall times and the frozen share")
+    ap.add_argument("--boot", type=int, default=10000)
+    ap.add_argument("--rigid", default="rigid", help="the rigid run to compare with dynamic")
+    args = ap.parse_args()
+    rv = args.rigid
+    by = read_chunks(os.path.join(args.out, "chunks.tsv"))
+    if rv not in by or "dynamic" not in by:
+        raise SystemExit("no paired chunks yet (both variants need at least one)")
+    frozen, iteration, text = load_frozen(os.path.join(args.out, rv))
+    edges = segment_edges(text)
+    if len(edges) != 6:
+        raise SystemExit("not a biaxial protocol: no segments to report")
+    first = sorted(k for k in by[rv] if k in by["dynamic"] and
+                   by[rv][k][0] == by["dynamic"][k][0])
+    if not first:
+        raise SystemExit("no chunk of the same steps in both variants yet")
+    steps = np.array([by[rv][k][0] for k in first], float)
+    mid = np.array(first, float) + steps / 2
+    d = np.array([by["dynamic"][k][1] for k in first])
+    r = np.array([by[rv][k][1] for k in first])
+    n_iter = estimate_steps(args.out)
+    frac = mid / n_iter
+    seg = np.searchsorted(np.array(edges), frac, side="right")
+    seg = np.minimum(seg, 5)
+    print(f"# {args.out}: {len(first)} paired chunks, {int(steps.sum())} of {n_iter} steps"
+          f" ({steps.sum() / n_iter:.1%} of the iteration)")
+    print("| segment (share of the iteration) | steps run | dynamic wall s | rigid wall s |"
+          " dynamic / rigid | per-chunk ratio, median (range) | mean frozen share |")
+    print("|---|---|---|---|---|---|---|")
+    lo = 0.0
+    rng = np.random.default_rng(1)
+    for s in range(6):
+        hi = edges[s]
+        m = seg == s
+        fm = (iteration % 1 >= lo) & (iteration % 1 < hi) & (iteration < 1)
+        fz = f"{frozen[fm].mean():.3f}" if fm.any() else "-"
+        if m.any():
+            q = d[m] / r[m]
+            print(f"| {NAMES[s]} ({lo:.3f}-{hi:.3f}) | {int(steps[m].sum())} | {d[m].sum():.0f} |"
+                  f" {r[m].sum():.0f} | **{d[m].sum() / r[m].sum():.2f}** | {np.median(q):.2f}"
+                  f" ({q.min():.2f}-{q.max():.2f}) | {fz} |")
+        else:
+            print(f"| {NAMES[s]} ({lo:.3f}-{hi:.3f}) | 0 | - | - | - | - | {fz} |")
+        lo = hi
+
+    def boot_ratio(mask_segments):
+        idx = [np.flatnonzero(seg == s) for s in mask_segments if (seg == s).any()]
+        out = np.empty(args.boot)
+        for b in range(args.boot):
+            pick = np.concatenate([rng.choice(i, len(i)) for i in idx])
+            out[b] = d[pick].sum() / r[pick].sum()
+        return np.percentile(out, [2.5, 97.5])
+
+    ratio = d.sum() / r.sum()
+    lo95, hi95 = boot_ratio(range(6))
+    print(f"\nRun so far ({steps.sum() / n_iter:.1%} of the iteration): dynamic {d.sum():.0f} s,"
+          f" rigid {r.sum():.0f} s, **dynamic / rigid = {ratio:.2f}** (95% bootstrap interval over"
+          f" the paired chunks {lo95:.2f}-{hi95:.2f}).")
+    done_first_half = all((seg == s).any() for s in range(3))
+    second_half = [s for s in range(3, 6) if (seg == s).any()]
+    if done_first_half and len(second_half) < 3:
+        # By symmetry: each second-half segment not (fully) run takes the first-half twin's
+        # seconds per step.
+        dd, rr = 0.0, 0.0
+        for s in range(6):
+            m = seg == s
+            seg_steps = (edges[s] - (edges[s - 1] if s else 0.0)) * n_iter
+            twin = seg == (s - 3 if s >= 3 else s)
+            src = m if (s < 3 or steps[m].sum() >= seg_steps * 0.999) else twin
+            per_d = d[src].sum() / steps[src].sum()
+            per_r = r[src].sum() / steps[src].sum()
+            dd += per_d * seg_steps
+            rr += per_r * seg_steps
+        print(f"Whole iteration, the segments not yet run taken from their first-half twins"
+              f" (an estimate by the protocol's symmetry): dynamic {dd:.0f} s, rigid {rr:.0f} s,"
+              f" **{dd / rr:.2f}x**.")
+    if args.output:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(7, 3.4))
+        ax.plot(frac, d / steps * 1000, "o-", ms=3, lw=1, label="dynamic")
+        ax.plot(frac, r / steps * 1000, "s-", ms=3, lw=1, label=rv)
+        ax.set_xlabel("protocol iteration")
+        ax.set_ylabel("wall s per 1,000 steps")
+        for e in edges[:-1]:
+            ax.axvline(e, color="0.6", lw=0.6, ls=":")
+        ax.set_xlim(0, 1)
+        ax.set_ylim(0, None)
+        ax2 = ax.twinx()
+        ax2.plot(iteration, frozen, color="0.5", lw=0.8, label=f"frozen share ({rv})")
+        ax2.set_ylim(0, 1)
+        ax2.set_ylabel("share of the bed frozen")
+        h1, l1 = ax.get_legend_handles_labels()
+        h2, l2 = ax2.get_legend_handles_labels()
+        ax.legend(h1 + h2, l1 + l2, fontsize=7, loc="upper right")
+        fig.tight_layout()
+        fig.savefig(args.output, dpi=130)
+        print(f"wrote {args.output}")
+
+
+def estimate_steps(out):
+    """Steps per iteration from the runs' own first line ("... N steps (T s simulated, 1
+    iterations"): the job runs one iteration."""
+    for v in ("rigid", "dynamic"):
+        path = os.path.join(out, f"{v}.log")
+        if os.path.exists(path):
+            with open(path) as f:
+                for line in f:
+                    if " particles, dt = " in line and " steps (" in line:
+                        return int(line.split(" steps (")[0].split()[-1])
+    raise SystemExit("cannot tell the iteration's steps: no run log in " + out)
+
+
+if __name__ == "__main__":
+    main()
