@@ -14,10 +14,12 @@
 # To lend the cores to other work without spoiling a chunk's time: `touch OUT/pause`; the job
 # waits after the chunk it is in until the file is removed.
 # Each chunk's wall time is the run's own "[run] done" figure: its steps and its final checkpoint
-# (one per chunk for both variants), not the start-up.
+# (one per chunk for every variant), not the start-up.
+# OTHER=path/to/tumble adds a third run, "rigid_before": that binary's rigid bulk (a change to the
+# rigid path measured over the same iteration; the order of the three rotates from round to round).
 # usage: jobs/accuracy/rigid_iteration_ab.sh [SCENE=scenes/bst_paper.toml] [TIER=standard]
 #                                            [CHUNK=20000] [NP=2] [ROUNDS=1000000]
-# ROUNDS bounds the rounds run by this call (the job stops when both runs reach the iteration's
+# ROUNDS bounds the rounds run by this call (the job stops when every run reaches the iteration's
 # end).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -43,20 +45,21 @@ done = {v: sum(int(r["steps"]) for r in c.values()) for v, c in by.items()}
 wall = {v: sum(float(r["wall_s"]) for r in c.values()) for v, c in by.items()}
 for v in sorted(by):
     print(f"# {v}: {len(by[v])} chunks, {done[v]} steps, {wall[v]:.0f} s of stepping")
-if "rigid" in by and "dynamic" in by:
-    common = sorted(set(by["rigid"]) & set(by["dynamic"]))
-    pairs = [(by["dynamic"][k], by["rigid"][k]) for k in common
-             if by["dynamic"][k]["steps"] == by["rigid"][k]["steps"]]
-    if pairs:
-        d = sum(float(a["wall_s"]) for a, _ in pairs)
-        r = sum(float(b["wall_s"]) for _, b in pairs)
-        ratios = sorted(float(a["wall_s"]) / float(b["wall_s"]) for a, b in pairs)
-        q = statistics.quantiles(ratios, n=4) if len(ratios) > 1 else ratios * 3
-        steps = sum(int(a["steps"]) for a, _ in pairs)
-        print(f"# paired chunks: {len(pairs)} ({steps} steps): dynamic {d:.0f} s, rigid {r:.0f} s,"
-              f" dynamic / rigid = {d / r:.2f} over their sum; per chunk median"
-              f" {statistics.median(ratios):.2f} (quartiles {q[0]:.2f}-{q[2]:.2f},"
-              f" range {ratios[0]:.2f}-{ratios[-1]:.2f})")
+for a, b in (("dynamic", "rigid"), ("dynamic", "rigid_before"), ("rigid_before", "rigid")):
+    if a not in by or b not in by:
+        continue
+    common = sorted(set(by[a]) & set(by[b]))
+    pairs = [(by[a][k], by[b][k]) for k in common if by[a][k]["steps"] == by[b][k]["steps"]]
+    if not pairs:
+        continue
+    d = sum(float(x["wall_s"]) for x, _ in pairs)
+    r = sum(float(y["wall_s"]) for _, y in pairs)
+    ratios = sorted(float(x["wall_s"]) / float(y["wall_s"]) for x, y in pairs)
+    q = statistics.quantiles(ratios, n=4) if len(ratios) > 1 else ratios * 3
+    steps = sum(int(x["steps"]) for x, _ in pairs)
+    print(f"# {a} / {b}, {len(pairs)} paired chunks ({steps} steps): {d:.0f} s / {r:.0f} s"
+          f" = {d / r:.2f} over their sum; per chunk median {statistics.median(ratios):.2f}"
+          f" (quartiles {q[0]:.2f}-{q[2]:.2f}, range {ratios[0]:.2f}-{ratios[-1]:.2f})")
 EOF
 }
 if [ -n "${REPORT:-}" ]; then report; exit 0; fi
@@ -71,11 +74,12 @@ common=("$SCENE" --set fidelity.tier="$TIER" --set fill.bed_cache=beds --set pro
 
 # run_chunk VARIANT: CHUNK more steps of VARIANT; returns 1 when it has reached the end.
 run_chunk() {
-  local v=$1 dir="$OUT/$1" log first steps wall frozen
+  local v=$1 dir="$OUT/$1" log first steps wall frozen bin=$BIN bulk=$1
+  [ "$v" = rigid_before ] && bin=$OTHER bulk=rigid
   [ -f "$dir/finished" ] && return 1
   while [ -f "$OUT/pause" ]; do sleep 5; done
   log="$OUT/$v.last.log"
-  ${MPIRUN:-mpirun} --bind-to none -n "$NP" "$BIN" run "${common[@]}" --set fidelity.bulk="$v" \
+  ${MPIRUN:-mpirun} --bind-to none -n "$NP" "$bin" run "${common[@]}" --set fidelity.bulk="$bulk" \
     --set scene.output_dir="$dir" --resume --max-steps "$CHUNK" > "$log" 2>&1 ||
     { echo "# $v: run failed, see $log" | tee -a "$OUT/job.log"; exit 1; }
   cat "$log" >> "$OUT/$v.log"
@@ -93,15 +97,22 @@ run_chunk() {
   return 0
 }
 
+variants=(rigid dynamic ${OTHER:+rigid_before})
+# Steps done by a variant (a run added later, or one that lost a chunk, first catches up: its
+# chunks then have partners run minutes, not rounds, apart).
+done_steps() { awk -F'\t' -v v="$1" '$1 == v { s += $3 } END { print s + 0 }' "$TSV"; }
 for ((r = 1; r <= ROUNDS; r++)); do
-  order="rigid dynamic"
-  [ $((r % 2)) -eq 0 ] && order="dynamic rigid"
+  most=0
+  for v in "${variants[@]}"; do most=$(( $(done_steps "$v") > most ? $(done_steps "$v") : most )); done
+  for v in "${variants[@]}"; do
+    while [ "$(done_steps "$v")" -lt "$most" ] && run_chunk "$v"; do :; done
+  done
   more=0
-  for v in $order; do
+  for ((k = 0; k < ${#variants[@]}; k++)); do  # the order rotates from round to round
+    v=${variants[$(((k + r) % ${#variants[@]}))]}
     if run_chunk "$v"; then more=1; fi
   done
-  report | tail -1 | tee -a "$OUT/job.log"
-  [ -f "$OUT/rigid/finished" ] && [ -f "$OUT/dynamic/finished" ] && break
+  report | grep '^# .* / ' | tee -a "$OUT/job.log"
   [ "$more" -eq 1 ] || break
 done
 report
