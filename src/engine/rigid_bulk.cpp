@@ -61,17 +61,16 @@ void Simulation::update_bulk_states() {
     if (list_.history_layout().width == 3)
       for (std::size_t i = 0; i < n; ++i)
         if (p_.bulk_state[i] < 0) p_.wall_spring[i] = turn * p_.wall_spring[i];
-    std::vector<neighbor::SavedSpring> records = b.dormant.records();
-    for (neighbor::SavedSpring& r : records) {
-      if (list_.history_layout().width == 3) {
-        const Vec3 v = turn * Vec3{r.history[0], r.history[1], r.history[2]};
-        r.history[0] = v.x;
-        r.history[1] = v.y;
-        r.history[2] = v.z;
+    const bool spring = list_.history_layout().width == 3;
+    b.dormant.update([&](neighbor::HistoryValues& h, Vec3& anchor) {
+      if (spring) {
+        const Vec3 v = turn * Vec3{h[0], h[1], h[2]};
+        h[0] = v.x;
+        h[1] = v.y;
+        h[2] = v.z;
       }
-      r.anchor = turn * r.anchor;
-    }
-    b.dormant.set_records(std::move(records));
+      anchor = turn * anchor;
+    });
   }
   // Calm: within calm_distance of its anchor, the tumbler-frame position where its present stay
   // began. A displacement, not a speed: the bulk of a rolling bed rattles (deep particles move at

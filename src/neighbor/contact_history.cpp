@@ -35,6 +35,7 @@ void ContactHistory::finalize() {
   std::size_t size = 16;
   while (size < 2 * saved_.size()) size *= 2;
   slots_.assign(size, 0);
+  first_.assign(saved_.size(), 0);
   const std::size_t mask = size - 1;
   for (std::size_t k = 0; k < saved_.size(); ++k) {
     std::size_t at = slot_of(saved_[k].lo, saved_[k].hi);
@@ -48,7 +49,10 @@ void ContactHistory::finalize() {
         break;
       }
     }
-    if (!seen) slots_[at] = static_cast<std::uint32_t>(k + 1);
+    if (!seen) {
+      slots_[at] = static_cast<std::uint32_t>(k + 1);
+      first_[k] = 1;
+    }
   }
 }
 
@@ -81,9 +85,6 @@ std::int64_t ContactHistory::find(std::int64_t id_i, std::int64_t id_j, double* 
   return -1;
 }
 
-bool ContactHistory::indexed(std::size_t k) const {
-  double scratch[kMaxHistoryDoubles];
-  return find(saved_[k].lo, saved_[k].hi, scratch) == static_cast<std::int64_t>(k);
-}
+bool ContactHistory::indexed(std::size_t k) const { return k < first_.size() && first_[k] != 0; }
 
 }  // namespace tumble::neighbor

@@ -68,6 +68,7 @@ class ContactHistory {
   void clear() {
     saved_.clear();
     slots_.clear();
+    first_.clear();
   }
   // Phase 1: record the history of pair (id_i, id_j), `width` doubles at `h` as seen from i
   // (skips all-zero histories); `anchor` is where the pair is (the ranks whose domains lie near
@@ -95,9 +96,16 @@ class ContactHistory {
   }
 
   const std::vector<SavedSpring>& records() const { return saved_; }
+  // Changes every record's history and anchor in place, fn(history, anchor) (their ids, which the
+  // index holds, stay).
+  template <class Fn>
+  void update(Fn&& fn) {
+    for (SavedSpring& r : saved_) fn(r.history, r.anchor);
+  }
   // Bytes held (capacities).
   std::size_t memory_bytes() const {
-    return saved_.capacity() * sizeof(SavedSpring) + slots_.capacity() * sizeof(std::uint32_t);
+    return saved_.capacity() * sizeof(SavedSpring) + slots_.capacity() * sizeof(std::uint32_t) +
+           first_.capacity();
   }
   void set_records(std::vector<SavedSpring> r) {
     saved_ = std::move(r);
@@ -112,6 +120,7 @@ class ContactHistory {
   // looks each list pair up here; sorting the 88-byte records and searching them was a third of
   // a 2-rank rigid step (docs/performance.md).
   std::vector<std::uint32_t> slots_;
+  std::vector<std::uint8_t> first_;  // first_[k]: record k is the one its pair's lookups find
   std::size_t slot_of(std::int64_t lo, std::int64_t hi) const;
 };
 
