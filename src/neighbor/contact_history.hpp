@@ -111,6 +111,13 @@ class ContactHistory {
     saved_ = std::move(r);
     finalize();
   }
+  // The records without their index (lookups find nothing until finalize()): a store that is only
+  // carried along until the next rebuild merges it with other records.
+  void set_records_unindexed(std::vector<SavedSpring> r) {
+    saved_ = std::move(r);
+    slots_.clear();
+    first_.clear();
+  }
 
  private:
   HistoryLayout layout_;

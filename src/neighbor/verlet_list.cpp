@@ -152,7 +152,7 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
     auto mine = [&](std::int64_t id) { return id <= top && own[static_cast<std::size_t>(id)]; };
     std::vector<SavedSpring> kept;
     keep_untaken(saved, taken, mine, kept);
-    dormant->set_records(std::move(kept));
+    dormant->set_records_unindexed(std::move(kept));  // merged with the springs at the next rebuild
   }
   x_ref_.assign(p.x.begin(), p.x.begin() + static_cast<std::ptrdiff_t>(n_local));
   ++builds;
@@ -249,6 +249,7 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved, ContactHisto
     // A pair back in the list (one of its particles thawed) takes its dormant spring; on a restart
     // `saved` holds the dormant springs too. What no pair took stays dormant (one process: every
     // particle is its own).
+    if (!saved) dormant->finalize();  // (kept unindexed between rebuilds)
     const ContactHistory& from = saved ? *saved : *dormant;
     std::vector<std::uint8_t> taken(from.records().size(), 0);
     // Only a pair of two particles with records can have one: most pairs are passed over by a
@@ -271,7 +272,7 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved, ContactHisto
     }
     keep_untaken(
         from, taken, [](std::int64_t) { return true; }, kept);
-    dormant->set_records(std::move(kept));
+    dormant->set_records_unindexed(std::move(kept));
   }
   x_ref_ = p.x;
   ++builds;
