@@ -100,10 +100,15 @@ namespace {
 template <class Mine>
 void keep_untaken(const ContactHistory& from, const std::vector<std::uint8_t>& taken, Mine mine,
                   std::vector<SavedSpring>& kept) {
-  for (std::size_t k = 0; k < from.records().size(); ++k) {
+  auto keep = [&](std::size_t k) {
     const SavedSpring& r = from.records()[k];
-    if (!taken[k] && (mine(r.lo) || mine(r.hi)) && from.indexed(k)) kept.push_back(r);
-  }
+    return !taken[k] && (mine(r.lo) || mine(r.hi)) && from.indexed(k);
+  };
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < from.records().size(); ++k) count += keep(k);
+  kept.reserve(kept.size() + count);
+  for (std::size_t k = 0; k < from.records().size(); ++k)
+    if (keep(k)) kept.push_back(from.records()[k]);
 }
 }  // namespace
 

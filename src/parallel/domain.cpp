@@ -113,6 +113,7 @@ void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& record
   std::vector<int> from;
   const std::vector<double> in = exchange(comm_, out, from);
   const auto row = static_cast<std::size_t>(neighbor::record_doubles(history_width));
+  records.reserve(records.size() + in.size() / row);  // (not std::vector's doubling)
   for (std::size_t k = 0; k + row <= in.size(); k += row)
     records.push_back(neighbor::record_from(in.data() + k, history_width));
   rebuild_seconds_ += MPI_Wtime() - t0;
