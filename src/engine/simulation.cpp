@@ -179,7 +179,10 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
   p_.resize(n_local_);  // drop the ghosts
   dom_->distribute(p_, records, halo_reach_, list_.history_layout().width);
   n_local_ = p_.size();
-  list_.sort(p_, rigid_);
+  // The particles that may pair with a ghost go last: the list's rows before them read no ghost
+  // (the step runs them while the ghosts' refresh travels).
+  dom_->mark_border(p_, n_local_, ghost_reach_, border_);
+  list_.sort(p_, rigid_, &border_);
   dom_->exchange_ghosts(p_, n_local_, ghost_reach_);
   neighbor::ContactHistory h(list_.history_layout());
   h.set_records(std::move(records));
@@ -187,7 +190,7 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
 }
 
 template <class Law, bool kFriction, bool kPeriodic>
-Simulation::Kernel Simulation::pair_kernel_for(bool one_species) {
+Simulation::PairKernel Simulation::pair_kernel_for(bool one_species) {
   return one_species ? &Simulation::pair_forces<Law, kFriction, kPeriodic, true>
                      : &Simulation::pair_forces<Law, kFriction, kPeriodic, false>;
 }
@@ -265,7 +268,7 @@ void Simulation::compute_forces() {
   bulk_.last_update_time = time_;
   bulk_.segment = protocol_.segment_count(time_);
   for (std::size_t i = 0; i < p_.size(); ++i) p_.f[i] = p_.t[i] = Vec3{};
-  (this->*pair_kernel_)();
+  (this->*pair_kernel_)(0, static_cast<std::uint32_t>(n_local_));
   (this->*wall_kernel_)();
 }
 
@@ -293,31 +296,33 @@ void Simulation::restore(const neighbor::ContactHistory& history) {
       if (p_.bulk_state[i] == -2) force_rebuild_ = true;
 }
 
-void Simulation::maybe_rebuild(double max_displacement2) {
+bool Simulation::rebuild_due(double max_displacement2) {
   const double half = 0.5 * list_.skin();
   // The rigid bulk freezes and thaws at rebuilds: a still bed (no displacement to trigger one)
   // still needs its passes, a quarter of the dwell apart.
   if (rigid_ && step_ - bulk_.last_update >= bulk_.update_every) force_rebuild_ = true;
   if (dom_) {  // every rank rebuilds at the same step (migration is collective)
-    double d2 = force_rebuild_ ? 1e300 : max_displacement2;
-    MPI_Allreduce(MPI_IN_PLACE, &d2, 1, MPI_DOUBLE, MPI_MAX, dom_->comm());
+    const double d2 = dom_->max_over_ranks(force_rebuild_ ? 1e300 : max_displacement2);
     if (d2 == 1e300) force_rebuild_ = true;  // a rebuild requested on any rank
     max_displacement2 = d2;
   }
-  if (force_rebuild_ || max_displacement2 > half * half) {
-    if (!force_rebuild_ && step_ - last_build_step_ < 10) ++fast_rebuilds_;
-    if (rigid_) {
-      // The pass reads every position; it must come before the states change (a particle
-      // frozen now is where it is, not where its last rebuild's position would put it).
-      sync_frozen();
-      update_bulk_states();
-    }
-    thaw_rebuilds_ += thaw_pending_;
-    thaw_pending_ = false;
-    rebuild_lists(nullptr);
-    last_build_step_ = step_;
-    force_rebuild_ = false;
+  if (!(force_rebuild_ || max_displacement2 > half * half)) return false;
+  if (!force_rebuild_ && step_ - last_build_step_ < 10) ++fast_rebuilds_;
+  return true;
+}
+
+void Simulation::rebuild_now() {
+  if (rigid_) {
+    // The pass reads every position; it must come before the states change (a particle frozen
+    // now is where it is, not where its last rebuild's position would put it).
+    sync_frozen();
+    update_bulk_states();
   }
+  thaw_rebuilds_ += thaw_pending_;
+  thaw_pending_ = false;
+  rebuild_lists(nullptr);
+  last_build_step_ = step_;
+  force_rebuild_ = false;
 }
 
 // First kick and drift of the particles `rows` (all owned ones, or the rigid bulk's moving ones);
@@ -391,19 +396,37 @@ void Simulation::step() {
   // the same positions (the forces see the half-step velocity in either form).
   const double kick = leapfrog_ && step_ > 0 ? dt_ : 0.5 * dt_;
   const double max_d2 = (this->*kick_drift_)(kick);
-  if (dom_) dom_->refresh_ghosts(p_, n_local_, rigid_);
   time_ += dt_;
   ++step_;
-  maybe_rebuild(max_d2);  // may permute particles
-  (this->*pair_kernel_)();
+  if (rebuild_due(max_d2)) {
+    // The rigid bulk's pass reads the ghosts' positions: they are refreshed first.
+    if (dom_) dom_->refresh_ghosts(p_, n_local_, rigid_);
+    rebuild_now();  // may permute particles
+    (this->*pair_kernel_)(0, static_cast<std::uint32_t>(n_local_));
+  } else {
+    pair_forces_with_refresh();
+  }
   (this->*wall_kernel_)();
   if (leapfrog_) return;
   (this->*half_kick_)();
 }
 
+void Simulation::pair_forces_with_refresh() {
+  const auto n = static_cast<std::uint32_t>(n_local_);
+  if (!dom_) {
+    (this->*pair_kernel_)(0, n);
+    return;
+  }
+  const auto interior = static_cast<std::uint32_t>(list_.interior_rows());
+  dom_->begin_refresh(p_, n_local_, rigid_);
+  (this->*pair_kernel_)(0, interior);  // owned partners only: no ghost is read
+  dom_->end_refresh(p_, n_local_);
+  (this->*pair_kernel_)(interior, n);
+}
+
 template <class Law, bool kFriction, bool kPeriodic, bool kOneSpecies>
-void Simulation::pair_forces() {
-  const std::size_t n = n_local_;  // rows: owned particles (partners may be ghosts)
+void Simulation::pair_forces(std::uint32_t row_begin, std::uint32_t row_end) {
+  // rows: owned particles (partners may be ghosts)
   const Vec3* __restrict x = p_.x.data();
   const Vec3* __restrict v = p_.v.data();
   const Vec3* __restrict w = p_.w.data();
@@ -422,7 +445,7 @@ void Simulation::pair_forces() {
   const double period = 2 * cylinder_.half_length;
   const auto& pairs = tables<Law>().pair;
   const typename Law::Pair only = pairs[species0_][species0_];  // kOneSpecies: the pair
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = row_begin; i < row_end; ++i) {
     const Vec3 xi = x[i];
     const double ri = rad[i];
     Vec3 fi{}, ti{};
@@ -465,11 +488,15 @@ void Simulation::pair_forces() {
   }
 }
 
-void Simulation::pair_forces_lanes() {
+void Simulation::pair_forces_lanes(std::uint32_t row_begin, std::uint32_t row_end) {
+  // The rows' pairs are the list's [start[row_begin], start[row_end]): the kernel sees them from
+  // there (its contact indices count from the range's first pair).
+  const std::size_t k0 = pairs_.start[row_begin], k1 = pairs_.start[row_end];
+  if (k1 == k0) return;
   engine::LaneInput in;
-  in.pairs = pairs_.pairs;
-  in.row = pairs_.row;
-  in.nbr = pairs_.nbr;
+  in.pairs = k1 - k0;
+  in.row = pairs_.row + k0;
+  in.nbr = pairs_.nbr + k0;
   in.x = &p_.x.data()->x;
   in.v = &p_.v.data()->x;
   in.w = &p_.w.data()->x;
@@ -477,7 +504,7 @@ void Simulation::pair_forces_lanes() {
   in.species = p_.species.data();
   in.f = &p_.f.data()->x;
   in.t = &p_.t.data()->x;
-  in.history = pairs_.history;
+  in.history = pairs_.history + 3 * k0;  // (a lane kernel's law keeps 3 doubles per pair)
   for (int q = 0; q < 8; ++q) in.coefficient[q] = lane_coefficients_[q];
   in.one_type = 3 * species0_;
   in.dt = dt_;

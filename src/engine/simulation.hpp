@@ -132,14 +132,17 @@ class Simulation {
 
  private:
   using Kernel = void (Simulation::*)();
+  // A pair loop over the list's rows [row_begin, row_end) (owned particles): run over two
+  // consecutive ranges it does what one run over both does, in the same order.
+  using PairKernel = void (Simulation::*)(std::uint32_t row_begin, std::uint32_t row_end);
   template <class Law, bool kFriction, bool kPeriodic, bool kOneSpecies>
-  void pair_forces();
+  void pair_forces(std::uint32_t row_begin, std::uint32_t row_end);
   template <class Law, bool kFriction, bool kPeriodic>
-  static Kernel pair_kernel_for(bool one_species);
+  static PairKernel pair_kernel_for(bool one_species);
   // The optimised pair loop of a law with a lane kernel (engine/law_lanes.hpp): scan for touching
   // pairs, lane kernel, accumulation (engine/contact_lanes.hpp); bitwise equal to pair_forces.
   // The scene's options (friction, periodic, one species) are in lane_kernel_, chosen once.
-  void pair_forces_lanes();
+  void pair_forces_lanes(std::uint32_t row_begin, std::uint32_t row_end);
   // The integrator: its loops over a set of rows (particle indices), Rows (every owned particle)
   // or a list of them, and the dynamic bulk's steps, over every owned particle.
   struct Rows {  // 0, 1, ..., n - 1 as a range of indices
@@ -190,7 +193,13 @@ class Simulation {
   double elastic_energy() const;
   // Overlap with the tumbler's wall (curved wall of a cylinder) for diagnostics.
   double wall_overlap(const Vec3& x, double r, Vec3& n, Vec3& point) const;
-  void maybe_rebuild(double max_displacement2);
+  // Collective: whether this step rebuilds (a particle has moved more than half the skin on any
+  // rank, or a rebuild was asked for); then the rebuild itself (with the rigid bulk's pass).
+  bool rebuild_due(double max_displacement2);
+  void rebuild_now();
+  // The pair forces of the step: on more than one rank the interior rows run while the ghosts'
+  // refresh is on its way, the border rows after it arrives.
+  void pair_forces_with_refresh();
   void rebuild_lists(const neighbor::ContactHistory* history);
   // Parallel rebuild: migrate (with contact records), sort, exchange ghosts, list.
   void rebuild_distributed(const neighbor::ContactHistory* history);
@@ -204,6 +213,7 @@ class Simulation {
   // Contact records go to every rank within halo_reach_ (2 r_max + skin) of the pair; a particle
   // is a ghost where its surface is within ghost_reach_ (r_max + skin) of a rank's domain.
   double halo_reach_ = 0, ghost_reach_ = 0;
+  std::vector<std::uint8_t> border_;  // rebuild scratch: owned particles that may pair with ghosts
   geometry::Protocol protocol_;
   geometry::SphereWall wall_;
   geometry::CylinderWall cylinder_;
@@ -224,7 +234,7 @@ class Simulation {
   std::int64_t last_build_step_ = -1000;
   std::uint64_t fast_rebuilds_ = 0;
   bool force_rebuild_ = false;
-  Kernel pair_kernel_ = nullptr;
+  PairKernel pair_kernel_ = nullptr;
   const char* pair_kernel_name_ = "plain";
   engine::LaneKernel lane_kernel_ = nullptr;  // pair_forces_lanes: the CPU's lane kernel
   engine::TouchingContacts touching_;         // pair_forces_lanes: this step's contacts

@@ -23,13 +23,16 @@ std::uint32_t CellGrid::cell_of(const Vec3& p) const {
 
 void CellGrid::sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& perm,
                     std::vector<std::uint32_t>& cell_start, const std::int32_t* state,
-                    std::vector<std::uint32_t>* moving_end) const {
+                    std::vector<std::uint32_t>* moving_end, const std::uint8_t* border) const {
   const std::size_t n = x.size();
-  // Keys: the cell, or (with the states) twice the cell plus one for a frozen particle.
-  const std::size_t per = state ? 2 : 1, keys = per * cell_count();
+  // Keys: the layer cell (the cell, or with `border` the cell plus cell_count() for a flagged
+  // particle), or (with the states) twice that plus one for a frozen particle.
+  const std::size_t cells = (border ? 2 : 1) * cell_count();
+  const std::size_t per = state ? 2 : 1, keys = per * cells;
   std::vector<std::uint32_t> key(n), key_start(keys + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    key[i] = static_cast<std::uint32_t>(per * cell_of(x[i]) + (state && state[i] < 0 ? 1 : 0));
+    const std::size_t cell = cell_of(x[i]) + (border && border[i] ? cell_count() : 0);
+    key[i] = static_cast<std::uint32_t>(per * cell + (state && state[i] < 0 ? 1 : 0));
     ++key_start[key[i] + 1];
   }
   for (std::size_t c = 0; c < keys; ++c) key_start[c + 1] += key_start[c];
@@ -40,13 +43,13 @@ void CellGrid::sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& perm
     cell_start = std::move(key_start);
     return;
   }
-  cell_start.resize(cell_count() + 1);
-  moving_end->resize(cell_count());
-  for (std::size_t c = 0; c < cell_count(); ++c) {
+  cell_start.resize(cells + 1);
+  moving_end->resize(cells);
+  for (std::size_t c = 0; c < cells; ++c) {
     cell_start[c] = key_start[2 * c];
     (*moving_end)[c] = key_start[2 * c + 1];
   }
-  cell_start[cell_count()] = key_start[keys];
+  cell_start[cells] = key_start[keys];
 }
 
 }  // namespace tumble::neighbor

@@ -35,9 +35,13 @@ class CellGrid {
   // With `frozen_last` (the rigid bulk: `state` is bulk_state), a cell's moving particles come
   // first, in order, then its frozen ones (state < 0), in order; `moving_end[c]` is where cell
   // c's frozen particles begin. Without it the order is by cell alone.
+  // With `border` (one flag per particle, more than one rank): two layers, every particle with
+  // border[i] == 0 first (by cell), then the flagged ones (by cell); cell_start and moving_end
+  // then index 2 cell_count() layer cells, cell c of layer L being L cell_count() + c.
   void sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& perm,
             std::vector<std::uint32_t>& cell_start, const std::int32_t* state = nullptr,
-            std::vector<std::uint32_t>* moving_end = nullptr) const;
+            std::vector<std::uint32_t>* moving_end = nullptr,
+            const std::uint8_t* border = nullptr) const;
 
  private:
   Vec3 lo_;

@@ -1,5 +1,6 @@
 #pragma once
-// Half Verlet list (each pair once, j > i in cell-sorted order) in compressed-row form, with the
+// Half Verlet list (each pair once, j > i in cell-sorted order; on more than one rank a border
+// row also holds its interior partners, see add_row) in compressed-row form, with the
 // per-pair contact history stored in a parallel strided array (the law's width per pair) so the
 // force loop touches it directly.
 // Rebuilt when any particle has moved more than half the skin since the last build.
@@ -40,7 +41,11 @@ class VerletList {
   // With `dormant` (the rigid bulk, as in rebuild(); sort with frozen_last then): `history` also
   // holds the rank's dormant springs, and *dormant becomes those of them that no pair of the new
   // list took and that have one of this rank's own particles.
-  void sort(Particles& p, bool frozen_last = false);
+  // `border` (one flag per owned particle, in their present order; Domain::mark_border): the
+  // particles that may pair with a ghost are sorted after all the others, so the first
+  // interior_rows() rows of the list that build_with_ghosts() makes have owned partners only.
+  void sort(Particles& p, bool frozen_last = false,
+            const std::vector<std::uint8_t>* border = nullptr);
   void build_with_ghosts(const Particles& p, std::size_t n_local, const ContactHistory& history,
                          ContactHistory* dormant = nullptr);
   // Makes z periodic with this period (the cell grid must span exactly one period in z).
@@ -61,6 +66,11 @@ class VerletList {
   std::vector<double> history;
   std::uint64_t builds = 0;
   double skin() const { return skin_; }
+  // Rows [0, interior_rows()) have no ghost partner (nor a border particle's: a border row holds
+  // its pairs with interior particles): the force loop can run them while the ghosts' new
+  // positions are still on their way (all rows on one rank; none where the sort was given no
+  // border flags).
+  std::size_t interior_rows() const { return interior_rows_; }
   // Positions at the last rebuild (the integrator checks displacements while it drifts).
   const std::vector<Vec3>& reference_positions() const { return x_ref_; }
   // Bytes held by the list's arrays (capacities: a rebuild's high-water mark), the previous list
@@ -85,6 +95,10 @@ class VerletList {
   // The rigid bulk: frozen rows skip frozen partners; moving_end_[c]: where cell c's frozen
   // particles begin (the sort puts them last).
   bool skip_frozen_ = false;
+  // Layers of the sort: 1, or 2 (the border particles after the others; cell c of layer L is
+  // cell L cell_count() + c of cell_start_ and moving_end_).
+  int layers_ = 1;
+  std::size_t interior_rows_ = 0;
   std::vector<std::uint32_t> moving_end_;
   std::vector<std::uint32_t> ghost_start_, ghost_of_cell_;  // ghosts binned by cell (not moved)
   // The previous list's live springs (rows, partners, springs) while a rebuild carries them over.

@@ -142,18 +142,37 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach) {
   rebuild_seconds_ += MPI_Wtime() - t0;
 }
 
-void Domain::refresh_ghosts(Particles& p, std::size_t n_local, bool skip_frozen) {
+double Domain::max_over_ranks(double value) {
+  const double t0 = MPI_Wtime();
+  MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  test_seconds_ += MPI_Wtime() - t0;
+  return value;
+}
+
+void Domain::mark_border(const Particles& p, std::size_t n_local, double reach,
+                         std::vector<std::uint8_t>& border) const {
+  border.assign(n_local, 0);
+  std::vector<int> near;
+  for (std::size_t i = 0; i < n_local; ++i) {
+    near.clear();
+    tree_.ranks_near(p.x[i], p.radius[i] + reach, period_z_, near);
+    for (int r : near) border[i] |= r != rank_;
+  }
+}
+
+void Domain::begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen) {
   // Point to point with the neighbours only: what each sends and receives is fixed until the
   // next rebuild, and arrives in the same order as the ghosts were appended (by source rank).
   const double t0 = MPI_Wtime();
   const std::int32_t* state = p.bulk_state.data();
   auto sent = [&](std::size_t i) { return !skip_frozen || state[i] >= 0; };
+  refresh_skips_frozen_ = skip_frozen;
   std::size_t total_out = 0;
   for (const auto& s : send_) total_out += s.size();
   buf_out_.resize(total_out * kMotionDoubles);
   buf_in_.resize((p.size() - n_local) * kMotionDoubles);
-  std::vector<MPI_Request> req;
-  req.reserve(2 * size_);
+  requests_.clear();
+  requests_.reserve(2 * size_);
   std::size_t at = 0, g = n_local;
   for (int r = 0; r < size_; ++r) {
     if (recv_rows_[r] == 0) continue;
@@ -163,8 +182,9 @@ void Domain::refresh_ghosts(Particles& p, std::size_t n_local, bool skip_frozen)
       for (const std::size_t end = g + recv_rows_[r]; g < end; ++g) rows += sent(g);
     }
     if (rows == 0) continue;
-    req.emplace_back();
-    MPI_Irecv(buf_in_.data() + at, rows * kMotionDoubles, MPI_DOUBLE, r, 7, comm_, &req.back());
+    requests_.emplace_back();
+    MPI_Irecv(buf_in_.data() + at, rows * kMotionDoubles, MPI_DOUBLE, r, 7, comm_,
+              &requests_.back());
     at += static_cast<std::size_t>(rows) * kMotionDoubles;
   }
   double* o = buf_out_.data();
@@ -173,13 +193,20 @@ void Domain::refresh_ghosts(Particles& p, std::size_t n_local, bool skip_frozen)
     for (std::uint32_t i : send_[r])
       if (sent(i)) put_row<field::kGhostRefresh>(o, p, i);
     if (o == begin) continue;
-    req.emplace_back();
-    MPI_Isend(begin, static_cast<int>(o - begin), MPI_DOUBLE, r, 7, comm_, &req.back());
+    requests_.emplace_back();
+    MPI_Isend(begin, static_cast<int>(o - begin), MPI_DOUBLE, r, 7, comm_, &requests_.back());
   }
-  MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  refresh_seconds_ += MPI_Wtime() - t0;
+}
+
+void Domain::end_refresh(Particles& p, std::size_t n_local) {
+  const double t0 = MPI_Wtime();
+  MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
+  requests_.clear();
+  const std::int32_t* state = p.bulk_state.data();
   const double* in = buf_in_.data();
   for (std::size_t q = n_local; q < p.size(); ++q)
-    if (sent(q)) take_row<field::kGhostRefresh>(in, p, q);
+    if (!refresh_skips_frozen_ || state[q] >= 0) take_row<field::kGhostRefresh>(in, p, q);
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 

@@ -47,11 +47,26 @@ class Domain {
   // exactly the particles that may pair with one of its own (the list's cutoff is r_i + r_j +
   // skin): a small particle's halo is thinner than a large one's.
   void exchange_ghosts(Particles& p, std::size_t n_local, double reach);
+  // border[i] = 1 for each owned particle that another rank's exchange_ghosts(reach) would receive
+  // as a ghost (centre within its radius + `reach` of that rank's domain): with reach = r_max +
+  // skin, every owned particle that may pair with a ghost is flagged (a pair's cutoff r_i + r_j +
+  // skin is symmetric), so the others' pairs need no ghost. Not collective.
+  void mark_border(const Particles& p, std::size_t n_local, double reach,
+                   std::vector<std::uint8_t>& border) const;
   // Collective, every step: refreshes the ghosts' positions and velocities from their owners.
   // `skip_frozen` (the rigid bulk): particles with bulk_state < 0 are left out on both sides;
   // every rank turns its frozen ghosts with the wall itself, as their owners turn them (the
   // states of both sides are those of the last exchange_ghosts, so both agree on what is sent).
-  void refresh_ghosts(Particles& p, std::size_t n_local, bool skip_frozen = false);
+  void refresh_ghosts(Particles& p, std::size_t n_local, bool skip_frozen = false) {
+    begin_refresh(p, n_local, skip_frozen);
+    end_refresh(p, n_local);
+  }
+  // The same in two halves, so that work which reads no ghost runs while the messages travel:
+  // begin_refresh() sends the owned rows and posts the receives; end_refresh() waits for them and
+  // writes the ghosts. Nothing may read the ghosts' motion, or change the owned rows' or the
+  // states, in between.
+  void begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen = false);
+  void end_refresh(Particles& p, std::size_t n_local);
 
   // Collective. All particles of every rank, sorted by id (analyses, bed files).
   Particles gather_all(const Particles& p, std::size_t n_local) const;
@@ -70,6 +85,10 @@ class Domain {
   // Wall seconds this rank spent in the halo: refreshing ghosts every step (including waiting for
   // its neighbours), and in distribute() + exchange_ghosts() at rebuilds.
   double refresh_seconds() const { return refresh_seconds_; }
+  // Collective: the largest `value` of the ranks (the per-step rebuild test), timed: with the
+  // refresh travelling behind the interior pairs, a rank waiting for a slower one waits here.
+  double max_over_ranks(double value);
+  double test_seconds() const { return test_seconds_; }
   double rebuild_seconds() const { return rebuild_seconds_; }
   // Bytes held by the halo's buffers and the work weights (capacities).
   std::size_t memory_bytes() const;
@@ -89,11 +108,15 @@ class Domain {
   bool have_tree_ = false;
   double imbalance_ = 1;
   std::int64_t bisections_ = 0, ghost_count_ = 0;
-  double refresh_seconds_ = 0, rebuild_seconds_ = 0;
+  double refresh_seconds_ = 0, rebuild_seconds_ = 0, test_seconds_ = 0;
   // Ghost traffic: local indices sent to each rank; rows received from each rank.
   std::vector<std::vector<std::uint32_t>> send_;
   std::vector<int> recv_rows_;
   std::vector<double> buf_out_, buf_in_;
+  // The refresh in flight (begin_refresh to end_refresh): its requests, and whether the frozen
+  // were left out.
+  std::vector<MPI_Request> requests_;
+  bool refresh_skips_frozen_ = false;
 };
 
 // Alltoallv of doubles: `out[r]` goes to rank r; returns what arrived, rank by rank, and the
