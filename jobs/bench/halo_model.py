@@ -18,6 +18,14 @@ Per step, the slowest rank of P costs
   lat(P) per-step latency: one message to each neighbour domain + one allreduce (the rebuild test)
   bytes  72 bytes per ghost per step (x, v, w), over a network of B_net bytes/s
 
+With --overlap (the engine since 2026-11-26: the ghosts' refresh travels while the rank computes
+the pairs of its interior rows, those with no ghost partner) the messages' latency and transfer
+are hidden up to the interior rows' share of the compute, 1 - B(P)/n(P), with B(P) the particles
+of the busiest rank that may pair with a ghost (taken equal to its ghost count: the halo is
+symmetric); the allreduce of the rebuild test is not hidden:
+
+    T(P) = c_p n + c_g G + lat_allreduce + max(0, lat_messages + bytes / B_net - c_p (n - G))
+
 Efficiency E(P) = c_p N / P / T(P). Run with the measured numbers (defaults: bst_paper, this
 machine, 2026-11-22) to reproduce the table in docs/performance.md.
 """
@@ -112,13 +120,21 @@ def calibrate(a):
     return c_p, (t2 - c_p * a.particles / 2 * a.imbalance2 - a.lat_local) / (a.ghosts2 / 2)
 
 
-def step_parts(a, c_p, c_g, n_total, p, gmax, measured_two=False):
+def step_parts(a, c_p, c_g, n_total, p, gmax, measured_two=False, overlap=False):
     """The slowest rank's compute, ghost, latency and network seconds per step at P ranks;
-    measured_two: P = 2 with the measured imbalance and latency of the calibration run."""
+    measured_two: P = 2 with the measured imbalance and latency of the calibration run;
+    overlap: the messages' latency and transfer hidden behind the interior rows' compute (what
+    is left of them is returned as latency, the network part then 0)."""
     n = n_total / p * (a.imbalance2 if measured_two else a.imbalance)
-    lat = a.lat_local if measured_two else (min(a.neighbours, p - 1) * a.alpha +
-                                            np.log2(p) * a.alpha_allreduce)
-    return c_p * n, c_g * gmax, lat, 72 * gmax / a.bandwidth
+    if measured_two:
+        return c_p * n, c_g * gmax, a.lat_local, 72 * gmax / a.bandwidth
+    messages = min(a.neighbours, p - 1) * a.alpha
+    allreduce = np.log2(p) * a.alpha_allreduce
+    net = 72 * gmax / a.bandwidth
+    if not overlap:
+        return c_p * n, c_g * gmax, messages + allreduce, net
+    interior = c_p * max(0.0, n - gmax)
+    return c_p * n, c_g * gmax, allreduce + max(0.0, messages + net - interior), 0.0
 
 
 def main():
@@ -128,6 +144,8 @@ def main():
     ap.add_argument("--cg", type=float, default=0,
                     help="cost per ghost-step in units of c_p (0: calibrate from the 2-rank run)")
     ap.add_argument("--ranks", type=int, nargs="+", default=[2, 64, 1024])
+    ap.add_argument("--overlap", action="store_true",
+                    help="the refresh travels while the interior rows are computed")
     a = ap.parse_args()
     rng = np.random.default_rng(1)
 
@@ -151,7 +169,7 @@ def main():
     for p in a.ranks:
         gmax, gmean, _ = ghosts_per_domain(a.target, p, a.reach, a.sample, rng, a.reach_large,
                                            a.large_share)
-        compute, ghost, lat, net = step_parts(a, c_p, c_g, a.target, p, gmax)
+        compute, ghost, lat, net = step_parts(a, c_p, c_g, a.target, p, gmax, overlap=a.overlap)
         eff = c_p * a.target / p / (compute + ghost + lat + net)
         print(f"| {p} | {a.target / p:.0f} | {gmax:.0f} | {gmax / (a.target / p):.2f} | "
               f"{compute * 1e3:.3f} | {ghost * 1e3:.3f} | {lat * 1e3:.3f} | {net * 1e3:.3f} | "
