@@ -199,6 +199,13 @@ void Domain::begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen) 
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 
+void Domain::progress_refresh() {
+  const double t0 = MPI_Wtime();
+  int done = 0;
+  MPI_Testall(static_cast<int>(requests_.size()), requests_.data(), &done, MPI_STATUSES_IGNORE);
+  refresh_seconds_ += MPI_Wtime() - t0;
+}
+
 void Domain::end_refresh(Particles& p, std::size_t n_local) {
   const double t0 = MPI_Wtime();
   MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);

@@ -67,6 +67,8 @@ class Domain {
   // states, in between.
   void begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen = false);
   void end_refresh(Particles& p, std::size_t n_local);
+  // Lets MPI move the refresh in flight along (a test of its requests; returns at once).
+  void progress_refresh();
 
   // Collective. All particles of every rank, sorted by id (analyses, bed files).
   Particles gather_all(const Particles& p, std::size_t n_local) const;
