@@ -2,6 +2,7 @@
 """The rigid bulk's speed-up over a whole iteration, from jobs/accuracy/rigid_iteration_ab.sh.
 
 usage: jobs/accuracy/rigid_iteration_table.py OUT [-o plot.png] [--boot 10000] [--rigid NAME]
+                                               [--drop FIRST_STEP ...]
 
 Reads OUT/chunks.tsv (one line per chunk: variant, first step, steps, wall s) and the rigid run's
 OUT/rigid/results.h5 (--rigid rigid_before: the run of the script's OTHER binary instead) (its frozen share per analysis sample and the resolved scene, whose protocol
@@ -11,7 +12,9 @@ segment of the protocol, the steps covered, the two wall times, their ratio and 
 share; then the iteration's ratio dynamic / rigid as the ratio of the summed wall times, with a
 95% interval from a bootstrap over the paired chunks (resampled within each segment, so that every
 segment keeps its weight). The interval says how much the chunks' scatter (the machine's noise)
-moves the ratio; it does not cover a change of machine.
+moves the ratio; it does not cover a change of machine. --drop leaves out the pairs that start at
+the given steps (a pair one of whose chunks shared the cores with other work, e.g. a build: the
+pairing evens out the machine's load only when both chunks see it); the dropped pairs are listed.
 
 While the job is not finished, the second half of the iteration (tilt, rotation about x, tilt
 back) can be estimated from the first by the protocol's symmetry (the same angles about the other
@@ -47,6 +50,8 @@ def main():
     ap.add_argument("-o", "--output", help="plot of the chunks' wall times and the frozen share")
     ap.add_argument("--boot", type=int, default=10000)
     ap.add_argument("--rigid", default="rigid", help="the rigid run to compare with dynamic")
+    ap.add_argument("--drop", type=int, nargs="*", default=[],
+                    help="first steps of pairs to leave out (a chunk run beside other work)")
     args = ap.parse_args()
     rv = args.rigid
     by = read_chunks(os.path.join(args.out, "chunks.tsv"))
@@ -58,6 +63,13 @@ def main():
         raise SystemExit("not a biaxial protocol: no segments to report")
     first = sorted(k for k in by[rv] if k in by["dynamic"] and
                    by[rv][k][0] == by["dynamic"][k][0])
+    for k in args.drop:
+        if k in first:
+            print(f"# left out: the pair at step {k} (dynamic {by['dynamic'][k][1]:.0f} s, "
+                  f"{rv} {by[rv][k][1]:.0f} s)")
+        else:
+            print(f"# --drop {k}: no such pair")
+    first = [k for k in first if k not in set(args.drop)]
     if not first:
         raise SystemExit("no chunk of the same steps in both variants yet")
     steps = np.array([by[rv][k][0] for k in first], float)
