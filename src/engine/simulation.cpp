@@ -183,7 +183,7 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
   // (the step runs them while the ghosts' refresh travels).
   dom_->mark_border(p_, n_local_, ghost_reach_, border_);
   list_.sort(p_, rigid_, &border_);
-  dom_->exchange_ghosts(p_, n_local_, ghost_reach_);
+  dom_->exchange_ghosts(p_, n_local_, ghost_reach_, list_.interior_rows());
   neighbor::ContactHistory h(list_.history_layout());
   h.set_records(std::move(records));
   list_.build_with_ghosts(p_, n_local_, h, rigid_ ? &bulk_.dormant : nullptr);

@@ -119,12 +119,12 @@ void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& record
   rebuild_seconds_ += MPI_Wtime() - t0;
 }
 
-void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach) {
+void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach, std::size_t first) {
   const double t0 = MPI_Wtime();
   std::vector<std::vector<double>> out(size_);
   for (auto& s : send_) s.clear();
   std::vector<int> near;
-  for (std::size_t i = 0; i < n_local; ++i) {
+  for (std::size_t i = first; i < n_local; ++i) {
     near.clear();
     tree_.ranks_near(p.x[i], p.radius[i] + reach, period_z_, near);
     for (int r : near) {

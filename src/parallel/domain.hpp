@@ -46,7 +46,9 @@ class Domain {
   // its radius + `reach`); remembers what went where. With reach = r_max + skin a rank receives
   // exactly the particles that may pair with one of its own (the list's cutoff is r_i + r_j +
   // skin): a small particle's halo is thinner than a large one's.
-  void exchange_ghosts(Particles& p, std::size_t n_local, double reach);
+  // `first`: the owned particles before it are known to lie near no other rank (mark_border's
+  // unflagged ones, sorted first) and are not queried again.
+  void exchange_ghosts(Particles& p, std::size_t n_local, double reach, std::size_t first = 0);
   // border[i] = 1 for each owned particle that another rank's exchange_ghosts(reach) would receive
   // as a ghost (centre within its radius + `reach` of that rank's domain): with reach = r_max +
   // skin, every owned particle that may pair with a ghost is flagged (a pair's cutoff r_i + r_j +
