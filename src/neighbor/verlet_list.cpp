@@ -56,7 +56,7 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
   // lists the interior particles j > i only, a border row the border particles j > i and every
   // interior particle in reach (all of lower index): the pairs of the interior rows then read no
   // border particle's row either, and a pair is still listed once. (Scanning the border layer from
-  // the interior rows instead cost a third more in the rebuild: twice the cells for every row.)
+  // the interior rows instead cost ~40% more in the row scans: twice the cells for every row.)
   const bool border_row = layers_ == 2 && i >= interior_rows_;
   // Periodic in z (axially periodic cylinder): the z neighbours of the end cells wrap and
   // distances use the nearest image. The three wrapped cells are distinct (nz >= 3, checked at
