@@ -89,6 +89,7 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
   if (force_general) rotation_ = true;
   kick_drift_ = rotation_ ? &Simulation::kick_drift<true> : &Simulation::kick_drift<false>;
   half_kick_ = rotation_ ? &Simulation::half_kick<true> : &Simulation::half_kick<false>;
+  integrator_lanes_ = lanes_available();
   // The rigid bulk (scene validation refuses it without rotation). Its calm distance is a
   // fraction of d_large; the free surface is found per column of d_large in the lab's x-z plane
   // (about half a large particle of the surface's rise per column at the repose angle).
@@ -376,12 +377,40 @@ void Simulation::half_kick_rows(const RowSet& rows) {
 // half_kick_rigid in rigid_bulk.cpp, run the same loops over its moving particles.)
 template <bool kRotation>
 double Simulation::kick_drift(double kick) {
-  return kick_drift_rows<kRotation>(Rows{static_cast<std::uint32_t>(n_local_)}, kick);
+  if (!integrator_lanes_)
+    return kick_drift_rows<kRotation>(Rows{static_cast<std::uint32_t>(n_local_)}, kick);
+  // Ghost accumulators collect the partner halves of border pairs; they are thrown away.
+  for (std::size_t g = n_local_; g < p_.size(); ++g) p_.f[g] = p_.t[g] = Vec3{};
+  return engine::kick_drift_avx2(integrator_input(kick), kRotation);
 }
 
 template <bool kRotation>
 void Simulation::half_kick() {
-  half_kick_rows<kRotation>(Rows{static_cast<std::uint32_t>(n_local_)});
+  if (integrator_lanes_)
+    engine::half_kick_avx2(integrator_input(0.5 * dt_), kRotation);
+  else
+    half_kick_rows<kRotation>(Rows{static_cast<std::uint32_t>(n_local_)});
+}
+
+engine::IntegratorInput Simulation::integrator_input(double kick) {
+  engine::IntegratorInput in;
+  in.n = n_local_;
+  in.x = &p_.x.data()->x;
+  in.v = &p_.v.data()->x;
+  in.w = &p_.w.data()->x;
+  in.f = &p_.f.data()->x;
+  in.t = &p_.t.data()->x;
+  in.inv_mass = p_.inv_mass.data();
+  in.inv_inertia = p_.inv_inertia.data();
+  const std::vector<Vec3>& ref = list_.reference_positions();
+  in.has_ref = ref.size() == n_local_;  // (none before the first build)
+  in.x_ref = in.has_ref && n_local_ > 0 ? &ref.data()->x : nullptr;
+  in.kick = kick;
+  in.dt = dt_;
+  in.gravity[0] = gravity_.x;
+  in.gravity[1] = gravity_.y;
+  in.gravity[2] = gravity_.z;
+  return in;
 }
 
 using Indices = std::vector<std::uint32_t>;

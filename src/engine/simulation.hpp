@@ -14,6 +14,7 @@
 #include "base/particles.hpp"
 #include "contact/laws.hpp"
 #include "engine/contact_lanes.hpp"
+#include "engine/integrator_lanes.hpp"
 #include "geometry/cylinder_wall.hpp"
 #include "geometry/protocol.hpp"
 #include "geometry/sphere_wall.hpp"
@@ -167,6 +168,9 @@ class Simulation {
   double kick_drift(double kick);
   template <bool kRotation>
   void half_kick();
+  // The dynamic bulk's passes on AVX2 lanes (engine/integrator_lanes.hpp), where the CPU has them:
+  // bitwise those of the loops above.
+  engine::IntegratorInput integrator_input(double kick);
   // ... with the rigid bulk (rigid_bulk.cpp): the moving particles as above, the frozen ones that
   // a moving particle touches turned with the wall, the other frozen ones left where they are
   // until sync_frozen().
@@ -242,6 +246,7 @@ class Simulation {
   Kernel wall_kernel_ = nullptr;
   double (Simulation::*kick_drift_)(double) = nullptr;  // first kick and drift (rotation, bulk)
   Kernel half_kick_ = nullptr;                          // second kick
+  bool integrator_lanes_ = false;  // kick_drift, half_kick: the AVX2 passes (lanes_available())
   // The pairs the force loops run: the whole list (with the rigid bulk every pair of it has a
   // moving particle). Set after every rebuild.
   struct PairView {
