@@ -230,8 +230,9 @@ void Simulation::set_pair_view() {
 template <bool kRotation>
 double Simulation::kick_drift_rigid(double kick) {
   RigidBulk& b = bulk_;
+  // Nothing frozen (a segment's first dwell): every owned particle moves, as in a dynamic run.
+  if (!b.any_frozen) return kick_drift<kRotation>(kick);
   double max_d2 = kick_drift_rows<kRotation>(b.moving, kick);  // ghosts' accumulators too
-  if (!b.any_frozen) return max_d2;
   Vec3* __restrict x = p_.x.data();
   Vec3* __restrict v = p_.v.data();
   Vec3* __restrict w = p_.w.data();
@@ -274,7 +275,10 @@ double Simulation::kick_drift_rigid(double kick) {
 
 template <bool kRotation>
 void Simulation::half_kick_rigid() {
-  half_kick_rows<kRotation>(bulk_.moving);  // the frozen are at the wall's velocity already
+  if (!bulk_.any_frozen)
+    half_kick<kRotation>();
+  else
+    half_kick_rows<kRotation>(bulk_.moving);  // the frozen are at the wall's velocity already
 }
 
 template double Simulation::kick_drift_rigid<true>(double);

@@ -418,6 +418,11 @@ template double Simulation::kick_drift_rows<true, Indices>(const Indices&, doubl
 template double Simulation::kick_drift_rows<false, Indices>(const Indices&, double);
 template void Simulation::half_kick_rows<true, Indices>(const Indices&);
 template void Simulation::half_kick_rows<false, Indices>(const Indices&);
+// (rigid_bulk.cpp's passes call these while nothing is frozen)
+template double Simulation::kick_drift<true>(double);
+template double Simulation::kick_drift<false>(double);
+template void Simulation::half_kick<true>();
+template void Simulation::half_kick<false>();
 
 void Simulation::step() {
   // Leapfrog: one kick of a whole step per step (half-step velocities), except the very first,
