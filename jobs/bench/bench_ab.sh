@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# Before/after of one change on one core: two tumble binaries from the same warm state of the
-# shared R35 bed (jobs/bench/bst_R35_bench.toml, flowing after WARMUP steps), run in turns
-# A B A B ... on core 0, STEPS steps each, ROUNDS rounds. Prints each run's particle-steps/s, the
-# medians and the per-round ratio B/A (median, min-max): on a shared machine the ratio within a
-# round is the figure that counts.
-# usage: jobs/bench/bench_ab.sh BIN_A BIN_B [STEPS=20000] [ROUNDS=8] [WARMUP=200000]
-# The warm state is made once with BIN_A and kept in $WARM (default results/bench/r35_warm).
+# Before/after of one change on one core: two tumble binaries from the same warm state of a scene
+# ($SCENE, default the shared R35 bed jobs/bench/bst_R35_bench.toml, flowing after WARMUP steps),
+# run in turns A B A B ... on core 0, STEPS steps each, ROUNDS rounds. Prints each run's
+# particle-steps/s, the medians and the per-round ratio B/A (median, min-max): on a shared machine
+# the ratio within a round is the figure that counts.
+# usage: [SCENE=...] [WARM=dir] jobs/bench/bench_ab.sh BIN_A BIN_B [STEPS=20000] [ROUNDS=8]
+#                                                     [WARMUP=200000]
+# The warm state (the run's final checkpoint) is made once with BIN_A and kept in $WARM (default
+# results/bench/<scene name>_warm<WARMUP>).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 A=${1:?usage: bench_ab.sh BIN_A BIN_B [STEPS] [ROUNDS] [WARMUP]}
@@ -14,17 +16,17 @@ STEPS=${3:-20000}
 ROUNDS=${4:-8}
 WARMUP=${5:-200000}
 TUMBLE=$A source jobs/lib/bench_common.sh
-SCENE=jobs/bench/bst_R35_bench.toml
-WARM=$(realpath -m "${WARM:-results/bench/r35_warm}")
+SCENE=${SCENE:-jobs/bench/bst_R35_bench.toml}
+WARM=$(realpath -m "${WARM:-results/bench/$(basename "$SCENE" .toml)_warm$WARMUP}")
 make_work ab
 bench_header
 echo "# A = $A ($("$A" --version)), B = $B ($("$B" --version))"
 echo "# $SCENE from $WARMUP warm-up steps, $STEPS steps per run, $ROUNDS rounds, core 0"
 if [ ! -f "$WARM/checkpoint.h5" ]; then
-  # dt = 1e-5 s in this scene: the checkpoint falls at the warm-up's last step
-  interval=$(awk -v n="$WARMUP" 'BEGIN { printf "%.10g", n * 1e-5 }')
+  # (a run ends with a checkpoint)
   taskset -c 0 "$A" run "$SCENE" --max-steps "$WARMUP" --set scene.output_dir="$WARM" \
-    --set output.checkpoint_interval="$interval" > "$WORK/warm.log" 2>&1
+    > "$WORK/warm.log" 2>&1
+  [ -f "$WARM/checkpoint.h5" ] || { echo "the warm-up left no checkpoint: $WORK/warm.log" >&2; exit 1; }
 fi
 echo "| round | A particle-steps/s | B particle-steps/s | B / A |"
 echo "|---|---|---|---|"
