@@ -29,6 +29,11 @@ inline Rows3 spread(__m256d s) {
   return {_mm256_permute4x64_pd(s, 0x40), _mm256_permute4x64_pd(s, 0xA5),
           _mm256_permute4x64_pd(s, 0xFE)};
 }
+// g as the rows hold it: [gx gy gz gx] [gy gz gx gy] [gz gx gy gz].
+inline Rows3 gravity_rows(const double* g) {
+  return {_mm256_setr_pd(g[0], g[1], g[2], g[0]), _mm256_setr_pd(g[1], g[2], g[0], g[1]),
+          _mm256_setr_pd(g[2], g[0], g[1], g[2])};
+}
 // v += s (m f + g), component by component, in the scalar loop's order: s * ((m * f) + g).
 inline Rows3 kick(Rows3 v, __m256d s, Rows3 m, Rows3 f, Rows3 g) {
   return {v.a + s * (m.a * f.a + g.a), v.b + s * (m.b * f.b + g.b), v.c + s * (m.c * f.c + g.c)};
@@ -56,9 +61,7 @@ inline double larger(double acc, double d2) { return acc < d2 ? d2 : acc; }
 template <bool kRotation>
 double kick_drift_lanes(const IntegratorInput& in) {
   const std::size_t n = in.n, blocks = n - n % 4;
-  const double gx = in.gravity[0], gy = in.gravity[1], gz = in.gravity[2];
-  const Rows3 g = {_mm256_setr_pd(gx, gy, gz, gx), _mm256_setr_pd(gy, gz, gx, gy),
-                   _mm256_setr_pd(gz, gx, gy, gz)};
+  const Rows3 g = gravity_rows(in.gravity);
   const __m256d k = _mm256_set1_pd(in.kick), dt = _mm256_set1_pd(in.dt);
   const __m256d zero = _mm256_setzero_pd();
   const Rows3 zeros = {zero, zero, zero};
@@ -113,9 +116,7 @@ double kick_drift_lanes(const IntegratorInput& in) {
 template <bool kRotation>
 void half_kick_lanes(const IntegratorInput& in) {
   const std::size_t n = in.n, blocks = n - n % 4;
-  const double gx = in.gravity[0], gy = in.gravity[1], gz = in.gravity[2];
-  const Rows3 g = {_mm256_setr_pd(gx, gy, gz, gx), _mm256_setr_pd(gy, gz, gx, gy),
-                   _mm256_setr_pd(gz, gx, gy, gz)};
+  const Rows3 g = gravity_rows(in.gravity);
   const __m256d k = _mm256_set1_pd(in.kick);
   for (std::size_t i = 0; i < blocks; i += 4) {
     const std::size_t e = 3 * i;
