@@ -60,14 +60,14 @@ inline double larger(double acc, double d2) { return acc < d2 ? d2 : acc; }
 
 template <bool kRotation>
 double kick_drift_lanes(const IntegratorInput& in) {
-  const std::size_t n = in.n, blocks = n - n % 4;
+  const std::size_t n = in.n;
   const Rows3 g = gravity_rows(in.gravity);
   const __m256d k = _mm256_set1_pd(in.kick), dt = _mm256_set1_pd(in.dt);
   const __m256d zero = _mm256_setzero_pd();
   const Rows3 zeros = {zero, zero, zero};
   const bool have_ref = in.has_ref;
   __m256d acc = zero;
-  for (std::size_t i = 0; i < blocks; i += 4) {
+  for (std::size_t i = 0; i < n; i += 4) {
     const std::size_t e = 3 * i;
     const Rows3 v = kick(load_rows(in.v + e), k, spread(_mm256_loadu_pd(in.inv_mass + i)),
                          load_rows(in.f + e), g);
@@ -88,51 +88,21 @@ double kick_drift_lanes(const IntegratorInput& in) {
   _mm256_store_pd(lanes, acc);
   double max_d2 = 0;
   for (int l = 0; l < 4; ++l) max_d2 = larger(max_d2, lanes[l]);
-  for (std::size_t i = blocks; i < n; ++i) {  // the last particles, one at a time
-    double* v = in.v + 3 * i;
-    double* x = in.x + 3 * i;
-    double* f = in.f + 3 * i;
-    for (int q = 0; q < 3; ++q) v[q] += in.kick * (in.inv_mass[i] * f[q] + in.gravity[q]);
-    if constexpr (kRotation) {
-      const double s = in.kick * in.inv_inertia[i];
-      for (int q = 0; q < 3; ++q) {
-        in.w[3 * i + q] += s * in.t[3 * i + q];
-        in.t[3 * i + q] = 0;
-      }
-    }
-    for (int q = 0; q < 3; ++q) {
-      x[q] += in.dt * v[q];
-      f[q] = 0;
-    }
-    if (have_ref) {
-      const double* r = in.x_ref + 3 * i;
-      const double dx = x[0] - r[0], dy = x[1] - r[1], dz = x[2] - r[2];
-      max_d2 = larger(max_d2, dx * dx + dy * dy + dz * dz);
-    }
-  }
   return have_ref ? max_d2 : 1e300;
 }
 
 template <bool kRotation>
 void half_kick_lanes(const IntegratorInput& in) {
-  const std::size_t n = in.n, blocks = n - n % 4;
+  const std::size_t n = in.n;
   const Rows3 g = gravity_rows(in.gravity);
   const __m256d k = _mm256_set1_pd(in.kick);
-  for (std::size_t i = 0; i < blocks; i += 4) {
+  for (std::size_t i = 0; i < n; i += 4) {
     const std::size_t e = 3 * i;
     store_rows(in.v + e, kick(load_rows(in.v + e), k, spread(_mm256_loadu_pd(in.inv_mass + i)),
                               load_rows(in.f + e), g));
     if constexpr (kRotation) {
       const Rows3 s = spread(k * _mm256_loadu_pd(in.inv_inertia + i));
       store_rows(in.w + e, add_scaled(load_rows(in.w + e), s, load_rows(in.t + e)));
-    }
-  }
-  for (std::size_t i = blocks; i < n; ++i) {
-    for (int q = 0; q < 3; ++q)
-      in.v[3 * i + q] += in.kick * (in.inv_mass[i] * in.f[3 * i + q] + in.gravity[q]);
-    if constexpr (kRotation) {
-      const double s = in.kick * in.inv_inertia[i];
-      for (int q = 0; q < 3; ++q) in.w[3 * i + q] += s * in.t[3 * i + q];
     }
   }
 }

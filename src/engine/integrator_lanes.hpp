@@ -9,7 +9,8 @@
 
 namespace tumble::engine {
 
-// Particles 0..n-1; Vec3 arrays as doubles (x, y, z per particle).
+// Particles 0..n-1, n a multiple of 4 (the caller's scalar loop takes the rest); Vec3 arrays as
+// doubles (x, y, z per particle).
 struct IntegratorInput {
   std::size_t n = 0;
   double* x = nullptr;

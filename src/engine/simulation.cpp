@@ -377,24 +377,25 @@ void Simulation::half_kick_rows(const RowSet& rows) {
 // half_kick_rigid in rigid_bulk.cpp, run the same loops over its moving particles.)
 template <bool kRotation>
 double Simulation::kick_drift(double kick) {
-  if (!integrator_lanes_)
-    return kick_drift_rows<kRotation>(Rows{static_cast<std::uint32_t>(n_local_)}, kick);
-  // Ghost accumulators collect the partner halves of border pairs; they are thrown away.
-  for (std::size_t g = n_local_; g < p_.size(); ++g) p_.f[g] = p_.t[g] = Vec3{};
-  return engine::kick_drift_avx2(integrator_input(kick), kRotation);
+  const auto n = static_cast<std::uint32_t>(n_local_);
+  const std::uint32_t blocks = integrator_lanes_ ? n - n % 4 : 0;
+  // The scalar loop takes what the lanes leave (and clears the ghosts' accumulators).
+  const double tail = kick_drift_rows<kRotation>(Rows{blocks, n}, kick);
+  if (blocks == 0) return tail;
+  return std::max(engine::kick_drift_avx2(integrator_input(kick, blocks), kRotation), tail);
 }
 
 template <bool kRotation>
 void Simulation::half_kick() {
-  if (integrator_lanes_)
-    engine::half_kick_avx2(integrator_input(0.5 * dt_), kRotation);
-  else
-    half_kick_rows<kRotation>(Rows{static_cast<std::uint32_t>(n_local_)});
+  const auto n = static_cast<std::uint32_t>(n_local_);
+  const std::uint32_t blocks = integrator_lanes_ ? n - n % 4 : 0;
+  if (blocks > 0) engine::half_kick_avx2(integrator_input(0.5 * dt_, blocks), kRotation);
+  half_kick_rows<kRotation>(Rows{blocks, n});
 }
 
-engine::IntegratorInput Simulation::integrator_input(double kick) {
+engine::IntegratorInput Simulation::integrator_input(double kick, std::size_t n) {
   engine::IntegratorInput in;
-  in.n = n_local_;
+  in.n = n;
   in.x = &p_.x.data()->x;
   in.v = &p_.v.data()->x;
   in.w = &p_.w.data()->x;
@@ -404,7 +405,7 @@ engine::IntegratorInput Simulation::integrator_input(double kick) {
   in.inv_inertia = p_.inv_inertia.data();
   const std::vector<Vec3>& ref = list_.reference_positions();
   in.has_ref = ref.size() == n_local_;  // (none before the first build)
-  in.x_ref = in.has_ref && n_local_ > 0 ? &ref.data()->x : nullptr;
+  in.x_ref = in.has_ref ? &ref.data()->x : nullptr;
   in.kick = kick;
   in.dt = dt_;
   in.gravity[0] = gravity_.x;

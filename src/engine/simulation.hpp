@@ -146,8 +146,8 @@ class Simulation {
   void pair_forces_lanes(std::uint32_t row_begin, std::uint32_t row_end);
   // The integrator: its loops over a set of rows (particle indices), Rows (every owned particle)
   // or a list of them, and the dynamic bulk's steps, over every owned particle.
-  struct Rows {  // 0, 1, ..., n - 1 as a range of indices
-    std::uint32_t n;
+  struct Rows {  // first, first + 1, ..., last - 1 as a range of indices
+    std::uint32_t first, last;
     struct Iterator {
       std::uint32_t i;
       std::uint32_t operator*() const { return i; }
@@ -157,8 +157,8 @@ class Simulation {
       }
       bool operator!=(const Iterator& o) const { return i != o.i; }
     };
-    Iterator begin() const { return {0}; }
-    Iterator end() const { return {n}; }
+    Iterator begin() const { return {first}; }
+    Iterator end() const { return {last}; }
   };
   template <bool kRotation, class RowSet>
   double kick_drift_rows(const RowSet& rows, double kick);
@@ -169,8 +169,8 @@ class Simulation {
   template <bool kRotation>
   void half_kick();
   // The dynamic bulk's passes on AVX2 lanes (engine/integrator_lanes.hpp), where the CPU has them:
-  // bitwise those of the loops above.
-  engine::IntegratorInput integrator_input(double kick);
+  // bitwise those of the loops above, which take the last n mod 4 particles.
+  engine::IntegratorInput integrator_input(double kick, std::size_t n);
   // ... with the rigid bulk (rigid_bulk.cpp): the moving particles as above, the frozen ones that
   // a moving particle touches turned with the wall, the other frozen ones left where they are
   // until sync_frozen().
