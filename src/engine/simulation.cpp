@@ -164,21 +164,35 @@ Particles Simulation::gather_all() const {
 
 void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
   // (rebuild_lists has brought the centres back into the period: owners come from positions.)
-  // The live histories leave with the pair's particles: saved by id with the position of the pair,
-  // routed to every rank near that position, matched by id after the move.
   std::vector<neighbor::SavedSpring> records;
-  if (history) {
-    records = history->records();
-  } else if (list_.start.size() == n_local_ + 1) {
-    neighbor::ContactHistory h;
-    list_.save_history(p_, h, false);  // indexed after the move, where they arrive
-    records = h.records();
-    // The rigid bulk's dormant springs travel the same way (their pairs are not in the list).
-    const auto& dormant = bulk_.dormant.records();
-    records.insert(records.end(), dormant.begin(), dormant.end());
+  const int width = list_.history_layout().width;
+  if (!history && !rigid_ && list_.start.size() == n_local_ + 1) {
+    // The springs stay where they are, by index (VerletList::keep_springs), and only those of
+    // the pairs with a particle that leaves travel, by id with the pair's position, to every
+    // rank near it. (Saving every spring by id and looking every listed pair up after the move
+    // was ~5% of a 2-rank step, docs/performance.md.)
+    list_.keep_springs(p_, n_local_);
+    p_.resize(n_local_);  // drop the ghosts
+    dom_->migrate_owned(p_);
+    records = list_.springs_leaving(p_, p_.size());
+    dom_->route_records(records, halo_reach_, width, false);
+  } else {
+    // A restart, the first build, or the rigid bulk: the live histories leave with the pair's
+    // particles: saved by id with the position of the pair, routed to every rank near that
+    // position, matched by id after the move.
+    if (history) {
+      records = history->records();
+    } else if (list_.start.size() == n_local_ + 1) {
+      neighbor::ContactHistory h;
+      list_.save_history(p_, h, false);  // indexed after the move, where they arrive
+      records = h.records();
+      // The rigid bulk's dormant springs travel the same way (their pairs are not in the list).
+      const auto& dormant = bulk_.dormant.records();
+      records.insert(records.end(), dormant.begin(), dormant.end());
+    }
+    p_.resize(n_local_);  // drop the ghosts
+    dom_->distribute(p_, records, halo_reach_, width);
   }
-  p_.resize(n_local_);  // drop the ghosts
-  dom_->distribute(p_, records, halo_reach_, list_.history_layout().width);
   n_local_ = p_.size();
   // The particles that may pair with a ghost go last: the list's rows before them read no ghost
   // (the step runs them while the ghosts' refresh travels).

@@ -5,6 +5,7 @@
 // fix neigh/history does.
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "base/vec3.hpp"
@@ -106,6 +107,12 @@ class ContactHistory {
   std::size_t memory_bytes() const {
     return saved_.capacity() * sizeof(SavedSpring) + slots_.capacity() * sizeof(std::uint32_t) +
            first_.capacity();
+  }
+  // Hands the records over (this store is left empty).
+  std::vector<SavedSpring> take_records() {
+    slots_.clear();
+    first_.clear();
+    return std::move(saved_);
   }
   void set_records(std::vector<SavedSpring> r) {
     saved_ = std::move(r);

@@ -23,7 +23,8 @@ void VerletList::save_history(const Particles& p, ContactHistory& out, bool sort
 }
 
 std::size_t VerletList::memory_bytes() const {
-  std::size_t bytes = 0;
+  std::size_t bytes = kept_id_.capacity() * sizeof(std::int64_t) +
+                      kept_x_.capacity() * sizeof(Vec3) + kept_index_.memory_bytes();
   for (const auto* v : {&start, &nbr, &row, &perm_, &cell_start_, &moving_end_, &ghost_start_,
                         &ghost_of_cell_, &old_start_, &old_nbr_})
     bytes += v->capacity() * sizeof(std::uint32_t);
@@ -110,6 +111,55 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
   return count;
 }
 
+void VerletList::keep_live_springs(std::size_t rows) {
+  const std::size_t w = static_cast<std::size_t>(layout_.width);
+  const std::size_t pairs = start[rows];
+  std::size_t live = 0;
+  for (std::size_t k = 0; k < pairs; ++k) live += is_live(history.data() + w * k, layout_.width);
+  resize_discarding(old_start_, rows + 1);
+  resize_discarding(old_nbr_, live);
+  resize_discarding(old_history_, w * live);
+  std::size_t at = 0;
+  for (std::size_t i = 0; i < rows; ++i) {
+    old_start_[i] = static_cast<std::uint32_t>(at);
+    for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
+      const double* h = history.data() + w * k;
+      if (!is_live(h, layout_.width)) continue;
+      old_nbr_[at] = nbr[k];
+      for (std::size_t d = 0; d < w; ++d) old_history_[w * at + d] = h[d];
+      ++at;
+    }
+  }
+  old_start_[rows] = static_cast<std::uint32_t>(at);
+}
+
+void VerletList::keep_springs(const Particles& p, std::size_t n_local) {
+  keep_live_springs(n_local);
+  kept_owned_ = n_local;
+  kept_id_.assign(p.id.begin(), p.id.end());
+  kept_x_.assign(p.x.begin(), p.x.begin() + static_cast<std::ptrdiff_t>(n_local));
+  kept_index_.assign(kept_id_.data(), kept_id_.size());
+  carry_kept_ = true;
+}
+
+std::vector<SavedSpring> VerletList::springs_leaving(const Particles& p,
+                                                     std::size_t n_local) const {
+  std::vector<std::uint8_t> stays(kept_owned_, 0);
+  for (std::size_t i = 0; i < n_local; ++i) {
+    const std::uint32_t k = kept_index_.index_of(p.id[i]);
+    if (k < kept_owned_) stays[k] = 1;
+  }
+  const std::size_t w = static_cast<std::size_t>(layout_.width);
+  ContactHistory out(layout_);
+  for (std::size_t a = 0; a < kept_owned_; ++a)
+    for (std::uint32_t q = old_start_[a]; q < old_start_[a + 1]; ++q) {
+      const std::uint32_t b = old_nbr_[q];
+      if (stays[a] && (b >= kept_owned_ || stays[b])) continue;
+      out.save(kept_id_[a], kept_id_[b], old_history_.data() + w * q, kept_x_[a]);
+    }
+  return out.take_records();
+}
+
 void VerletList::fill_rows() {
   resize_discarding(row, nbr.size());
   const std::size_t n = start.empty() ? 0 : start.size() - 1;
@@ -177,11 +227,49 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
   resize_discarding(history, w * nbr.size());
   std::fill(history.begin(), history.end(), 0.0);
   std::vector<std::uint8_t> taken(dormant ? saved.records().size() : 0, 0);
-  for (std::size_t i = 0; i < n_local; ++i)
-    for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
-      const std::int64_t at = saved.find(p.id[i], p.id[nbr[k]], history.data() + w * k);
-      if (dormant && at >= 0) taken[static_cast<std::size_t>(at)] = 1;
+  const bool carry = carry_kept_ && !dormant;
+  carry_kept_ = false;
+  if (carry) {
+    // Each particle's row before the migration (IdIndex::kAbsent: it was not on this rank). The
+    // old list held every pair with an owned particle, so a pair with a particle owned before
+    // has its spring there (in the row of either) or had none; a pair of two particles new to
+    // this rank (one of them arrived) finds it among the records that came with them.
+    const std::uint32_t owned_before = static_cast<std::uint32_t>(kept_owned_);
+    const std::uint32_t absent = IdIndex::kAbsent;
+    std::vector<std::uint32_t> before(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) before[i] = kept_index_.index_of(p.id[i]);
+    // The spring of old pair (row, partner) into `to`, seen from the other side if `flip`.
+    auto carried = [&](std::uint32_t row, std::uint32_t partner, double* to, bool flip) {
+      for (std::uint32_t q = old_start_[row]; q < old_start_[row + 1]; ++q)
+        if (old_nbr_[q] == partner) {
+          const double* from = old_history_.data() + w * q;
+          for (std::size_t d = 0; d < w; ++d)
+            to[d] = flip ? layout_.other_side(static_cast<int>(d), from[d]) : from[d];
+          return true;
+        }
+      return false;
+    };
+    const bool arrived = !saved.records().empty();
+    for (std::size_t i = 0; i < n_local; ++i) {
+      const std::uint32_t a = before[i];
+      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
+        const std::uint32_t b = before[nbr[k]];
+        double* to = history.data() + w * k;
+        if (a < owned_before || b < owned_before) {
+          if (a < owned_before && b != absent && carried(a, b, to, false)) continue;
+          if (b < owned_before && a != absent) carried(b, a, to, true);
+        } else if (arrived) {
+          saved.find(p.id[i], p.id[nbr[k]], to);
+        }
+      }
     }
+  } else {
+    for (std::size_t i = 0; i < n_local; ++i)
+      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
+        const std::int64_t at = saved.find(p.id[i], p.id[nbr[k]], history.data() + w * k);
+        if (dormant && at >= 0) taken[static_cast<std::size_t>(at)] = 1;
+      }
+  }
   if (dormant) {
     // A record no pair took is a dormant pair's (a live spring is a touching pair's, within every
     // rank's reach of its particles) or another rank's pair routed here: this rank keeps those
@@ -231,24 +319,7 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved, ContactHisto
     // Only the live springs of the old list are kept (a pair whose spring is zero carries
     // nothing, as in ContactHistory::save): about the touching pairs, 60% of the list on a
     // flowing bed, where a copy of the whole list held its memory twice.
-    std::size_t live = 0;
-    for (std::size_t k = 0; k < previous; ++k)
-      live += is_live(history.data() + w * k, layout_.width);
-    resize_discarding(old_start_, n + 1);
-    resize_discarding(old_nbr_, live);
-    resize_discarding(old_history_, w * live);
-    std::size_t at = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      old_start_[i] = static_cast<std::uint32_t>(at);
-      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
-        const double* h = history.data() + w * k;
-        if (!is_live(h, layout_.width)) continue;
-        old_nbr_[at] = nbr[k];
-        for (std::size_t d = 0; d < w; ++d) old_history_[w * at + d] = h[d];
-        ++at;
-      }
-    }
-    old_start_[n] = static_cast<std::uint32_t>(at);
+    keep_live_springs(n);
   }
 
   start.assign(n + 1, 0);

@@ -10,6 +10,7 @@
 #include "base/particles.hpp"
 #include "neighbor/cell_grid.hpp"
 #include "neighbor/contact_history.hpp"
+#include "neighbor/id_index.hpp"
 #include "neighbor/near_filter.hpp"
 
 namespace tumble::neighbor {
@@ -48,6 +49,20 @@ class VerletList {
             const std::vector<std::uint8_t>* border = nullptr);
   void build_with_ghosts(const Particles& p, std::size_t n_local, const ContactHistory& history,
                          ContactHistory* dormant = nullptr);
+  // A domain-decomposed rebuild that is not a restart carries the springs by index wherever the
+  // rank held the pair before, as rebuild() does on one rank, in three calls around the
+  // migration. keep_springs(p, n_local), before anything moves: keeps this list's live springs
+  // by old index, with the ids of the particles (owned and ghosts) and the owned ones'
+  // positions. springs_leaving(p, n_local), after the migration (`p` holds the owned particles):
+  // the kept springs of the pairs with an owned particle that left this rank, anchored at their
+  // row particle: only the ranks that receive a particle need a spring they did not hold (a rank
+  // that owned one of a pair's particles before listed the pair), so only these travel. The next
+  // build_with_ghosts() then takes the spring of every pair with a particle this rank owned
+  // before from the kept ones, and the others' from `history` (the springs that arrived).
+  // Not with the rigid bulk (its dormant springs travel by id: build_with_ghosts with `dormant`
+  // ignores what was kept).
+  void keep_springs(const Particles& p, std::size_t n_local);
+  std::vector<SavedSpring> springs_leaving(const Particles& p, std::size_t n_local) const;
   // Makes z periodic with this period (the cell grid must span exactly one period in z).
   void set_period_z(double period);
   double period_z() const { return period_z_; }
@@ -104,6 +119,15 @@ class VerletList {
   // The previous list's live springs (rows, partners, springs) while a rebuild carries them over.
   std::vector<std::uint32_t> old_start_, old_nbr_;
   std::vector<double> old_history_;
+  // Copies the live springs of the first `rows` rows into old_start_, old_nbr_, old_history_.
+  void keep_live_springs(std::size_t rows);
+  // keep_springs(): the previous particles' ids (owned first, then ghosts), where each id was,
+  // the owned ones' positions, and whether the next build_with_ghosts() carries from them.
+  bool carry_kept_ = false;
+  std::size_t kept_owned_ = 0;
+  std::vector<std::int64_t> kept_id_;
+  std::vector<Vec3> kept_x_;
+  IdIndex kept_index_;
 };
 
 }  // namespace tumble::neighbor

@@ -82,6 +82,11 @@ void Domain::migrate(Particles& p) {
 
 void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& records, double reach,
                         int history_width) {
+  migrate_owned(p);
+  route_records(records, reach, history_width, true);
+}
+
+void Domain::migrate_owned(Particles& p) {
   const double t0 = MPI_Wtime();
   if (!have_tree_) {
     weigh(p);
@@ -99,7 +104,13 @@ void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& record
     weigh(p);
     imbalance_ = measure_imbalance();
   }
-  // Contact records: to every rank near the pair (both owners are within `reach` of the anchor).
+  rebuild_seconds_ += MPI_Wtime() - t0;
+}
+
+void Domain::route_records(std::vector<neighbor::SavedSpring>& records, double reach,
+                           int history_width, bool keep_own) {
+  const double t0 = MPI_Wtime();
+  // To every rank near the pair (both owners are within `reach` of the anchor).
   std::vector<std::vector<double>> out(size_);
   std::vector<int> near;
   for (const auto& s : records) {
@@ -113,6 +124,7 @@ void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& record
   std::vector<int> from;
   const std::vector<double> in = exchange(comm_, out, from);
   const auto row = static_cast<std::size_t>(neighbor::record_doubles(history_width));
+  if (!keep_own) records.clear();
   records.reserve(records.size() + in.size() / row);  // (not std::vector's doubling)
   for (std::size_t k = 0; k + row <= in.size(); k += row)
     records.push_back(neighbor::record_from(in.data() + k, history_width));

@@ -41,6 +41,12 @@ class Domain {
   // history in each record (the law's).
   void distribute(Particles& p, std::vector<neighbor::SavedSpring>& records, double reach,
                   int history_width);
+  // distribute() in its two halves. migrate_owned(): the particles only (bisecting as above).
+  // route_records(): each record to every other rank whose domain lies within `reach` of its
+  // anchor; `records` becomes what arrived, after the rank's own records if `keep_own`.
+  void migrate_owned(Particles& p);
+  void route_records(std::vector<neighbor::SavedSpring>& records, double reach, int history_width,
+                     bool keep_own);
   // Collective. Appends to `p` (after its `n_local` owned particles) a ghost copy of every other
   // rank's particle whose surface lies within `reach` of this rank's domain (its centre within
   // its radius + `reach`); remembers what went where. With reach = r_max + skin a rank receives

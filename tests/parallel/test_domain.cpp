@@ -74,6 +74,73 @@ TEST(Domain, MatchesSerialTrajectoryAndConservesIds) {
       << per_row_serial;
 }
 
+// Every spring survives the rebuilds and the migration: a rebuild carries the springs of the
+// pairs it held by index and receives only those of the pairs whose particles arrive
+// (VerletList::keep_springs). With a tiny skin and a threshold of 1 (a rebuild every few steps,
+// a re-bisection at each, many particles changing rank), after every step each live spring of
+// the serial run is in the list of every rank that owns one of its particles, equal to
+// round-off, and no rank holds a spring the serial run has not.
+TEST(Domain, EverySpringSurvivesTheMigration) {
+  const Scene s = tiny({"neighbor.skin=0.02", "parallel.rebalance_threshold=1.0"});
+  // The settled bed, stirred (the same velocities on every rank): particles cross the cuts.
+  Particles bed = tiny_bed(s);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  for (Vec3& v : bed.v) v = {u(rng), u(rng), u(rng)};
+  Simulation serial(s, bed, biaxial(s));
+  Simulation par(s, share_of(bed, MPI_COMM_WORLD), biaxial(s), 0, 0, MPI_COMM_WORLD);
+  serial.compute_forces();
+  par.compute_forces();
+  std::vector<std::uint8_t> was_here(bed.size(), 0);
+  std::int64_t compared = 0, arrived = 0, missing = 0, extra = 0;
+  double worst = 0;
+  for (int k = 0; k < 120; ++k) {
+    serial.step();
+    par.step();
+    neighbor::ContactHistory ref;
+    serial.save_contacts(ref);  // sorted by ids, indexed
+    const Particles& p = par.particles();
+    const neighbor::VerletList& list = par.neighbors();
+    const int w = list.history_layout().width;
+    std::set<std::pair<std::int64_t, std::int64_t>> held;
+    std::vector<std::uint8_t> here(bed.size(), 0);
+    for (std::size_t i = 0; i < par.local_count(); ++i) {
+      const auto id = static_cast<std::size_t>(p.id[i]);
+      arrived += k > 0 && !was_here[id];
+      here[id] = 1;
+      for (std::uint32_t q = list.start[i]; q < list.start[i + 1]; ++q) {
+        const double* h = list.history.data() + w * q;
+        neighbor::HistoryValues r{};
+        ref.lookup(p.id[i], p.id[list.nbr[q]], r.data());
+        const bool live = neighbor::is_live(r.data(), w);
+        if (live)
+          held.insert({std::min(p.id[i], p.id[list.nbr[q]]), std::max(p.id[i], p.id[list.nbr[q]])});
+        extra += !live && neighbor::is_live(h, w);
+        if (!live) continue;
+        ++compared;
+        for (int d = 0; d < w; ++d) worst = std::max(worst, std::abs(h[d] - r[d]));
+      }
+    }
+    // Every serial spring with a particle of this rank's is in its list.
+    std::set<std::int64_t> own(p.id.begin(), p.id.begin() + par.local_count());
+    for (const neighbor::SavedSpring& r : ref.records())
+      if ((own.count(r.lo) || own.count(r.hi)) && !held.count({r.lo, r.hi})) ++missing;
+    was_here = here;
+  }
+  std::int64_t totals[2] = {arrived, compared};
+  MPI_Allreduce(MPI_IN_PLACE, totals, 2, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_GT(par.rebuilds(), 20u);
+  EXPECT_GT(par.domain()->bisections(), 10);
+  EXPECT_GT(totals[0], 200) << "too few particles changed rank to test the migration";
+  EXPECT_GT(totals[1], 100000);
+  if (world_rank() == 0)
+    std::printf("[ springs  ] %lld particles changed rank, %lld live springs compared\n",
+                static_cast<long long>(totals[0]), static_cast<long long>(totals[1]));
+  EXPECT_EQ(missing, 0);
+  EXPECT_EQ(extra, 0);
+  EXPECT_LT(worst, 1e-9 * s.d_small);
+}
+
 // The same on a sub-communicator: the world's ranks split into groups, each group runs the scene
 // on its own (a campaign's rank groups). With 3 ranks: a 2-rank group and a 1-rank group.
 TEST(Domain, RunsOnASubCommunicator) {

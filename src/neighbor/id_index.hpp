@@ -1,0 +1,54 @@
+#pragma once
+// Where a particle of a global id sat in a previous ordering: an open-addressing table from id to
+// index, built once per rebuild and asked once per particle. A domain-decomposed rebuild uses it
+// to find, for each particle now on the rank (owned or ghost), its row in the list it had before
+// the migration, so that springs are carried by index as on one rank (VerletList::keep_springs)
+// instead of being looked up by the pair's ids, one search per listed pair.
+#include <cstdint>
+#include <vector>
+
+namespace tumble::neighbor {
+
+class IdIndex {
+ public:
+  static constexpr std::uint32_t kAbsent = 0xFFFFFFFFu;
+  // Indexes ids[0, n): index_of(ids[k]) == k (ids unique).
+  void assign(const std::int64_t* ids, std::size_t n) {
+    std::size_t size = 16;
+    while (size < 2 * n) size *= 2;
+    keys_.assign(size, -1);
+    values_.assign(size, kAbsent);
+    const std::size_t mask = size - 1;
+    for (std::size_t k = 0; k < n; ++k) {
+      std::size_t at = slot_of(ids[k]) & mask;
+      while (keys_[at] >= 0) at = (at + 1) & mask;
+      keys_[at] = ids[k];
+      values_[at] = static_cast<std::uint32_t>(k);
+    }
+  }
+  // The index given to `id`, or kAbsent.
+  std::uint32_t index_of(std::int64_t id) const {
+    if (keys_.empty()) return kAbsent;
+    const std::size_t mask = keys_.size() - 1;
+    for (std::size_t at = slot_of(id) & mask; keys_[at] >= 0; at = (at + 1) & mask)
+      if (keys_[at] == id) return values_[at];
+    return kAbsent;
+  }
+  void clear() {
+    keys_.clear();
+    values_.clear();
+  }
+  std::size_t memory_bytes() const {
+    return keys_.capacity() * sizeof(std::int64_t) + values_.capacity() * sizeof(std::uint32_t);
+  }
+
+ private:
+  // Fibonacci hashing: the top bits of the product are the best mixed (ids are non-negative).
+  static std::size_t slot_of(std::int64_t id) {
+    return static_cast<std::size_t>((static_cast<std::uint64_t>(id) * 0x9E3779B97F4A7C15ull) >> 32);
+  }
+  std::vector<std::int64_t> keys_;  // -1: empty
+  std::vector<std::uint32_t> values_;
+};
+
+}  // namespace tumble::neighbor
