@@ -199,6 +199,9 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
   dom_->mark_border(p_, n_local_, ghost_reach_, border_);
   list_.sort(p_, rigid_, &border_);
   dom_->exchange_ghosts(p_, n_local_, ghost_reach_, list_.interior_rows());
+  std::vector<std::uint32_t> order;
+  list_.ghost_order(p_, n_local_, order);
+  dom_->place_ghosts(p_, n_local_, order);  // each cell's ghosts one range of rows
   neighbor::ContactHistory h(list_.history_layout());
   h.set_records(std::move(records));
   list_.build_with_ghosts(p_, n_local_, h, rigid_ ? &bulk_.dormant : nullptr);
@@ -447,9 +450,12 @@ void Simulation::step() {
   const double max_d2 = (this->*kick_drift_)(kick);
   time_ += dt_;
   ++step_;
+  // The ghosts' refresh starts before the rebuild test: on one node the test's collective is
+  // the point after which the neighbours' rows may be read (Domain::begin_refresh).
+  if (dom_) dom_->begin_refresh(p_, n_local_, rigid_);
   if (rebuild_due(max_d2)) {
     // The rigid bulk's pass reads the ghosts' positions: they are refreshed first.
-    if (dom_) dom_->refresh_ghosts(p_, n_local_, rigid_);
+    if (dom_) dom_->end_refresh(p_, n_local_);
     rebuild_now();  // may permute particles
     (this->*pair_kernel_)(0, static_cast<std::uint32_t>(n_local_));
   } else {
@@ -467,11 +473,11 @@ void Simulation::pair_forces_with_refresh() {
     return;
   }
   const auto interior = static_cast<std::uint32_t>(list_.interior_rows());
-  dom_->begin_refresh(p_, n_local_, rigid_);
-  // Owned partners only: no ghost is read. In four pieces, with a look at the messages between
-  // them: MPI moves a message larger than its eager limit (a few kB; a rank's refresh is tens to
-  // hundreds of kB) only inside its calls, so without them the transfer would wait for
-  // end_refresh. (Consecutive ranges: the same sums in the same order as one.)
+  // (step() has begun the refresh.) Owned partners only: no ghost is read. In four pieces, with
+  // a look at the messages between them (ranks on other nodes): MPI moves a message larger than
+  // its eager limit (a few kB; a rank's refresh is tens to hundreds of kB) only inside its calls,
+  // so without them the transfer would wait for end_refresh. (Consecutive ranges: the same sums
+  // in the same order as one.)
   constexpr std::uint32_t kPieces = 4;
   for (std::uint32_t q = 0; q < kPieces; ++q) {
     const auto first = static_cast<std::uint32_t>(std::uint64_t{interior} * q / kPieces);

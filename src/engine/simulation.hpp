@@ -202,7 +202,7 @@ class Simulation {
   bool rebuild_due(double max_displacement2);
   void rebuild_now();
   // The pair forces of the step: on more than one rank the interior rows run while the ghosts'
-  // refresh is on its way, the border rows after it arrives.
+  // refresh (begun by step()) is on its way, the border rows after it arrives.
   void pair_forces_with_refresh();
   void rebuild_lists(const neighbor::ContactHistory* history);
   // Parallel rebuild: migrate (with contact records), sort, exchange ghosts, list.

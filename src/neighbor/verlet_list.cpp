@@ -99,7 +99,15 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
             count += near_(x, p.radius.data(), lo, hi, &xi.x, ri, period_z_, nbr.data() + count);
           }
         }
-        if (with_ghosts)
+        if (with_ghosts && ghosts_in_cell_order_ && !frozen_row) {
+          // (ghost_of_cell_ is then n_local, n_local + 1, ...: the cell's ghosts are one range.)
+          const std::uint32_t g0 = ghost_start_[cell], g1 = ghost_start_[cell + 1];
+          if (g0 < g1) {
+            room(g1 - g0 + 4);
+            count += near_(x, p.radius.data(), ghost_of_cell_[g0], ghost_of_cell_[g0] + (g1 - g0),
+                           &xi.x, ri, period_z_, nbr.data() + count);
+          }
+        } else if (with_ghosts)
           for (std::uint32_t g = ghost_start_[cell]; g < ghost_start_[cell + 1]; ++g) {
             const std::uint32_t j = ghost_of_cell_[g];
             if (frozen_row && p.bulk_state[j] < 0) continue;
@@ -196,9 +204,23 @@ void keep_untaken(const ContactHistory& from, const std::vector<std::uint8_t>& t
 }
 }  // namespace
 
+void VerletList::ghost_order(const Particles& p, std::size_t n_local,
+                             std::vector<std::uint32_t>& order) const {
+  const std::size_t cells = grid_.cell_count(), n = p.size() - n_local;
+  std::vector<std::uint32_t> cell(n), first(cells + 1, 0);
+  for (std::size_t g = 0; g < n; ++g) {
+    cell[g] = grid_.cell_of(p.x[n_local + g]);
+    ++first[cell[g] + 1];
+  }
+  for (std::size_t c = 0; c < cells; ++c) first[c + 1] += first[c];
+  order.resize(n);
+  for (std::size_t g = 0; g < n; ++g) order[first[cell[g]]++] = static_cast<std::uint32_t>(g);
+}
+
 void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
                                    const ContactHistory& saved, ContactHistory* dormant) {
-  // Bin the ghosts by cell without moving them: their order is the order refresh_ghosts() fills.
+  // Bin the ghosts by cell without moving them (the refresh writes each where it lies; placed in
+  // cell order by ghost_order() they are one range per cell).
   const std::size_t cells = grid_.cell_count();
   ghost_start_.assign(cells + 1, 0);
   ghost_of_cell_.resize(p.size() - n_local);
@@ -211,6 +233,9 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
   std::vector<std::uint32_t> fill(ghost_start_.begin(), ghost_start_.end() - 1);
   for (std::size_t g = n_local; g < p.size(); ++g)
     ghost_of_cell_[fill[cell[g - n_local]]++] = static_cast<std::uint32_t>(g);
+  ghosts_in_cell_order_ = true;
+  for (std::size_t k = 0; k < ghost_of_cell_.size(); ++k)
+    ghosts_in_cell_order_ = ghosts_in_cell_order_ && ghost_of_cell_[k] == n_local + k;
 
   start.assign(n_local + 1, 0);
   std::size_t count = 0;

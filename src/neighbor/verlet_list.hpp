@@ -49,6 +49,12 @@ class VerletList {
             const std::vector<std::uint8_t>* border = nullptr);
   void build_with_ghosts(const Particles& p, std::size_t n_local, const ContactHistory& history,
                          ContactHistory* dormant = nullptr);
+  // The ghosts (rows n_local.. of `p`) in the order of their cells, stably: order[k] is the ghost
+  // (counted from n_local) that belongs at ghost slot k. Ghosts placed so (Domain::place_ghosts)
+  // are one range of rows per cell, which the row scans of build_with_ghosts() filter four at a
+  // time like the owned particles, in the same order as one at a time.
+  void ghost_order(const Particles& p, std::size_t n_local,
+                   std::vector<std::uint32_t>& order) const;
   // A domain-decomposed rebuild that is not a restart carries the springs by index wherever the
   // rank held the pair before, as rebuild() does on one rank, in three calls around the
   // migration. keep_springs(p, n_local), before anything moves: keeps this list's live springs
@@ -116,6 +122,7 @@ class VerletList {
   std::size_t interior_rows_ = 0;
   std::vector<std::uint32_t> moving_end_;
   std::vector<std::uint32_t> ghost_start_, ghost_of_cell_;  // ghosts binned by cell (not moved)
+  bool ghosts_in_cell_order_ = false;  // ... and they lie in cell order (ghost_order())
   // The previous list's live springs (rows, partners, springs) while a rebuild carries them over.
   std::vector<std::uint32_t> old_start_, old_nbr_;
   std::vector<double> old_history_;

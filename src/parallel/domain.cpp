@@ -1,6 +1,7 @@
 #include "parallel/domain.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -36,12 +37,86 @@ Domain::Domain(MPI_Comm comm, const Box& root, double period_z, double rebalance
   MPI_Comm_size(comm_, &size_);
   send_.resize(size_);
   recv_rows_.assign(size_, 0);
+  write_at_.assign(size_, 0);
+  read_at_.assign(size_, nullptr);
+  node_rank_.assign(size_, -1);
+  const char* messages = std::getenv("TUMBLE_REFRESH_MESSAGES");
+  int shared = messages && std::string(messages) == "1" ? 0 : 1;
+  MPI_Allreduce(MPI_IN_PLACE, &shared, 1, MPI_INT, MPI_MIN, comm_);  // all ranks alike
+  if (size_ > 1 && shared) {
+    // (Every rank takes part: the split is collective over comm_.)
+    MPI_Comm_split_type(comm_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node_comm_);
+    MPI_Group all, node;
+    MPI_Comm_group(comm_, &all);
+    MPI_Comm_group(node_comm_, &node);
+    std::vector<int> ranks(size_);
+    std::iota(ranks.begin(), ranks.end(), 0);
+    MPI_Group_translate_ranks(all, size_, ranks.data(), node, node_rank_.data());
+    for (int& r : node_rank_)
+      if (r == MPI_UNDEFINED) r = -1;
+    MPI_Group_free(&all);
+    MPI_Group_free(&node);
+  }
 }
 
 Domain::~Domain() {
   int finalized = 0;
   MPI_Finalized(&finalized);
-  if (!finalized && comm_ != MPI_COMM_NULL) MPI_Comm_free(&comm_);
+  if (finalized) return;
+  free_window();
+  if (node_comm_ != MPI_COMM_NULL) MPI_Comm_free(&node_comm_);
+  if (comm_ != MPI_COMM_NULL) MPI_Comm_free(&comm_);
+}
+
+void Domain::free_window() {
+  if (window_ == MPI_WIN_NULL) return;
+  MPI_Win_unlock_all(window_);
+  MPI_Win_free(&window_);
+  segment_ = nullptr;
+  segment_doubles_ = 0;
+}
+
+void Domain::place_shared_rows() {
+  shared_out_ = false;
+  shared_sources_ = 0;
+  if (node_comm_ == MPI_COMM_NULL) return;
+  // Two buffers of its rows for each neighbour of the node, one after the other.
+  std::size_t need = 0;
+  std::vector<long long> offset_to(size_, -1), offset_from(size_, -1);
+  for (int r = 0; r < size_; ++r) {
+    if (r == rank_ || node_rank_[r] < 0 || send_[r].empty()) continue;
+    write_at_[r] = need;
+    offset_to[r] = static_cast<long long>(need);
+    need += 2 * send_[r].size() * kMotionDoubles;
+    shared_out_ = true;
+  }
+  // The window is the node's (allocated collectively): grown, with headroom, when any rank's
+  // segment is too small for its rows.
+  int grow = need > segment_doubles_ ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &grow, 1, MPI_INT, MPI_MAX, node_comm_);
+  if (grow) {
+    free_window();
+    const std::size_t doubles = std::max<std::size_t>(need + need / 2, 16);
+    MPI_Info info;
+    MPI_Info_create(&info);
+    MPI_Info_set(info, "alloc_shared_noncontig", "true");  // each segment near its own rank
+    MPI_Win_allocate_shared(static_cast<MPI_Aint>(doubles * sizeof(double)), sizeof(double), info,
+                            node_comm_, &segment_, &window_);
+    MPI_Info_free(&info);
+    MPI_Win_lock_all(MPI_MODE_NOCHECK, window_);
+    segment_doubles_ = doubles;
+  }
+  MPI_Alltoall(offset_to.data(), 1, MPI_LONG_LONG, offset_from.data(), 1, MPI_LONG_LONG, comm_);
+  for (int r = 0; r < size_; ++r) {
+    read_at_[r] = nullptr;
+    if (offset_from[r] < 0 || recv_rows_[r] == 0) continue;
+    MPI_Aint bytes = 0;
+    int unit = 0;
+    double* base = nullptr;
+    MPI_Win_shared_query(window_, node_rank_[r], &bytes, &unit, &base);
+    read_at_[r] = base + offset_from[r];
+    ++shared_sources_;
+  }
 }
 
 void Domain::weigh(const Particles& p) {
@@ -151,11 +226,30 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach, st
   unpack_state(in.data(), in.size() / kStateDoubles, p);
   for (int r = 0; r < size_; ++r) recv_rows_[r] = from[r] / kStateDoubles;
   ghost_count_ = static_cast<std::int64_t>(p.size() - n_local);
+  ghost_slot_.clear();
+  place_shared_rows();
+  rebuild_seconds_ += MPI_Wtime() - t0;
+}
+
+void Domain::place_ghosts(Particles& p, std::size_t n_local,
+                          const std::vector<std::uint32_t>& order) {
+  const double t0 = MPI_Wtime();
+  for_each_field<field::kAny>(p, [&](const char*, auto& column) {
+    if (column.empty()) return;  // (a column the run does not keep)
+    using T = typename std::decay_t<decltype(column)>::value_type;
+    const std::vector<T> arrived(column.begin() + static_cast<std::ptrdiff_t>(n_local),
+                                 column.end());
+    for (std::size_t k = 0; k < order.size(); ++k) column[n_local + k] = arrived[order[k]];
+  });
+  ghost_slot_.resize(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    ghost_slot_[order[k]] = static_cast<std::uint32_t>(k);
   rebuild_seconds_ += MPI_Wtime() - t0;
 }
 
 double Domain::max_over_ranks(double value) {
   const double t0 = MPI_Wtime();
+  refresh_synced_ = refresh_pending_;  // every rank has written its rows: they may be read
   MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_DOUBLE, MPI_MAX, comm_);
   test_seconds_ += MPI_Wtime() - t0;
   return value;
@@ -179,21 +273,26 @@ void Domain::begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen) 
   const std::int32_t* state = p.bulk_state.data();
   auto sent = [&](std::size_t i) { return !skip_frozen || state[i] >= 0; };
   refresh_skips_frozen_ = skip_frozen;
+  refresh_pending_ = true;
+  refresh_synced_ = false;
+  const std::size_t turn = refreshes_++ & 1u;  // which of the two buffers (the same on every rank)
   std::size_t total_out = 0;
-  for (const auto& s : send_) total_out += s.size();
+  for (int r = 0; r < size_; ++r)
+    if (!(node_rank_[r] >= 0 && shared_out_)) total_out += send_[r].size();
   buf_out_.resize(total_out * kMotionDoubles);
   buf_in_.resize((p.size() - n_local) * kMotionDoubles);
   requests_.clear();
   requests_.reserve(2 * size_);
-  std::size_t at = 0, g = n_local;
+  std::size_t at = 0, a = 0;  // a: ghosts counted in the order they arrived
   for (int r = 0; r < size_; ++r) {
     if (recv_rows_[r] == 0) continue;
     int rows = recv_rows_[r];  // all of them, unless the frozen are left out
     if (skip_frozen) {
       rows = 0;
-      for (const std::size_t end = g + recv_rows_[r]; g < end; ++g) rows += sent(g);
+      for (const std::size_t end = a + recv_rows_[r]; a < end; ++a)
+        rows += sent(n_local + (ghost_slot_.empty() ? a : ghost_slot_[a]));
     }
-    if (rows == 0) continue;
+    if (rows == 0 || read_at_[r] != nullptr) continue;  // (shared: read in end_refresh)
     requests_.emplace_back();
     MPI_Irecv(buf_in_.data() + at, rows * kMotionDoubles, MPI_DOUBLE, r, 7, comm_,
               &requests_.back());
@@ -201,17 +300,23 @@ void Domain::begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen) 
   }
   double* o = buf_out_.data();
   for (int r = 0; r < size_; ++r) {
-    double* begin = o;
+    if (send_[r].empty()) continue;
+    const bool shared = node_rank_[r] >= 0 && shared_out_;
+    double* begin = shared ? segment_ + write_at_[r] + turn * send_[r].size() * kMotionDoubles : o;
+    double* row = begin;
     for (std::uint32_t i : send_[r])
-      if (sent(i)) put_row<field::kGhostRefresh>(o, p, i);
-    if (o == begin) continue;
+      if (sent(i)) put_row<field::kGhostRefresh>(row, p, i);
+    if (shared || row == begin) continue;
+    o = row;
     requests_.emplace_back();
-    MPI_Isend(begin, static_cast<int>(o - begin), MPI_DOUBLE, r, 7, comm_, &requests_.back());
+    MPI_Isend(begin, static_cast<int>(row - begin), MPI_DOUBLE, r, 7, comm_, &requests_.back());
   }
+  if (shared_out_) MPI_Win_sync(window_);  // the rows written before the collective that follows
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 
 void Domain::progress_refresh() {
+  if (requests_.empty()) return;
   const double t0 = MPI_Wtime();
   int done = 0;
   MPI_Testall(static_cast<int>(requests_.size()), requests_.data(), &done, MPI_STATUSES_IGNORE);
@@ -222,10 +327,30 @@ void Domain::end_refresh(Particles& p, std::size_t n_local) {
   const double t0 = MPI_Wtime();
   MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
   requests_.clear();
+  if (node_comm_ != MPI_COMM_NULL) {
+    // Every rank of the node has written its rows once all have passed a collective since
+    // begin_refresh (or this barrier); Win_sync orders this rank's reads after it.
+    if (!refresh_synced_) MPI_Barrier(node_comm_);
+    if (window_ != MPI_WIN_NULL) MPI_Win_sync(window_);
+  }
+  refresh_pending_ = refresh_synced_ = false;
+  const std::size_t turn = (refreshes_ - 1) & 1u;
   const std::int32_t* state = p.bulk_state.data();
   const double* in = buf_in_.data();
-  for (std::size_t q = n_local; q < p.size(); ++q)
-    if (!refresh_skips_frozen_ || state[q] >= 0) take_row<field::kGhostRefresh>(in, p, q);
+  // Ghosts in the order they arrived (by source rank), each written where it lies.
+  const bool placed = !ghost_slot_.empty();
+  std::size_t a = 0;
+  for (int r = 0; r < size_; ++r) {
+    const std::size_t end = a + static_cast<std::size_t>(recv_rows_[r]);
+    const double* from =
+        read_at_[r] ? read_at_[r] + turn * static_cast<std::size_t>(recv_rows_[r]) * kMotionDoubles
+                    : in;
+    for (; a < end; ++a) {
+      const std::size_t q = n_local + (placed ? ghost_slot_[a] : a);
+      if (!refresh_skips_frozen_ || state[q] >= 0) take_row<field::kGhostRefresh>(from, p, q);
+    }
+    if (!read_at_[r]) in = from;
+  }
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 

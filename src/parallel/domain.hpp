@@ -55,6 +55,10 @@ class Domain {
   // `first`: the owned particles before it are known to lie near no other rank (mark_border's
   // unflagged ones, sorted first) and are not queried again.
   void exchange_ghosts(Particles& p, std::size_t n_local, double reach, std::size_t first = 0);
+  // Puts the ghosts of the last exchange_ghosts() in another order: ghost slot k (row n_local + k)
+  // takes the ghost that arrived k-th in `order` (VerletList::ghost_order). The refreshes until
+  // the next exchange write each ghost where it now is. Not collective.
+  void place_ghosts(Particles& p, std::size_t n_local, const std::vector<std::uint32_t>& order);
   // border[i] = 1 for each owned particle that another rank's exchange_ghosts(reach) would receive
   // as a ghost (centre within its radius + `reach` of that rank's domain): with reach = r_max +
   // skin, every owned particle that may pair with a ghost is flagged (a pair's cutoff r_i + r_j +
@@ -69,14 +73,24 @@ class Domain {
     begin_refresh(p, n_local, skip_frozen);
     end_refresh(p, n_local);
   }
-  // The same in two halves, so that work which reads no ghost runs while the messages travel:
-  // begin_refresh() sends the owned rows and posts the receives; end_refresh() waits for them and
-  // writes the ghosts. Nothing may read the ghosts' motion, or change the owned rows' or the
-  // states, in between.
+  // The same in two halves, so that work which reads no ghost runs while the rows travel:
+  // begin_refresh() writes the owned rows where their neighbours read them and posts the
+  // receives; end_refresh() waits for them and writes the ghosts. Nothing may read the ghosts'
+  // motion, or change the owned rows' or the states, in between.
+  // Between ranks of one node (MPI_COMM_TYPE_SHARED) the rows go through a shared window, not
+  // messages: each rank writes its rows for a neighbour into its own segment (two buffers, used
+  // in turns, so a neighbour still reading the last refresh never sees the next one being
+  // written) and the neighbour reads them from there, one copy instead of MPI's two plus its
+  // polling. A collective between the halves (max_over_ranks: the step's rebuild test) is the
+  // point after which the rows are there; without one end_refresh() waits at a barrier of the
+  // node. TUMBLE_REFRESH_MESSAGES=1 in the environment sends messages to every rank instead.
   void begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen = false);
   void end_refresh(Particles& p, std::size_t n_local);
-  // Lets MPI move the refresh in flight along (a test of its requests; returns at once).
+  // Lets MPI move the messages of the refresh in flight along (a test of their requests; returns
+  // at once).
   void progress_refresh();
+  // The ranks whose ghosts this rank reads from the shared window (0: all by messages).
+  int shared_sources() const { return shared_sources_; }
 
   // Collective. All particles of every rank, sorted by id (analyses, bed files).
   Particles gather_all(const Particles& p, std::size_t n_local) const;
@@ -122,11 +136,33 @@ class Domain {
   // Ghost traffic: local indices sent to each rank; rows received from each rank.
   std::vector<std::vector<std::uint32_t>> send_;
   std::vector<int> recv_rows_;
+  // Where the ghost that arrived k-th lies (slot from n_local; empty: where it arrived).
+  std::vector<std::uint32_t> ghost_slot_;
   std::vector<double> buf_out_, buf_in_;
   // The refresh in flight (begin_refresh to end_refresh): its requests, and whether the frozen
   // were left out.
   std::vector<MPI_Request> requests_;
   bool refresh_skips_frozen_ = false;
+  // The refresh between ranks of one node (begin_refresh): the node's communicator, each rank's
+  // rank in it (-1: another node, or messages), this rank's segment of the shared window (grown
+  // at rebuilds, never shrunk), where it writes for each rank (doubles into its segment), where
+  // it reads from each (in their segments), and which of the two buffers this refresh uses.
+  MPI_Comm node_comm_ = MPI_COMM_NULL;
+  std::vector<int> node_rank_;
+  MPI_Win window_ = MPI_WIN_NULL;
+  double* segment_ = nullptr;
+  std::size_t segment_doubles_ = 0;
+  std::vector<std::size_t> write_at_;
+  std::vector<const double*> read_at_;
+  std::uint64_t refreshes_ = 0;
+  int shared_sources_ = 0;
+  bool shared_out_ = false;       // this rank writes rows into its segment
+  bool refresh_pending_ = false;  // between begin_refresh and end_refresh
+  bool refresh_synced_ = false;   // ... and a collective of all ranks has passed since begin
+  // At exchange_ghosts: lays out the segment for the new send lists, grows the window if any rank
+  // of the node needs more, and learns where each neighbour of the node writes this rank's rows.
+  void place_shared_rows();
+  void free_window();
 };
 
 // Alltoallv of doubles: `out[r]` goes to rank r; returns what arrived, rank by rank, and the
