@@ -258,11 +258,28 @@ double Domain::max_over_ranks(double value) {
 void Domain::mark_border(const Particles& p, std::size_t n_local, double reach,
                          std::vector<std::uint8_t>& border) const {
   border.assign(n_local, 0);
+  // Another rank's box lies beyond one of this rank's faces that are not the root box's (z's
+  // too where z is periodic): a particle farther inside than its reach from each of those is
+  // near no other rank, and the tree is asked only about the others. (A margin of 1e-9 of the
+  // reach keeps the shortcut on the safe side of the tree's own rounding.)
+  const Box& own = tree_.box(rank_);
+  Vec3 lo_open, hi_open;  // 1: a face with a neighbour beyond it
+  for (int d = 0; d < 3; ++d) {
+    const bool wraps = d == 2 && period_z_ > 0;
+    lo_open[d] = wraps || own.lo[d] > root_.lo[d] ? 1.0 : 0.0;
+    hi_open[d] = wraps || own.hi[d] < root_.hi[d] ? 1.0 : 0.0;
+  }
   std::vector<int> near;
   for (std::size_t i = 0; i < n_local; ++i) {
+    const double r = (p.radius[i] + reach) * (1 + 1e-9);
+    bool inside = true;
+    for (int d = 0; d < 3; ++d)
+      inside = inside && (lo_open[d] == 0 || p.x[i][d] - own.lo[d] > r) &&
+               (hi_open[d] == 0 || own.hi[d] - p.x[i][d] > r);
+    if (inside) continue;
     near.clear();
     tree_.ranks_near(p.x[i], p.radius[i] + reach, period_z_, near);
-    for (int r : near) border[i] |= r != rank_;
+    for (int r_near : near) border[i] |= r_near != rank_;
   }
 }
 
