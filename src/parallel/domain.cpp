@@ -321,14 +321,22 @@ void Domain::begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen) 
     const bool shared = node_rank_[r] >= 0 && shared_out_;
     double* begin = shared ? segment_ + write_at_[r] + turn * send_[r].size() * kMotionDoubles : o;
     double* row = begin;
+    if (shared) {  // (the neighbour reads them: put_row_streaming)
+      for (std::uint32_t i : send_[r])
+        if (sent(i)) put_row_streaming<field::kGhostRefresh>(row, p, i);
+      continue;
+    }
     for (std::uint32_t i : send_[r])
       if (sent(i)) put_row<field::kGhostRefresh>(row, p, i);
-    if (shared || row == begin) continue;
+    if (row == begin) continue;
     o = row;
     requests_.emplace_back();
     MPI_Isend(begin, static_cast<int>(row - begin), MPI_DOUBLE, r, 7, comm_, &requests_.back());
   }
-  if (shared_out_) MPI_Win_sync(window_);  // the rows written before the collective that follows
+  if (shared_out_) {  // the rows written before the collective that follows
+    stream_fence();
+    MPI_Win_sync(window_);
+  }
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 

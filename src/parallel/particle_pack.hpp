@@ -4,10 +4,15 @@
 // copies, gathers) or only what changes every step (field::kGhostRefresh: x, v, w). Ids (< 2^53)
 // and species travel as doubles exactly.
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 #include <vector>
 
 #include "base/particles.hpp"
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 namespace tumble::parallel {
 
@@ -83,6 +88,33 @@ inline void take_row(const double*& in, Particles& p, std::size_t k) {
       take(in, column[k]);
     }
   });
+}
+
+// put_row() for rows that another core reads next (the ghost refresh's shared window,
+// parallel/domain.cpp): non-temporal stores, which take the line from the reader's cache without
+// first fetching it for ownership (the reader read these lines two steps before). Measured on the
+// R35 bed at 2 ranks, ~730 rows a step: 9.5 µs with plain stores, 2.6-3.4 µs with these.
+// stream_fence() once after the rows, before they are published.
+template <unsigned Mask>
+inline void put_row_streaming(double*& o, const Particles& p, std::size_t i) {
+  double row[row_doubles<Mask>()];
+  double* at = row;
+  put_row<Mask>(at, p, i);
+#if defined(__x86_64__)
+  for (int d = 0; d < row_doubles<Mask>(); ++d) {
+    long long bits;
+    std::memcpy(&bits, &row[d], sizeof bits);
+    _mm_stream_si64(reinterpret_cast<long long*>(o + d), bits);
+  }
+#else
+  std::memcpy(o, row, sizeof row);
+#endif
+  o += row_doubles<Mask>();
+}
+inline void stream_fence() {
+#if defined(__x86_64__)
+  _mm_sfence();
+#endif
 }
 
 inline void pack_state(const Particles& p, std::size_t i, std::vector<double>& out) {
