@@ -100,6 +100,12 @@ for n in "${NPS[@]}"; do
            s, n, m1, np, mn, r1, rn
     printf "%s  efficiency=%.1f%%  speedup=%.2f  imbalance=%s  ghosts(total)=%s (%.1f%% of particles)  peak_rss_mb 1 rank=%.1f, per rank at %d=%.1f\n",
            s, 100 * mn / (np * m1), mn / m1, imb, gh, 100 * gh / n, k1 / 1024, np, kn / 1024
+    # Round by round (each NP-rank run against the one-rank run just before it): on a shared
+    # machine whose load drifts, the figure the drift disturbs least.
+    k = split(r1, a, " "); split(rn, b, " ")
+    for (i = 1; i <= k; ++i) e[i] = 100 * b[i] / (np * a[i])
+    for (i = 1; i <= k; ++i) for (j = i + 1; j <= k; ++j) if (e[j] < e[i]) { t = e[i]; e[i] = e[j]; e[j] = t }
+    printf "%s  efficiency per round: median %.1f%% (%.1f-%.1f%%, %d rounds)\n", s, e[int((k + 1) / 2)], e[1], e[k], k
   }'
   echo "# last $n-rank run: $(grep '\[run\] done' "$last" | sed 's/; results in.*//')"
   if [ "${#rs[@]}" -gt 0 ] && [ "$n" = "$NPMAX" ]; then
