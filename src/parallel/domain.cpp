@@ -96,7 +96,7 @@ void Domain::place_shared_rows() {
   MPI_Allreduce(MPI_IN_PLACE, &grow, 1, MPI_INT, MPI_MAX, node_comm_);
   if (grow) {
     free_window();
-    const std::size_t doubles = std::max<std::size_t>(need + need / 2, 16);
+    const std::size_t doubles = std::max<std::size_t>(need + need / 8, 16);  // (base/growth.hpp)
     MPI_Info info;
     MPI_Info_create(&info);
     MPI_Info_set(info, "alloc_shared_noncontig", "true");  // each segment near its own rank
@@ -296,8 +296,11 @@ void Domain::begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen) 
   std::size_t total_out = 0;
   for (int r = 0; r < size_; ++r)
     if (!(node_rank_[r] >= 0 && shared_out_)) total_out += send_[r].size();
+  std::size_t total_in = 0;  // (the rows from the node's ranks are read where they lie)
+  for (int r = 0; r < size_; ++r)
+    if (read_at_[r] == nullptr) total_in += static_cast<std::size_t>(recv_rows_[r]);
   buf_out_.resize(total_out * kMotionDoubles);
-  buf_in_.resize((p.size() - n_local) * kMotionDoubles);
+  buf_in_.resize(total_in * kMotionDoubles);
   requests_.clear();
   requests_.reserve(2 * size_);
   std::size_t at = 0, a = 0;  // a: ghosts counted in the order they arrived
@@ -423,8 +426,10 @@ Particles Domain::id_block(const Particles& p, std::size_t n_local, std::int64_t
 }
 
 std::size_t Domain::memory_bytes() const {
-  std::size_t bytes = weight_.capacity() * sizeof(double) + recv_rows_.capacity() * sizeof(int) +
-                      (buf_out_.capacity() + buf_in_.capacity()) * sizeof(double);
+  std::size_t bytes =
+      weight_.capacity() * sizeof(double) + recv_rows_.capacity() * sizeof(int) +
+      (buf_out_.capacity() + buf_in_.capacity() + segment_doubles_) * sizeof(double) +
+      ghost_slot_.capacity() * sizeof(std::uint32_t);
   for (const auto& s : send_) bytes += s.capacity() * sizeof(std::uint32_t);
   return bytes;
 }
