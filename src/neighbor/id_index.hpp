@@ -43,7 +43,7 @@ class IdIndex {
   }
 
  private:
-  // Fibonacci hashing: the top bits of the product are the best mixed (ids are non-negative).
+  // Fibonacci hashing: the product's bits from 32 up are well mixed (ids are non-negative).
   static std::size_t slot_of(std::int64_t id) {
     return static_cast<std::size_t>((static_cast<std::uint64_t>(id) * 0x9E3779B97F4A7C15ull) >> 32);
   }

@@ -63,6 +63,8 @@ Domain::~Domain() {
   int finalized = 0;
   MPI_Finalized(&finalized);
   if (finalized) return;
+  // (Collective over the node, like the communicators' frees: a case's ranks end it together,
+  // failures included: the health check throws on every rank at once.)
   free_window();
   if (node_comm_ != MPI_COMM_NULL) MPI_Comm_free(&node_comm_);
   if (comm_ != MPI_COMM_NULL) MPI_Comm_free(&comm_);
@@ -95,8 +97,9 @@ void Domain::place_shared_rows() {
   int grow = need > segment_doubles_ ? 1 : 0;
   MPI_Allreduce(MPI_IN_PLACE, &grow, 1, MPI_INT, MPI_MAX, node_comm_);
   if (grow) {
+    // (Never smaller than before: a rank whose rows shrank keeps its room.)
+    const std::size_t doubles = std::max<std::size_t>({need + need / 8, segment_doubles_, 16});
     free_window();
-    const std::size_t doubles = std::max<std::size_t>(need + need / 8, 16);  // (base/growth.hpp)
     MPI_Info info;
     MPI_Info_create(&info);
     MPI_Info_set(info, "alloc_shared_noncontig", "true");  // each segment near its own rank
@@ -284,8 +287,10 @@ void Domain::mark_border(const Particles& p, std::size_t n_local, double reach,
 }
 
 void Domain::begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen) {
-  // Point to point with the neighbours only: what each sends and receives is fixed until the
-  // next rebuild, and arrives in the same order as the ghosts were appended (by source rank).
+  // With the neighbours only: what each sends and receives is fixed until the next rebuild.
+  // Rows for the node's ranks go into this rank's segment of the shared window, the others into
+  // messages; either way they come in the order the ghosts arrived at the exchange (by source
+  // rank), and end_refresh writes each where it now lies (ghost_slot_).
   const double t0 = MPI_Wtime();
   const std::int32_t* state = p.bulk_state.data();
   auto sent = [&](std::size_t i) { return !skip_frozen || state[i] >= 0; };
@@ -336,7 +341,9 @@ void Domain::begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen) 
     requests_.emplace_back();
     MPI_Isend(begin, static_cast<int>(row - begin), MPI_DOUBLE, r, 7, comm_, &requests_.back());
   }
-  if (shared_out_) {  // the rows written before the collective that follows
+  if (window_ != MPI_WIN_NULL) {
+    // The rows written before the collective that follows (and, on a rank that only reads,
+    // its last reads ordered before it: sync, collective, sync on both sides).
     stream_fence();
     MPI_Win_sync(window_);
   }
