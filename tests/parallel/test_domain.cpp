@@ -33,6 +33,16 @@ void expect_ids_conserved(const Simulation& sim, std::int64_t n) {
   for (std::int64_t k = 0; k < n; ++k) ASSERT_EQ(all.id[k], k);
 }
 
+// The settled bed stirred at up to 0.5 m/s per component, the same velocities on every rank
+// (`seed`): particles cross the cuts between ranks within a few steps.
+Particles stirred_tiny_bed(const Scene& s, unsigned seed) {
+  Particles bed = tiny_bed(s);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  for (Vec3& v : bed.v) v = {u(rng), u(rng), u(rng)};
+  return bed;
+}
+
 }  // namespace
 
 // Same scene and seed on 1 rank and on every rank of the world: 200 steps of the rotating
@@ -83,11 +93,7 @@ TEST(Domain, MatchesSerialTrajectoryAndConservesIds) {
 // round-off, and no rank holds a spring the serial run has not.
 TEST(Domain, EverySpringSurvivesTheMigration) {
   const Scene s = tiny({"neighbor.skin=0.02", "parallel.rebalance_threshold=1.0"});
-  // The settled bed, stirred (the same velocities on every rank): particles cross the cuts.
-  Particles bed = tiny_bed(s);
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(-0.5, 0.5);
-  for (Vec3& v : bed.v) v = {u(rng), u(rng), u(rng)};
+  const Particles bed = stirred_tiny_bed(s, 11);
   Simulation serial(s, bed, biaxial(s));
   Simulation par(s, share_of(bed, MPI_COMM_WORLD), biaxial(s), 0, 0, MPI_COMM_WORLD);
   serial.compute_forces();
@@ -148,10 +154,7 @@ TEST(Domain, EverySpringSurvivesTheMigration) {
 // out again and grown while in use).
 TEST(Domain, SharedWindowRefreshEqualsMessages) {
   const Scene s = tiny({"neighbor.skin=0.05", "parallel.rebalance_threshold=1.0"});
-  Particles bed = tiny_bed(s);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(-0.5, 0.5);
-  for (Vec3& v : bed.v) v = {u(rng), u(rng), u(rng)};
+  const Particles bed = stirred_tiny_bed(s, 5);
   setenv("TUMBLE_REFRESH_MESSAGES", "1", 1);
   Simulation messages(s, share_of(bed, MPI_COMM_WORLD), biaxial(s), 0, 0, MPI_COMM_WORLD);
   unsetenv("TUMBLE_REFRESH_MESSAGES");
