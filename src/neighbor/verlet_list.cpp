@@ -141,6 +141,19 @@ void VerletList::keep_live_springs(std::size_t rows) {
   old_start_[rows] = static_cast<std::uint32_t>(at);
 }
 
+bool VerletList::carry_spring(std::uint32_t row, std::uint32_t partner, bool flip,
+                              double* to) const {
+  const std::size_t w = static_cast<std::size_t>(layout_.width);
+  for (std::uint32_t q = old_start_[row]; q < old_start_[row + 1]; ++q)
+    if (old_nbr_[q] == partner) {
+      const double* from = old_history_.data() + w * q;
+      for (std::size_t d = 0; d < w; ++d)
+        to[d] = flip ? layout_.other_side(static_cast<int>(d), from[d]) : from[d];
+      return true;
+    }
+  return false;
+}
+
 void VerletList::keep_springs(const Particles& p, std::size_t n_local) {
   keep_live_springs(n_local);
   kept_owned_ = n_local;
@@ -263,17 +276,6 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
     const std::uint32_t absent = IdIndex::kAbsent;
     std::vector<std::uint32_t> before(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) before[i] = kept_index_.index_of(p.id[i]);
-    // The spring of old pair (row, partner) into `to`, seen from the other side if `flip`.
-    auto carried = [&](std::uint32_t row, std::uint32_t partner, double* to, bool flip) {
-      for (std::uint32_t q = old_start_[row]; q < old_start_[row + 1]; ++q)
-        if (old_nbr_[q] == partner) {
-          const double* from = old_history_.data() + w * q;
-          for (std::size_t d = 0; d < w; ++d)
-            to[d] = flip ? layout_.other_side(static_cast<int>(d), from[d]) : from[d];
-          return true;
-        }
-      return false;
-    };
     const bool arrived = !saved.records().empty();
     for (std::size_t i = 0; i < n_local; ++i) {
       const std::uint32_t a = before[i];
@@ -281,8 +283,8 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
         const std::uint32_t b = before[nbr[k]];
         double* to = history.data() + w * k;
         if (a < owned_before || b < owned_before) {
-          if (a < owned_before && b != absent && carried(a, b, to, false)) continue;
-          if (b < owned_before && a != absent) carried(b, a, to, true);
+          if (a < owned_before && b != absent && carry_spring(a, b, false, to)) continue;
+          if (b < owned_before && a != absent) carry_spring(b, a, true, to);
         } else if (arrived) {
           saved.find(p.id[i], p.id[nbr[k]], to);
         }
@@ -366,18 +368,10 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved, ContactHisto
         // Old indices of the pair; the old list holds its live spring in the row of the smaller
         // one.
         const std::uint32_t a = perm_[i], b = perm_[nbr[k]];
-        const std::uint32_t row = a < b ? a : b, partner = a < b ? b : a;
-        for (std::uint32_t q = old_start_[row]; q < old_start_[row + 1]; ++q)
-          if (old_nbr_[q] == partner) {
-            const double* from = old_history_.data() + w * q;
-            double* to = history.data() + w * k;
-            if (a < b)
-              for (std::size_t d = 0; d < w; ++d) to[d] = from[d];
-            else
-              for (std::size_t d = 0; d < w; ++d)
-                to[d] = layout_.other_side(static_cast<int>(d), from[d]);
-            break;
-          }
+        if (a < b)
+          carry_spring(a, b, false, history.data() + w * k);
+        else
+          carry_spring(b, a, true, history.data() + w * k);
       }
   } else if (saved) {  // restart (or, later, migration): match by global id
     for (std::size_t i = 0; i < n; ++i)

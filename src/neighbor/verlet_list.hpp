@@ -128,6 +128,9 @@ class VerletList {
   std::vector<double> old_history_;
   // Copies the live springs of the first `rows` rows into old_start_, old_nbr_, old_history_.
   void keep_live_springs(std::size_t rows);
+  // The kept spring of old pair (row, partner) into `to` (seen from the partner if `flip`);
+  // false, `to` untouched, if that row holds none for the partner.
+  bool carry_spring(std::uint32_t row, std::uint32_t partner, bool flip, double* to) const;
   // keep_springs(): the previous particles' ids (owned first, then ghosts), where each id was,
   // the owned ones' positions, and whether the next build_with_ghosts() carries from them.
   bool carry_kept_ = false;

@@ -300,7 +300,7 @@ void Domain::begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen) 
   const std::size_t turn = refreshes_++ & 1u;  // which of the two buffers (the same on every rank)
   std::size_t total_out = 0;
   for (int r = 0; r < size_; ++r)
-    if (!(node_rank_[r] >= 0 && shared_out_)) total_out += send_[r].size();
+    if (!writes_shared(r)) total_out += send_[r].size();
   std::size_t total_in = 0;  // (the rows from the node's ranks are read where they lie)
   for (int r = 0; r < size_; ++r)
     if (read_at_[r] == nullptr) total_in += static_cast<std::size_t>(recv_rows_[r]);
@@ -326,7 +326,7 @@ void Domain::begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen) 
   double* o = buf_out_.data();
   for (int r = 0; r < size_; ++r) {
     if (send_[r].empty()) continue;
-    const bool shared = node_rank_[r] >= 0 && shared_out_;
+    const bool shared = writes_shared(r);
     double* begin = shared ? segment_ + write_at_[r] + turn * send_[r].size() * kMotionDoubles : o;
     double* row = begin;
     if (shared) {  // (the neighbour reads them: put_row_streaming)

@@ -162,6 +162,8 @@ class Domain {
   // At exchange_ghosts: lays out the segment for the new send lists, grows the window if any rank
   // of the node needs more, and learns where each neighbour of the node writes this rank's rows.
   void place_shared_rows();
+  // Whether this rank's rows for rank r go into the window (r on this node), not a message.
+  bool writes_shared(int r) const { return shared_out_ && node_rank_[r] >= 0; }
   void free_window();
 };
 
