@@ -215,7 +215,8 @@ class Simulation {
   std::size_t n_local_ = 0;  // owned particles: p_[0, n_local_); ghosts after them
   std::unique_ptr<parallel::Domain> dom_;
   // Contact records go to every rank within halo_reach_ (2 r_max + skin) of the pair; a particle
-  // is a ghost where its surface is within ghost_reach_ (r_max + skin) of a rank's domain.
+  // is a ghost where its surface is within ghost_reach_ (r_max + skin) of a rank's domain (a thin
+  // particle of a size mixture only where it may pair with one: Domain::thin_halo).
   double halo_reach_ = 0, ghost_reach_ = 0;
   std::vector<std::uint8_t> border_;  // rebuild scratch: owned particles that may pair with ghosts
   geometry::Protocol protocol_;

@@ -1,6 +1,7 @@
 #include "parallel/domain.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <numeric>
 #include <stdexcept>
@@ -213,11 +214,42 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach, st
   const double t0 = MPI_Wtime();
   std::vector<std::vector<double>> out(size_);
   for (auto& s : send_) s.clear();
-  std::vector<int> near;
+  std::vector<int> near, to, scratch;
+  // A thin halo: first every wide particle near another rank goes there as centre and radius,
+  // so that each rank knows which of its thin particles beyond the thin reach one of them may
+  // pair with. (Two more collectives per rebuild; none when the bed has one size.)
+  std::vector<std::vector<double>> wide_from;
+  const bool thin = thin_radius_ > 0;
+  if (thin) {
+    std::vector<std::vector<double>> wide(size_);
+    for (std::size_t i = first; i < n_local; ++i) {
+      if (p.radius[i] <= thin_radius_) continue;
+      near.clear();
+      tree_.ranks_near(p.x[i], p.radius[i] + reach, period_z_, near);
+      for (int r : near)
+        if (r != rank_)
+          wide[r].insert(wide[r].end(), {p.x[i][0], p.x[i][1], p.x[i][2], p.radius[i]});
+    }
+    std::vector<int> from;
+    const std::vector<double> in = exchange(comm_, wide, from);
+    wide_from.assign(size_, {});
+    auto at = in.begin();
+    for (int r = 0; r < size_; ++r) {
+      wide_from[r].assign(at, at + from[r]);
+      at += from[r];
+    }
+  }
+  // Each particle to the ranks it may pair with, in the order of the rows (the ghosts a thin
+  // halo leaves out had no pair, so those that arrive keep the full halo's order).
   for (std::size_t i = first; i < n_local; ++i) {
     near.clear();
     tree_.ranks_near(p.x[i], p.radius[i] + reach, period_z_, near);
-    for (int r : near) {
+    const std::vector<int>* targets = &near;
+    if (thin && p.radius[i] <= thin_radius_ && near.size() > 1) {
+      thin_halo_targets(p, i, near, wide_from, scratch, to);
+      targets = &to;
+    }
+    for (int r : *targets) {
       if (r == rank_) continue;
       send_[r].push_back(static_cast<std::uint32_t>(i));
       pack_state(p, i, out[r]);
@@ -232,6 +264,37 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach, st
   ghost_slot_.clear();
   place_shared_rows();
   rebuild_seconds_ += MPI_Wtime() - t0;
+}
+
+void Domain::thin_halo_targets(const Particles& p, std::size_t i, const std::vector<int>& near,
+                               const std::vector<std::vector<double>>& wide_from,
+                               std::vector<int>& scratch, std::vector<int>& to) const {
+  // (Margins of 1e-9 keep both tests on the safe side of the list's own rounding.)
+  constexpr double kMargin = 1 + 1e-9;
+  const Vec3& xi = p.x[i];
+  to.clear();
+  scratch.clear();
+  // Within reach of the rank's thin particles: r_i + r_j + skin <= r_i + thin_radius + skin.
+  tree_.ranks_near(xi, (p.radius[i] + thin_radius_ + skin_) * kMargin, period_z_, scratch);
+  for (int r : near) {
+    if (r == rank_) continue;
+    if (std::find(scratch.begin(), scratch.end(), r) != scratch.end()) {
+      to.push_back(r);
+      continue;
+    }
+    // Beyond it: only a wide particle of that rank may pair with it.
+    const std::vector<double>& w = wide_from[r];
+    for (std::size_t k = 0; k + 4 <= w.size(); k += 4) {
+      double dz = xi[2] - w[k + 2];
+      if (period_z_ > 0) dz -= period_z_ * std::round(dz / period_z_);  // the nearest image
+      const double dx = xi[0] - w[k], dy = xi[1] - w[k + 1];
+      const double cut = (p.radius[i] + w[k + 3] + skin_) * kMargin;
+      if (dx * dx + dy * dy + dz * dz <= cut * cut) {
+        to.push_back(r);
+        break;
+      }
+    }
+  }
 }
 
 void Domain::place_ghosts(Particles& p, std::size_t n_local,

@@ -55,6 +55,18 @@ class Domain {
   // `first`: the owned particles before it are known to lie near no other rank (mark_border's
   // unflagged ones, sorted first) and are not queried again.
   void exchange_ghosts(Particles& p, std::size_t n_local, double reach, std::size_t first = 0);
+  // A thinner halo for the thin particles of a size mixture (after LAMMPS' comm_modify
+  // reduce/multi, without its Newton across borders): a particle of radius <= `thin_radius` goes
+  // to another rank only if its centre is within r_i + thin_radius + `skin` of that rank's domain
+  // (where that rank's thin particles may pair with it) or within r_i + r_w + skin of one of that
+  // rank's wider particles w, whose centres and radii exchange_ghosts() then sends first. Every
+  // pair of the list still finds its ghost, and the ghosts that do arrive keep their order (those
+  // left out had no pair), so the list and the forces are those of the full halo. Collective
+  // setting, once per scene; thin_radius <= 0 (the default): one halo of r_i + reach for all.
+  void thin_halo(double thin_radius, double skin) {
+    thin_radius_ = thin_radius;
+    skin_ = skin;
+  }
   // Puts the ghosts of the last exchange_ghosts() in another order: ghost slot k (row n_local + k)
   // takes the ghost that arrived k-th in `order` (VerletList::ghost_order). The refreshes until
   // the next exchange write each ghost where it now is. Not collective.
@@ -119,6 +131,12 @@ class Domain {
 
  private:
   void migrate(Particles& p);
+  // exchange_ghosts() with thin_halo(): the ranks of `near` (those within the full reach of
+  // thin particle i) that it goes to, in `to`. wide_from[r]: the centres and radii (4 doubles
+  // each) of rank r's wide particles near this rank's domain; `scratch`: room for a tree query.
+  void thin_halo_targets(const Particles& p, std::size_t i, const std::vector<int>& near,
+                         const std::vector<std::vector<double>>& wide_from,
+                         std::vector<int>& scratch, std::vector<int>& to) const;
   // Each owned particle's share of the work (weight_), and max / mean of their sums over the ranks.
   void weigh(const Particles& p);
   double measure_imbalance() const;
@@ -127,6 +145,7 @@ class Domain {
   int rank_ = 0, size_ = 1;
   Box root_;
   double period_z_ = 0, threshold_ = 1.1, frozen_weight_ = 1;
+  double thin_radius_ = 0, skin_ = 0;  // thin_halo()
   std::vector<double> weight_;
   RcbTree tree_;
   bool have_tree_ = false;
