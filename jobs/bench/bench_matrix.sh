@@ -38,6 +38,8 @@ echo "# Yu: R35 bed, $YU_STEPS steps a run; cylinder: Rapaport #E, $CYL_STEPS st
 warm_dir() {  # binary scene-index
   local v
   v=$("$1" --version | sed 's/.*(\(.*\))/\1/')
+  # (a build outside a git checkout has no commit: its checksum tells it apart)
+  [ "$v" = unknown ] && v="unknown_$(md5sum "$1" | cut -c1-8)"
   echo "results/bench/warm_${v}_${names[$2]}_${warmups[$2]}"
 }
 for k in "${!bins[@]}"; do
