@@ -8,6 +8,7 @@
 #include <string>
 
 #include "parallel/particle_pack.hpp"
+#include "parallel/wide_bins.hpp"
 
 namespace tumble::parallel {
 
@@ -218,7 +219,7 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach, st
   // A thin halo: first every wide particle near another rank goes there as centre and radius,
   // so that each rank knows which of its thin particles beyond the thin reach one of them may
   // pair with. (Two more collectives per rebuild; none when the bed has one size.)
-  std::vector<std::vector<double>> wide_from;
+  WideBins wide_bins;
   const bool thin = thin_radius_ > 0;
   if (thin) {
     std::vector<std::vector<double>> wide(size_);
@@ -232,12 +233,13 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach, st
     }
     std::vector<int> from;
     const std::vector<double> in = exchange(comm_, wide, from);
-    wide_from.assign(size_, {});
     auto at = in.begin();
     for (int r = 0; r < size_; ++r) {
-      wide_from[r].assign(at, at + from[r]);
+      wide[r].assign(at, at + from[r]);  // now what rank r sent
       at += from[r];
     }
+    // (Cells no smaller than the largest reach asked: r_thin + r_max + skin.)
+    wide_bins.assign(wide, (thin_radius_ + reach) * (1 + 1e-6), period_z_);
   }
   // Each particle to the ranks it may pair with, in the order of the rows (the ghosts a thin
   // halo leaves out had no pair, so those that arrive keep the full halo's order).
@@ -246,7 +248,7 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach, st
     tree_.ranks_near(p.x[i], p.radius[i] + reach, period_z_, near);
     const std::vector<int>* targets = &near;
     if (thin && p.radius[i] <= thin_radius_ && near.size() > 1) {
-      thin_halo_targets(p, i, near, wide_from, scratch, to);
+      thin_halo_targets(p, i, near, wide_bins, scratch, to);
       targets = &to;
     }
     for (int r : *targets) {
@@ -267,8 +269,8 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach, st
 }
 
 void Domain::thin_halo_targets(const Particles& p, std::size_t i, const std::vector<int>& near,
-                               const std::vector<std::vector<double>>& wide_from,
-                               std::vector<int>& scratch, std::vector<int>& to) const {
+                               const WideBins& wide, std::vector<int>& scratch,
+                               std::vector<int>& to) const {
   // (Margins of 1e-9 keep both tests on the safe side of the list's own rounding.)
   constexpr double kMargin = 1 + 1e-9;
   const Vec3& xi = p.x[i];
@@ -278,22 +280,10 @@ void Domain::thin_halo_targets(const Particles& p, std::size_t i, const std::vec
   tree_.ranks_near(xi, (p.radius[i] + thin_radius_ + skin_) * kMargin, period_z_, scratch);
   for (int r : near) {
     if (r == rank_) continue;
-    if (std::find(scratch.begin(), scratch.end(), r) != scratch.end()) {
+    // Beyond it only a wide particle of that rank may pair with it.
+    if (std::find(scratch.begin(), scratch.end(), r) != scratch.end() ||
+        wide.any_within(r, xi, p.radius[i] + skin_, kMargin))
       to.push_back(r);
-      continue;
-    }
-    // Beyond it: only a wide particle of that rank may pair with it.
-    const std::vector<double>& w = wide_from[r];
-    for (std::size_t k = 0; k + 4 <= w.size(); k += 4) {
-      double dz = xi[2] - w[k + 2];
-      if (period_z_ > 0) dz -= period_z_ * std::round(dz / period_z_);  // the nearest image
-      const double dx = xi[0] - w[k], dy = xi[1] - w[k + 1];
-      const double cut = (p.radius[i] + w[k + 3] + skin_) * kMargin;
-      if (dx * dx + dy * dy + dz * dz <= cut * cut) {
-        to.push_back(r);
-        break;
-      }
-    }
   }
 }
 

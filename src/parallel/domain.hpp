@@ -20,6 +20,8 @@
 
 namespace tumble::parallel {
 
+class WideBins;
+
 class Domain {
  public:
   // `root`: the tumbler's bounding box; `period_z` > 0: periodic in z with that period;
@@ -132,11 +134,11 @@ class Domain {
  private:
   void migrate(Particles& p);
   // exchange_ghosts() with thin_halo(): the ranks of `near` (those within the full reach of
-  // thin particle i) that it goes to, in `to`. wide_from[r]: the centres and radii (4 doubles
-  // each) of rank r's wide particles near this rank's domain; `scratch`: room for a tree query.
+  // thin particle i) that it goes to, in `to`. `wide`: the other ranks' wide particles near this
+  // rank's domain; `scratch`: room for a tree query.
   void thin_halo_targets(const Particles& p, std::size_t i, const std::vector<int>& near,
-                         const std::vector<std::vector<double>>& wide_from,
-                         std::vector<int>& scratch, std::vector<int>& to) const;
+                         const WideBins& wide, std::vector<int>& scratch,
+                         std::vector<int>& to) const;
   // Each owned particle's share of the work (weight_), and max / mean of their sums over the ranks.
   void weigh(const Particles& p);
   double measure_imbalance() const;

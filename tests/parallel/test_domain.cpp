@@ -16,6 +16,7 @@
 #include "analysis/radial_segregation.hpp"
 #include "engine/simulation.hpp"
 #include "parallel/domain.hpp"
+#include "parallel/wide_bins.hpp"
 #include "parallel_helpers.hpp"
 #include "run/realization.hpp"
 #include "scene/fill.hpp"
@@ -236,6 +237,45 @@ TEST(Domain, SizeSplitHaloEqualsOneHalo) {
   for (Vec3& v : cb.particles.v) v = {u(rng), u(rng), u(rng)};
   compare(cyl, cb.particles, geometry::Protocol::single_axis(name_of(cyl.axis)[0], cyl.omega()),
           300);
+}
+
+// The thin halo's binned search of the wide particles (parallel::WideBins) against a scan of all
+// of them, with the nearest image across a periodic end: random wide particles of two source
+// ranks in a slab, random points around it, reaches up to the cell size.
+TEST(Domain, WideBinsFindWhatAScanFinds) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (const double period : {0.0, 10.0}) {
+    std::vector<std::vector<double>> from(3);  // rank 1 sends nothing
+    for (int r : {0, 2})
+      for (int k = 0; k < 400; ++k)
+        from[r].insert(from[r].end(),
+                       {8 * u(rng) - 4, 3 * u(rng), period > 0 ? 10 * u(rng) - 5 : 8 * u(rng) - 4,
+                        0.2 + 0.3 * u(rng)});
+    const double skin = 0.1, cell = 0.5 + 0.5 + skin;  // r_i <= 0.5, r_w <= 0.5
+    parallel::WideBins bins;
+    bins.assign(from, cell, period);
+    int hits = 0, misses = 0;
+    for (int q = 0; q < 4000; ++q) {
+      const Vec3 x{10 * u(rng) - 5, 5 * u(rng) - 1, period > 0 ? 10 * u(rng) - 5 : 10 * u(rng) - 5};
+      const double ri = 0.5 * u(rng);
+      for (int r = 0; r < 3; ++r) {
+        bool scan = false;
+        for (std::size_t k = 0; k + 4 <= from[r].size(); k += 4) {
+          double dz = x.z - from[r][k + 2];
+          if (period > 0) dz -= period * std::round(dz / period);
+          const double dx = x.x - from[r][k], dy = x.y - from[r][k + 1];
+          const double cut = ri + from[r][k + 3] + skin;
+          scan = scan || dx * dx + dy * dy + dz * dz <= cut * cut;
+        }
+        ASSERT_EQ(bins.any_within(r, x, ri + skin, 1.0), scan) << "rank " << r << ", query " << q;
+        hits += scan;
+        misses += !scan;
+      }
+    }
+    EXPECT_GT(hits, 500);  // both answers are tested often
+    EXPECT_GT(misses, 500);
+  }
 }
 
 // The same on a sub-communicator: the world's ranks split into groups, each group runs the scene

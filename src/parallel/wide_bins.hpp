@@ -1,0 +1,36 @@
+#pragma once
+// The wide particles of a size mixture that the other ranks sent at a rebuild (centre and radius,
+// Domain::thin_halo), binned by cell per source rank, so that the thin halo's test "is one of
+// rank r's wide particles within r_i + r_w + skin of this thin particle?" looks at the few in the
+// neighbouring cells, not at all of them (the scan grows as border area squared: fine at 2 ranks
+// of a small bed, ~10 tests per particle-step for 10^6 particles a rank with many large ones).
+#include <cstdint>
+#include <vector>
+
+#include "base/vec3.hpp"
+
+namespace tumble::parallel {
+
+class WideBins {
+ public:
+  // from_rank[r]: 4 doubles per particle (x, y, z, radius). `cell`: at least the largest pair
+  // reach asked later (r_i + r_w + skin), so that the 27 cells around a point hold every
+  // particle within it. `period_z` > 0: positions are periodic in z with that period.
+  void assign(const std::vector<std::vector<double>>& from_rank, double cell, double period_z);
+  // Whether a wide particle of rank r lies within (r_i + r_w + skin) * margin of x (the nearest
+  // image in z when periodic); `ri_skin` = r_i + skin.
+  bool any_within(int r, const Vec3& x, double ri_skin, double margin) const;
+
+ private:
+  struct Grid {  // one source rank's particles, counting-sorted by cell (CSR)
+    Vec3 lo;
+    int n[3] = {0, 0, 0};
+    std::vector<std::uint32_t> start;  // per cell, into `rows`
+    std::vector<double> rows;          // 4 doubles per particle, in cell order
+  };
+  bool any_in_cells(const Grid& g, const Vec3& x, double ri_skin, double margin) const;
+  std::vector<Grid> grids_;
+  double cell_ = 1, period_z_ = 0;
+};
+
+}  // namespace tumble::parallel
