@@ -238,8 +238,7 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach, st
       wide[r].assign(at, at + from[r]);  // now what rank r sent
       at += from[r];
     }
-    // (Cells no smaller than the largest reach asked: r_thin + r_max + skin.)
-    wide_bins.assign(wide, (thin_radius_ + reach) * (1 + 1e-6), period_z_);
+    wide_bins.assign(wide, thin_radius_ + skin_, period_z_);  // (r_i + skin <= this)
   }
   // Each particle to the ranks it may pair with, in the order of the rows (the ghosts a thin
   // halo leaves out had no pair, so those that arrive keep the full halo's order).

@@ -5,32 +5,48 @@
 
 namespace tumble::parallel {
 
-void WideBins::assign(const std::vector<std::vector<double>>& from_rank, double cell,
+void WideBins::assign(const std::vector<std::vector<double>>& from_rank, double ri_skin_max,
                       double period_z) {
-  cell_ = cell;
   period_z_ = period_z;
   grids_.assign(from_rank.size(), Grid{});
   for (std::size_t r = 0; r < from_rank.size(); ++r) {
-    const std::vector<double>& w = from_rank[r];
+    std::vector<double> w;  // the rows with finite numbers
+    for (std::size_t k = 0; k + 4 <= from_rank[r].size(); k += 4) {
+      const double* row = &from_rank[r][k];
+      if (std::isfinite(row[0]) && std::isfinite(row[1]) && std::isfinite(row[2]) &&
+          std::isfinite(row[3]))
+        w.insert(w.end(), row, row + 4);
+    }
     const std::size_t m = w.size() / 4;
     if (m == 0) continue;
     Grid& g = grids_[r];
     Vec3 lo{w[0], w[1], w[2]}, hi = lo;
-    for (std::size_t k = 0; k < m; ++k)
+    double rw_max = 0;
+    for (std::size_t k = 0; k < m; ++k) {
       for (int d = 0; d < 3; ++d) {
         lo[d] = std::min(lo[d], w[4 * k + d]);
         hi[d] = std::max(hi[d], w[4 * k + d]);
       }
+      rw_max = std::max(rw_max, w[4 * k + 3]);
+    }
     g.lo = lo;
+    // (1e-6: the queries' margin of 1e-9 stays inside a cell.)
+    g.cell = (ri_skin_max + rw_max) * (1 + 1e-6);
+    auto count = [&] {
+      double cells = 1;
+      for (int d = 0; d < 3; ++d) cells *= std::floor((hi[d] - lo[d]) / g.cell) + 1;
+      return cells;
+    };
+    while (count() > 8.0 * static_cast<double>(m) + 64) g.cell *= 2;
     std::size_t cells = 1;
     for (int d = 0; d < 3; ++d) {
-      g.n[d] = static_cast<int>((hi[d] - lo[d]) / cell_) + 1;
+      g.n[d] = static_cast<int>((hi[d] - lo[d]) / g.cell) + 1;
       cells *= static_cast<std::size_t>(g.n[d]);
     }
     auto cell_of = [&](const double* x) {
       int c[3];
       for (int d = 0; d < 3; ++d)
-        c[d] = std::min(g.n[d] - 1, static_cast<int>((x[d] - g.lo[d]) / cell_));
+        c[d] = std::min(g.n[d] - 1, static_cast<int>((x[d] - g.lo[d]) / g.cell));
       return (static_cast<std::size_t>(c[0]) * g.n[1] + c[1]) * g.n[2] + c[2];
     };
     g.start.assign(cells + 1, 0);
@@ -46,8 +62,8 @@ void WideBins::assign(const std::vector<std::vector<double>>& from_rank, double 
 bool WideBins::any_in_cells(const Grid& g, const Vec3& x, double ri_skin, double margin) const {
   int c[3];
   for (int d = 0; d < 3; ++d) {
-    const double at = std::floor((x[d] - g.lo[d]) / cell_);
-    if (at < -1 || at > g.n[d]) return false;  // farther than a cell from every particle
+    const double at = std::floor((x[d] - g.lo[d]) / g.cell);
+    if (!(at >= -1 && at <= g.n[d])) return false;  // farther than a cell from all (or NaN)
     c[d] = static_cast<int>(at);
   }
   for (int i = std::max(0, c[0] - 1); i <= std::min(g.n[0] - 1, c[0] + 1); ++i)

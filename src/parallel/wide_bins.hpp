@@ -13,10 +13,14 @@ namespace tumble::parallel {
 
 class WideBins {
  public:
-  // from_rank[r]: 4 doubles per particle (x, y, z, radius). `cell`: at least the largest pair
-  // reach asked later (r_i + r_w + skin), so that the 27 cells around a point hold every
-  // particle within it. `period_z` > 0: positions are periodic in z with that period.
-  void assign(const std::vector<std::vector<double>>& from_rank, double cell, double period_z);
+  // from_rank[r]: 4 doubles per particle (x, y, z, radius). `ri_skin_max`: the largest r_i +
+  // skin a query will ask with; the cells are at least that plus the largest r_w, so that the 27
+  // cells around a point hold every particle within reach (and coarser when the particles are
+  // spread far apart, so that a grid never has many more cells than particles). A row with a
+  // position that is not finite is left out (the health check reports such a particle).
+  // `period_z` > 0: positions are periodic in z with that period.
+  void assign(const std::vector<std::vector<double>>& from_rank, double ri_skin_max,
+              double period_z);
   // Whether a wide particle of rank r lies within (r_i + r_w + skin) * margin of x (the nearest
   // image in z when periodic); `ri_skin` = r_i + skin.
   bool any_within(int r, const Vec3& x, double ri_skin, double margin) const;
@@ -24,13 +28,14 @@ class WideBins {
  private:
   struct Grid {  // one source rank's particles, counting-sorted by cell (CSR)
     Vec3 lo;
+    double cell = 1;
     int n[3] = {0, 0, 0};
     std::vector<std::uint32_t> start;  // per cell, into `rows`
     std::vector<double> rows;          // 4 doubles per particle, in cell order
   };
   bool any_in_cells(const Grid& g, const Vec3& x, double ri_skin, double margin) const;
   std::vector<Grid> grids_;
-  double cell_ = 1, period_z_ = 0;
+  double period_z_ = 0;
 };
 
 }  // namespace tumble::parallel

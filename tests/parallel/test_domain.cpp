@@ -241,7 +241,8 @@ TEST(Domain, SizeSplitHaloEqualsOneHalo) {
 
 // The thin halo's binned search of the wide particles (parallel::WideBins) against a scan of all
 // of them, with the nearest image across a periodic end: random wide particles of two source
-// ranks in a slab, random points around it, reaches up to the cell size.
+// ranks in a slab (one far away, one not a number), random points around it, reaches up to the
+// cell size.
 TEST(Domain, WideBinsFindWhatAScanFinds) {
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> u(0, 1);
@@ -252,9 +253,12 @@ TEST(Domain, WideBinsFindWhatAScanFinds) {
         from[r].insert(from[r].end(),
                        {8 * u(rng) - 4, 3 * u(rng), period > 0 ? 10 * u(rng) - 5 : 8 * u(rng) - 4,
                         0.2 + 0.3 * u(rng)});
-    const double skin = 0.1, cell = 0.5 + 0.5 + skin;  // r_i <= 0.5, r_w <= 0.5
+    // An escaped particle far away (the grid coarsens rather than spanning it in small cells)
+    // and one with a NaN position (left out) must not change any answer.
+    from[2].insert(from[2].end(), {1e12, 0, 0, 0.3, std::nan(""), 0, 0, 0.3});
+    const double skin = 0.1;  // r_i <= 0.5, r_w <= 0.5
     parallel::WideBins bins;
-    bins.assign(from, cell, period);
+    bins.assign(from, 0.5 + skin, period);
     int hits = 0, misses = 0;
     for (int q = 0; q < 4000; ++q) {
       const Vec3 x{10 * u(rng) - 5, 5 * u(rng) - 1, period > 0 ? 10 * u(rng) - 5 : 10 * u(rng) - 5};
