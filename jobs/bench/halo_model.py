@@ -3,7 +3,7 @@
 
 Per step, the slowest rank of P costs
 
-    T(P) = c_p * n(P) + c_g * G(P) + lat(P) + bytes(P) / B_net
+    T(P) = c_p * (1 + o) * n(P) + c_g * G(P) + lat(P) + bytes(P) / B_net
 
   n(P)   particles on the busiest rank (N/P times the measured imbalance)
   G(P)   ghosts held by the busiest rank: counted here by laying N particles at the measured number
@@ -12,6 +12,10 @@ Per step, the slowest rank of P costs
          particles of other domains within their halo reach of it (r_i + r_max + skin: 1.6 d_small
          for a small particle, 2.1 for a large one)
   c_p    seconds per particle-step on one core (measured, 1-rank run)
+  o      the work a decomposed rank adds per particle whatever its ghosts (--overhead, default 0:
+         all of the second rank's extra work charged per ghost, as calibrated): the per-step
+         synchronisation and the decomposed rebuild's spring and id bookkeeping, which instruction
+         counts of 1 and 2 ranks separate from the per-ghost work (docs/performance.md)
   c_g    seconds per ghost per step: the border pairs computed twice (Newton off), the refresh
          packing/unpacking and the amortised rebuild exchange; calibrated from the 2-rank run:
          c_g = (T_2 - c_p n(2) - lat(2)) / G(2)
@@ -111,13 +115,17 @@ def add_model_arguments(ap, rate1=6.765e6, rate2=1.219e7, imbalance2=1.0):
                     help="large particles' share by number (f = 0.15, size ratio 2: 0.0216); "
                          "0 with --reach 2.1: the uniform halo before the thin one")
     ap.add_argument("--sample", type=int, default=400000, help="points sampled for ghost counts")
+    ap.add_argument("--overhead", type=float, default=0.0,
+                    help="per-particle work of a decomposed rank, whatever its ghosts, in units of "
+                         "c_p (0: all extra work per ghost)")
 
 
 def calibrate(a):
     """c_p (seconds per particle-step, 1 rank) and c_g (per ghost-step) from the 2-rank run."""
     c_p = 1 / a.rate1
     t2 = 2 / a.rate2 * a.particles / 2  # seconds per step at 2 ranks
-    return c_p, (t2 - c_p * a.particles / 2 * a.imbalance2 - a.lat_local) / (a.ghosts2 / 2)
+    n2 = a.particles / 2 * a.imbalance2 * (1 + a.overhead)
+    return c_p, (t2 - c_p * n2 - a.lat_local) / (a.ghosts2 / 2)
 
 
 def step_parts(a, c_p, c_g, n_total, p, gmax, measured_two=False, overlap=False):
@@ -125,7 +133,7 @@ def step_parts(a, c_p, c_g, n_total, p, gmax, measured_two=False, overlap=False)
     measured_two: P = 2 with the measured imbalance and latency of the calibration run;
     overlap: the messages' latency and transfer hidden behind the interior rows' compute (what
     is left of them is returned as latency, the network part then 0)."""
-    n = n_total / p * (a.imbalance2 if measured_two else a.imbalance)
+    n = n_total / p * (a.imbalance2 if measured_two else a.imbalance) * (1 + a.overhead)
     if measured_two:
         return c_p * n, c_g * gmax, a.lat_local, 72 * gmax / a.bandwidth
     messages = min(a.neighbours, p - 1) * a.alpha
@@ -133,7 +141,7 @@ def step_parts(a, c_p, c_g, n_total, p, gmax, measured_two=False, overlap=False)
     net = 72 * gmax / a.bandwidth
     if not overlap:
         return c_p * n, c_g * gmax, messages + allreduce, net
-    interior = c_p * max(0.0, n - gmax)
+    interior = c_p * max(0.0, n / (1 + a.overhead) - gmax)
     return c_p * n, c_g * gmax, allreduce + max(0.0, messages + net - interior), 0.0
 
 
@@ -170,7 +178,7 @@ def main():
         gmax, gmean, _ = ghosts_per_domain(a.target, p, a.reach, a.sample, rng, a.reach_large,
                                            a.large_share)
         compute, ghost, lat, net = step_parts(a, c_p, c_g, a.target, p, gmax, overlap=a.overlap)
-        eff = c_p * a.target / p / (compute + ghost + lat + net)
+        eff = c_p * a.target / p / (compute + ghost + lat + net)  # against one rank, no overhead
         print(f"| {p} | {a.target / p:.0f} | {gmax:.0f} | {gmax / (a.target / p):.2f} | "
               f"{compute * 1e3:.3f} | {ghost * 1e3:.3f} | {lat * 1e3:.3f} | {net * 1e3:.3f} | "
               f"{100 * eff:.0f}% |")
