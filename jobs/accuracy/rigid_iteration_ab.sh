@@ -21,6 +21,10 @@
 #                                            [CHUNK=20000] [NP=2] [ROUNDS=1000000]
 # ROUNDS bounds the rounds run by this call (the job stops when every run reaches the iteration's
 # end).
+# START=N (default 0) measures from protocol step N on: one rigid run to step N first (not timed;
+# ~18 min for bst_paper's z half, N = 600000, on 2 ranks here), whose checkpoint every variant
+# then continues from (a rigid checkpoint restarts dynamic). The x half alone is so ~half the job;
+# jobs/accuracy/rigid_iteration_table.py takes the segments not run from their twins.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SCENE=${1:-scenes/bst_paper.toml}
@@ -98,6 +102,19 @@ run_chunk() {
 }
 
 variants=(rigid dynamic ${OTHER:+rigid_before})
+START=${START:-0}
+if [ "$START" -gt 0 ] && [ ! -f "$OUT/rigid/checkpoint.h5" ]; then
+  echo "# START=$START: one rigid run to that step first (not timed)" | tee -a "$OUT/job.log"
+  ${MPIRUN:-mpirun} --bind-to none -n "$NP" "$BIN" run "${common[@]}" --set fidelity.bulk=rigid \
+    --set scene.output_dir="$OUT/rigid" --max-steps "$START" > "$OUT/start.log" 2>&1 ||
+    { echo "# the run to step $START failed, see $OUT/start.log"; exit 1; }
+  cp "$OUT/start.log" "$OUT/rigid.log"  # its first line gives the table script the iteration's steps
+  for v in "${variants[@]}"; do
+    [ "$v" = rigid ] && continue
+    mkdir -p "$OUT/$v"
+    cp "$OUT/rigid/checkpoint.h5" "$OUT/rigid/results.h5" "$OUT/$v/"
+  done
+fi
 # Steps done by a variant (a run added later, or one that lost a chunk, first catches up: its
 # chunks then have partners run minutes, not rounds, apart).
 done_steps() { awk -F'\t' -v v="$1" '$1 == v { s += $3 } END { print s + 0 }' "$TSV"; }

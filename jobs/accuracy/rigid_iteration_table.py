@@ -16,9 +16,10 @@ moves the ratio; it does not cover a change of machine. --drop leaves out the pa
 the given steps (a pair one of whose chunks shared the cores with other work, e.g. a build: the
 pairing evens out the machine's load only when both chunks see it); the dropped pairs are listed.
 
-While the job is not finished, the second half of the iteration (tilt, rotation about x, tilt
-back) can be estimated from the first by the protocol's symmetry (the same angles about the other
-axis): printed as an estimate, labelled so, where the second half is not yet run.
+While one half of the iteration is not run (the job unfinished, or started from a checkpoint of the
+other half: OUT holding only the x half), its segments are estimated from their twins in the half
+that is, by the protocol's symmetry (the same angles about the other axis): printed as an estimate,
+labelled so.
 """
 import argparse
 import csv
@@ -114,24 +115,39 @@ def main():
     print(f"\nRun so far ({steps.sum() / n_iter:.1%} of the iteration): dynamic {d.sum():.0f} s,"
           f" rigid {r.sum():.0f} s, **dynamic / rigid = {ratio:.2f}** (95% bootstrap interval over"
           f" the paired chunks {lo95:.2f}-{hi95:.2f}).")
-    done_first_half = all((seg == s).any() for s in range(3))
-    second_half = [s for s in range(3, 6) if (seg == s).any()]
-    if done_first_half and len(second_half) < 3:
-        # By symmetry: each second-half segment not (fully) run takes the first-half twin's
-        # seconds per step.
-        dd, rr = 0.0, 0.0
+    # By the protocol's symmetry (the same angles about the other axis) a segment not fully run
+    # takes the seconds per step of its twin in the other half, where that one is fully run.
+    starts = np.array(first, float)
+
+    def fully_run(s):
+        """The paired chunks cover the segment's steps (a chunk counts for the segment its
+        middle falls in, so one that straddles a change of segment covers its neighbour's start)."""
+        lo_step, hi_step = (edges[s - 1] if s else 0.0) * n_iter, edges[s] * n_iter
+        reach = lo_step
+        for a, b in sorted(zip(starts, starts + steps)):
+            if a <= reach < b:
+                reach = b
+        return reach >= hi_step - 1
+
+    twin_of = {s: (s + 3) % 6 for s in range(6)}
+    if any(fully_run(s) for s in range(6)) and not all(fully_run(s) for s in range(6)):
+        dd, rr, borrowed = 0.0, 0.0, []
         for s in range(6):
-            m = seg == s
             seg_steps = (edges[s] - (edges[s - 1] if s else 0.0)) * n_iter
-            twin = seg == (s - 3 if s >= 3 else s)
-            src = m if (s < 3 or steps[m].sum() >= seg_steps * 0.999) else twin
-            per_d = d[src].sum() / steps[src].sum()
-            per_r = r[src].sum() / steps[src].sum()
-            dd += per_d * seg_steps
-            rr += per_r * seg_steps
-        print(f"Whole iteration, the segments not yet run taken from their first-half twins"
-              f" (an estimate by the protocol's symmetry): dynamic {dd:.0f} s, rigid {rr:.0f} s,"
-              f" **{dd / rr:.2f}x**.")
+            if fully_run(s):
+                src = seg == s
+            elif fully_run(twin_of[s]):
+                src = seg == twin_of[s]
+                borrowed.append(NAMES[s])
+            else:
+                print(f"Whole iteration: no estimate, neither '{NAMES[s]}' nor its twin is fully run.")
+                break
+            dd += d[src].sum() / steps[src].sum() * seg_steps
+            rr += r[src].sum() / steps[src].sum() * seg_steps
+        else:
+            print(f"Whole iteration, {', '.join(borrowed)} taken from their twins in the other half"
+                  f" (an estimate by the protocol's symmetry): dynamic {dd:.0f} s, rigid {rr:.0f} s,"
+                  f" **{dd / rr:.2f}x**.")
     if args.output:
         import matplotlib
         matplotlib.use("Agg")
