@@ -129,15 +129,15 @@ def main():
                 reach = b
         return reach >= hi_step - 1
 
-    twin_of = {s: (s + 3) % 6 for s in range(6)}
-    if any(fully_run(s) for s in range(6)) and not all(fully_run(s) for s in range(6)):
+    full = [fully_run(s) for s in range(6)]
+    if any(full) and not all(full):
         dd, rr, borrowed = 0.0, 0.0, []
         for s in range(6):
             seg_steps = (edges[s] - (edges[s - 1] if s else 0.0)) * n_iter
-            if fully_run(s):
+            if full[s]:
                 src = seg == s
-            elif fully_run(twin_of[s]):
-                src = seg == twin_of[s]
+            elif full[(s + 3) % 6]:
+                src = seg == (s + 3) % 6
                 borrowed.append(NAMES[s])
             else:
                 print(f"Whole iteration: no estimate, neither '{NAMES[s]}' nor its twin is fully run.")
