@@ -183,8 +183,6 @@ void Simulation::set_pair_view() {
   b.exposed_ghosts.clear();
   if (!b.any_frozen) {
     b.x_build.clear();
-    b.moving.resize(rigid_ ? n : 0);
-    for (std::size_t i = 0; i < b.moving.size(); ++i) b.moving[i] = static_cast<std::uint32_t>(i);
     return;
   }
   // The frozen ends of the pairs (each has a moving one) are the frozen particles the step must
@@ -204,7 +202,11 @@ void Simulation::set_pair_view() {
   for (std::size_t i = 0; i < n; ++i) {
     const auto k = static_cast<std::uint32_t>(i);
     if (state[i] >= 0) {
-      b.moving.push_back(k);
+      // (A run of consecutive rows: one per border class after a sort, more after a restore.)
+      if (b.moving.empty() || b.moving.back().last != k)
+        b.moving.push_back({k, k + 1});
+      else
+        ++b.moving.back().last;
       continue;
     }
     b.frozen_reach2 = std::max(b.frozen_reach2, norm2(p_.x[i]));
@@ -232,7 +234,10 @@ double Simulation::kick_drift_rigid(double kick) {
   RigidBulk& b = bulk_;
   // Nothing frozen (a segment's first dwell): every owned particle moves, as in a dynamic run.
   if (!b.any_frozen) return kick_drift<kRotation>(kick);
-  double max_d2 = kick_drift_rows<kRotation>(b.moving, kick);  // ghosts' accumulators too
+  // (Each pass clears the ghosts' accumulators too; with no moving particle, a pass of no rows.)
+  double max_d2 = b.moving.empty() ? kick_drift_rows<kRotation>(Rows{0, 0}, kick) : 0.0;
+  for (const Rows& rows : b.moving)
+    max_d2 = std::max(max_d2, kick_drift_range<kRotation>(rows, kick));
   Vec3* __restrict x = p_.x.data();
   Vec3* __restrict v = p_.v.data();
   Vec3* __restrict w = p_.w.data();
@@ -275,10 +280,12 @@ double Simulation::kick_drift_rigid(double kick) {
 
 template <bool kRotation>
 void Simulation::half_kick_rigid() {
-  if (!bulk_.any_frozen)
+  if (!bulk_.any_frozen) {
     half_kick<kRotation>();
-  else
-    half_kick_rows<kRotation>(bulk_.moving);  // the frozen are at the wall's velocity already
+    return;
+  }
+  // The frozen are at the wall's velocity already.
+  for (const Rows& rows : bulk_.moving) half_kick_range<kRotation>(rows);
 }
 
 template double Simulation::kick_drift_rigid<true>(double);

@@ -358,12 +358,12 @@ void Simulation::rebuild_now() {
   force_rebuild_ = false;
 }
 
-// First kick and drift of the particles `rows` (all owned ones, or the rigid bulk's moving ones);
-// their force and torque accumulators are cleared, and so are the ghosts', and the largest
-// displacement since the last neighbour rebuild is found in the same pass. kRotation = false (no
-// friction anywhere: no torque ever) leaves the spins alone.
-template <bool kRotation, class RowSet>
-double Simulation::kick_drift_rows(const RowSet& rows, double kick) {
+// First kick and drift of the owned particles `rows`; their force and torque accumulators are
+// cleared, and so are the ghosts', and the largest displacement since the last neighbour rebuild
+// is found in the same pass. kRotation = false (no friction anywhere: no torque ever) leaves the
+// spins alone.
+template <bool kRotation>
+double Simulation::kick_drift_rows(Rows rows, double kick) {
   const std::size_t n = n_local_;
   Vec3* __restrict x = p_.x.data();
   Vec3* __restrict v = p_.v.data();
@@ -390,8 +390,8 @@ double Simulation::kick_drift_rows(const RowSet& rows, double kick) {
   return max_d2;
 }
 
-template <bool kRotation, class RowSet>
-void Simulation::half_kick_rows(const RowSet& rows) {
+template <bool kRotation>
+void Simulation::half_kick_rows(Rows rows) {
   const double h = 0.5 * dt_;
   Vec3* __restrict v = p_.v.data();
   Vec3* __restrict w = p_.w.data();
@@ -405,39 +405,51 @@ void Simulation::half_kick_rows(const RowSet& rows) {
   }
 }
 
+template <bool kRotation>
+double Simulation::kick_drift_range(Rows rows, double kick) {
+  const std::uint32_t count = rows.last - rows.first;
+  const std::uint32_t lanes = integrator_lanes_ ? count - count % 4 : 0;
+  // The scalar loop takes what the lanes leave (and clears the ghosts' accumulators).
+  const double tail = kick_drift_rows<kRotation>(Rows{rows.first + lanes, rows.last}, kick);
+  if (lanes == 0) return tail;
+  return std::max(engine::kick_drift_avx2(integrator_input(kick, rows.first, lanes), kRotation),
+                  tail);
+}
+
+template <bool kRotation>
+void Simulation::half_kick_range(Rows rows) {
+  const std::uint32_t count = rows.last - rows.first;
+  const std::uint32_t lanes = integrator_lanes_ ? count - count % 4 : 0;
+  if (lanes > 0) engine::half_kick_avx2(integrator_input(0.5 * dt_, rows.first, lanes), kRotation);
+  half_kick_rows<kRotation>(Rows{rows.first + lanes, rows.last});
+}
+
 // The dynamic bulk's: every owned particle. (The rigid bulk's, kick_drift_rigid and
-// half_kick_rigid in rigid_bulk.cpp, run the same loops over its moving particles.)
+// half_kick_rigid in rigid_bulk.cpp, run the same passes over the runs of its moving particles.)
 template <bool kRotation>
 double Simulation::kick_drift(double kick) {
-  const auto n = static_cast<std::uint32_t>(n_local_);
-  const std::uint32_t blocks = integrator_lanes_ ? n - n % 4 : 0;
-  // The scalar loop takes what the lanes leave (and clears the ghosts' accumulators).
-  const double tail = kick_drift_rows<kRotation>(Rows{blocks, n}, kick);
-  if (blocks == 0) return tail;
-  return std::max(engine::kick_drift_avx2(integrator_input(kick, blocks), kRotation), tail);
+  return kick_drift_range<kRotation>(Rows{0, static_cast<std::uint32_t>(n_local_)}, kick);
 }
 
 template <bool kRotation>
 void Simulation::half_kick() {
-  const auto n = static_cast<std::uint32_t>(n_local_);
-  const std::uint32_t blocks = integrator_lanes_ ? n - n % 4 : 0;
-  if (blocks > 0) engine::half_kick_avx2(integrator_input(0.5 * dt_, blocks), kRotation);
-  half_kick_rows<kRotation>(Rows{blocks, n});
+  half_kick_range<kRotation>(Rows{0, static_cast<std::uint32_t>(n_local_)});
 }
 
-engine::IntegratorInput Simulation::integrator_input(double kick, std::size_t n) {
+engine::IntegratorInput Simulation::integrator_input(double kick, std::size_t first,
+                                                     std::size_t n) {
   engine::IntegratorInput in;
   in.n = n;
-  in.x = &p_.x.data()->x;
-  in.v = &p_.v.data()->x;
-  in.w = &p_.w.data()->x;
-  in.f = &p_.f.data()->x;
-  in.t = &p_.t.data()->x;
-  in.inv_mass = p_.inv_mass.data();
-  in.inv_inertia = p_.inv_inertia.data();
+  in.x = &p_.x[first].x;
+  in.v = &p_.v[first].x;
+  in.w = &p_.w[first].x;
+  in.f = &p_.f[first].x;
+  in.t = &p_.t[first].x;
+  in.inv_mass = p_.inv_mass.data() + first;
+  in.inv_inertia = p_.inv_inertia.data() + first;
   const std::vector<Vec3>& ref = list_.reference_positions();
   in.has_ref = ref.size() == n_local_;  // (none before the first build)
-  in.x_ref = in.has_ref ? &ref.data()->x : nullptr;
+  in.x_ref = in.has_ref ? &ref[first].x : nullptr;
   in.kick = kick;
   in.dt = dt_;
   in.gravity[0] = gravity_.x;
@@ -446,12 +458,13 @@ engine::IntegratorInput Simulation::integrator_input(double kick, std::size_t n)
   return in;
 }
 
-using Indices = std::vector<std::uint32_t>;
-template double Simulation::kick_drift_rows<true, Indices>(const Indices&, double);
-template double Simulation::kick_drift_rows<false, Indices>(const Indices&, double);
-template void Simulation::half_kick_rows<true, Indices>(const Indices&);
-template void Simulation::half_kick_rows<false, Indices>(const Indices&);
-// (rigid_bulk.cpp's passes call these while nothing is frozen)
+// (rigid_bulk.cpp's passes call these)
+template double Simulation::kick_drift_rows<true>(Rows, double);
+template double Simulation::kick_drift_rows<false>(Rows, double);
+template double Simulation::kick_drift_range<true>(Rows, double);
+template double Simulation::kick_drift_range<false>(Rows, double);
+template void Simulation::half_kick_range<true>(Rows);
+template void Simulation::half_kick_range<false>(Rows);
 template double Simulation::kick_drift<true>(double);
 template double Simulation::kick_drift<false>(double);
 template void Simulation::half_kick<true>();

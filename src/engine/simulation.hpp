@@ -144,8 +144,10 @@ class Simulation {
   // pairs, lane kernel, accumulation (engine/contact_lanes.hpp); bitwise equal to pair_forces.
   // The scene's options (friction, periodic, one species) are in lane_kernel_, chosen once.
   void pair_forces_lanes(std::uint32_t row_begin, std::uint32_t row_end);
-  // The integrator: its loops over a set of rows (particle indices), Rows (every owned particle)
-  // or a list of them, and the dynamic bulk's steps, over every owned particle.
+  // The integrator: its scalar loops over a range of rows, the same passes over a range on AVX2
+  // lanes where the CPU has them (engine/integrator_lanes.hpp: bitwise those of the loops, which
+  // take the last (last - first) mod 4 rows), and the dynamic bulk's steps, over every owned
+  // particle.
   struct Rows {  // first, first + 1, ..., last - 1 as a range of indices
     std::uint32_t first, last;
     struct Iterator {
@@ -160,18 +162,21 @@ class Simulation {
     Iterator begin() const { return {first}; }
     Iterator end() const { return {last}; }
   };
-  template <bool kRotation, class RowSet>
-  double kick_drift_rows(const RowSet& rows, double kick);
-  template <bool kRotation, class RowSet>
-  void half_kick_rows(const RowSet& rows);
+  template <bool kRotation>
+  double kick_drift_rows(Rows rows, double kick);
+  template <bool kRotation>
+  void half_kick_rows(Rows rows);
+  template <bool kRotation>
+  double kick_drift_range(Rows rows, double kick);
+  template <bool kRotation>
+  void half_kick_range(Rows rows);
   template <bool kRotation>
   double kick_drift(double kick);
   template <bool kRotation>
   void half_kick();
-  // The dynamic bulk's passes on AVX2 lanes (engine/integrator_lanes.hpp), where the CPU has them:
-  // bitwise those of the loops above, which take the last n mod 4 particles.
-  engine::IntegratorInput integrator_input(double kick, std::size_t n);
-  // ... with the rigid bulk (rigid_bulk.cpp): the moving particles as above, the frozen ones that
+  engine::IntegratorInput integrator_input(double kick, std::size_t first, std::size_t n);
+  // ... with the rigid bulk (rigid_bulk.cpp): the moving particles as above (their runs of rows),
+  // the frozen ones that
   // a moving particle touches turned with the wall, the other frozen ones left where they are
   // until sync_frozen().
   template <bool kRotation>
@@ -276,14 +281,17 @@ class Simulation {
     // their row particle's present place (for migration). On more than one rank: the pairs with
     // one of the rank's own particles.
     neighbor::ContactHistory dormant;
-    // Set with the pairs at every rebuild: whether anything is frozen; the owned moving particles;
-    // the frozen particles in a pair with a moving one (owned, then ghosts): the only frozen ones
-    // the step needs; every particle's position at the rebuild and its time (a frozen particle
-    // is at turn(build_time -> t) x_build at time t, whoever computes it, owner or ghost holder);
-    // the largest |x_build|^2 of an owned frozen particle (it bounds their displacement); the time
-    // up to which the frozen particles' state is current.
+    // Set with the pairs at every rebuild: whether anything is frozen; the owned moving particles
+    // as runs of consecutive rows (one per border class: the sort puts the frozen after the
+    // moving ones, neighbor/cell_grid.hpp); the frozen particles in a pair with a moving one
+    // (owned, then ghosts): the only frozen ones the step needs; every particle's position at the
+    // rebuild and its time (a frozen particle is at turn(build_time -> t) x_build at time t,
+    // whoever computes it, owner or ghost holder); the largest |x_build|^2 of an owned frozen
+    // particle (it bounds their displacement); the time up to which the frozen particles' state is
+    // current.
     bool any_frozen = false;
-    std::vector<std::uint32_t> moving, exposed, exposed_ghosts;
+    std::vector<Rows> moving;
+    std::vector<std::uint32_t> exposed, exposed_ghosts;
     std::vector<Vec3> x_build;
     double build_time = 0;
     double frozen_reach2 = 0;

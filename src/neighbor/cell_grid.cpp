@@ -23,33 +23,22 @@ std::uint32_t CellGrid::cell_of(const Vec3& p) const {
 
 void CellGrid::sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& perm,
                     std::vector<std::uint32_t>& cell_start, const std::int32_t* state,
-                    std::vector<std::uint32_t>* moving_end, const std::uint8_t* border) const {
-  const std::size_t n = x.size();
-  // Keys: the layer cell (the cell, or with `border` the cell plus cell_count() for a flagged
-  // particle), or (with the states) twice that plus one for a frozen particle.
-  const std::size_t cells = (border ? 2 : 1) * cell_count();
-  const std::size_t per = state ? 2 : 1, keys = per * cells;
-  std::vector<std::uint32_t> key(n), key_start(keys + 1, 0);
+                    const std::uint8_t* border) const {
+  const std::size_t n = x.size(), cells = cell_count();
+  const std::size_t per_class = state ? 2 : 1;
+  const std::size_t keys = static_cast<std::size_t>(layer_count(border, state)) * cells;
+  std::vector<std::uint32_t> key(n);
+  cell_start.assign(keys + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t cell = cell_of(x[i]) + (border && border[i] ? cell_count() : 0);
-    key[i] = static_cast<std::uint32_t>(per * cell + (state && state[i] < 0 ? 1 : 0));
-    ++key_start[key[i] + 1];
+    const std::size_t layer =
+        per_class * (border && border[i] ? 1 : 0) + (state && state[i] < 0 ? 1 : 0);
+    key[i] = static_cast<std::uint32_t>(layer * cells + cell_of(x[i]));
+    ++cell_start[key[i] + 1];
   }
-  for (std::size_t c = 0; c < keys; ++c) key_start[c + 1] += key_start[c];
-  std::vector<std::uint32_t> fill(key_start.begin(), key_start.end() - 1);
+  for (std::size_t c = 0; c < keys; ++c) cell_start[c + 1] += cell_start[c];
+  std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
   perm.resize(n);
   for (std::size_t i = 0; i < n; ++i) perm[fill[key[i]]++] = static_cast<std::uint32_t>(i);
-  if (!state) {
-    cell_start = std::move(key_start);
-    return;
-  }
-  cell_start.resize(cells + 1);
-  moving_end->resize(cells);
-  for (std::size_t c = 0; c < cells; ++c) {
-    cell_start[c] = key_start[2 * c];
-    (*moving_end)[c] = key_start[2 * c + 1];
-  }
-  cell_start[cells] = key_start[keys];
 }
 
 }  // namespace tumble::neighbor

@@ -29,18 +29,18 @@ class CellGrid {
     i = static_cast<int>(c / (static_cast<std::uint32_t>(n_[1]) * n_[2]));
   }
 
-  // Stable counting sort of particles by cell: fills `perm` (new order -> old index), `cell_start`
-  // (size cell_count()+1, particles of cell c are [cell_start[c], cell_start[c+1]) after
-  // permuting).
-  // With `frozen_last` (the rigid bulk: `state` is bulk_state), a cell's moving particles come
-  // first, in order, then its frozen ones (state < 0), in order; `moving_end[c]` is where cell
-  // c's frozen particles begin. Without it the order is by cell alone.
-  // With `border` (one flag per particle, more than one rank): two layers, every particle with
-  // border[i] == 0 first (by cell), then the flagged ones (by cell); cell_start and moving_end
-  // then index 2 cell_count() layer cells, cell c of layer L being L cell_count() + c.
+  // Stable counting sort of particles by layer, then cell: fills `perm` (new order -> old index)
+  // and `cell_start` (layers x cell_count() + 1 entries: the particles of cell c of layer L are
+  // [cell_start[L cell_count() + c], cell_start[L cell_count() + c + 1]) after permuting).
+  // Without flags one layer: the order is by cell alone. With `border` (one flag per particle,
+  // more than one rank) every particle with border[i] == 0 comes first, then the flagged ones.
+  // With `state` (the rigid bulk: bulk_state) each of those splits in two, its moving particles
+  // (state >= 0) first, then its frozen ones: layer L = (state ? 2 : 1) border[i] + frozen. The
+  // frozen thus follow every moving particle of their border class, which keeps a moving row's
+  // frozen partners above it in the list's half order and the moving rows in one or two runs.
+  static int layer_count(bool border, bool state) { return (border ? 2 : 1) * (state ? 2 : 1); }
   void sort(const std::vector<Vec3>& x, std::vector<std::uint32_t>& perm,
             std::vector<std::uint32_t>& cell_start, const std::int32_t* state = nullptr,
-            std::vector<std::uint32_t>* moving_end = nullptr,
             const std::uint8_t* border = nullptr) const;
 
  private:

@@ -25,8 +25,8 @@ void VerletList::save_history(const Particles& p, ContactHistory& out, bool sort
 std::size_t VerletList::memory_bytes() const {
   std::size_t bytes = kept_id_.capacity() * sizeof(std::int64_t) +
                       kept_x_.capacity() * sizeof(Vec3) + kept_index_.memory_bytes();
-  for (const auto* v : {&start, &nbr, &row, &perm_, &cell_start_, &moving_end_, &ghost_start_,
-                        &ghost_of_cell_, &old_start_, &old_nbr_})
+  for (const auto* v : {&start, &nbr, &row, &perm_, &cell_start_, &ghost_start_, &ghost_of_cell_,
+                        &old_start_, &old_nbr_})
     bytes += v->capacity() * sizeof(std::uint32_t);
   for (const auto* v : {&history, &old_history_}) bytes += v->capacity() * sizeof(double);
   return bytes + x_ref_.capacity() * sizeof(Vec3);
@@ -40,47 +40,70 @@ void VerletList::set_period_z(double period) {
 
 std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_ghosts,
                                 std::size_t count) {
+  // A frozen row lists its moving partners only (the rigid bulk: see rebuild()). Those of its own
+  // border class lie below it (the sort puts the frozen after them): a frozen interior row, or
+  // one of a single rank, lists nothing.
+  const bool frozen_row = skip_frozen_ && p.bulk_state[i] < 0;
+  // Two border classes (more than one rank, VerletList::sort): an interior row (i <
+  // interior_rows_) lists the interior particles j > i only, a border row the border particles
+  // j > i and every interior particle in reach (all of lower index): the pairs of the interior
+  // rows then read no border particle's row either, and a pair is still listed once. (Scanning
+  // the border layers from the interior rows instead cost ~40% more in the row scans: twice the
+  // cells for every row.)
+  const bool border_row = layers_ > per_class_ && i >= interior_rows_;
+  if (frozen_row && !border_row) return count;
+  // The layers the row scans (their first cell's index in cell_start_) and whether it takes all
+  // of a layer's particles in reach or only those above it; a layer that lies wholly at or below
+  // the row is passed over.
+  const std::size_t cells = grid_.cell_count();
+  struct Scan {
+    std::uint32_t first_cell;
+    bool all;
+  };
+  Scan scans[4];
+  int scan_count = 0;
+  for (int layer = 0; layer < layers_; ++layer) {
+    const bool border_layer = layer >= per_class_;
+    const bool frozen_layer = skip_frozen_ && layer % per_class_ == 1;
+    if ((border_layer && !border_row) || (frozen_row && frozen_layer)) continue;
+    const bool all = border_row && !border_layer;
+    const auto first_cell = static_cast<std::uint32_t>(static_cast<std::size_t>(layer) * cells);
+    if (!all && cell_start_[first_cell + cells] <= i + 1) continue;
+    scans[scan_count++] = {first_cell, all};
+  }
   int ci, cj, ck;
   grid_.coords(grid_.cell_of(p.x[i]), ci, cj, ck);
   const Vec3 xi = p.x[i];
   const double ri = p.radius[i] + skin_;
-  // A frozen row lists its moving partners only (the rigid bulk: see rebuild()).
-  const bool frozen_row = skip_frozen_ && p.bulk_state[i] < 0;
   const double* x = &p.x.data()->x;
   // Room for `more` entries after the first `count` (the filter writes up to 4 beyond its hits).
   auto room = [&](std::size_t more) {
     if (nbr.size() < count + more) resize_with_headroom(nbr, count + more);
   };
+  auto filter = [&](std::uint32_t lo, std::uint32_t hi) {
+    if (lo >= hi) return;
+    room(hi - lo + 4);
+    count += near_(x, p.radius.data(), lo, hi, &xi.x, ri, period_z_, nbr.data() + count);
+  };
   // Cells in increasing index order and particles in increasing order within a cell: each row
-  // comes out sorted by partner index without a sort (not a border row: below).
-  // Two layers (more than one rank, VerletList::sort): an interior row (i < interior_rows_)
-  // lists the interior particles j > i only, a border row the border particles j > i and every
-  // interior particle in reach (all of lower index): the pairs of the interior rows then read no
-  // border particle's row either, and a pair is still listed once. (Scanning the border layer from
-  // the interior rows instead cost ~40% more in the row scans: twice the cells for every row.)
-  const bool border_row = layers_ == 2 && i >= interior_rows_;
+  // comes out sorted by partner index within each layer without a sort.
   // Periodic in z (axially periodic cylinder): the z neighbours of the end cells wrap and
   // distances use the nearest image. The three wrapped cells are distinct (nz >= 3, checked at
   // construction), so every pair is still found exactly once.
   const int c_lo = period_z_ > 0 ? ck - 1 : std::max(ck - 1, 0);
   const int c_hi = period_z_ > 0 ? ck + 1 : std::min(ck + 1, grid_.nz() - 1);
   // z is the grid's fastest index, so the cells (a, b, c_lo..c_hi) of one layer hold consecutive
-  // particles: a row that neither wraps, nor lists ghosts (which come cell by cell), nor keeps to
-  // the moving part of each cell (a frozen row) filters the column's three cells as one range.
-  // The same candidates in the same order: the same list, with a third of the filter calls and
-  // of their one-at-a-time remainders.
-  if (!with_ghosts && !frozen_row && c_lo >= 0 && c_hi < grid_.nz()) {
+  // particles: a row that neither wraps nor lists ghosts (which come cell by cell) filters the
+  // column's three cells of each layer as one range. The same candidates in the same order: the
+  // same list, with a third of the filter calls and of their one-at-a-time remainders.
+  if (!with_ghosts && c_lo >= 0 && c_hi < grid_.nz()) {
     for (int a = std::max(ci - 1, 0); a <= std::min(ci + 1, grid_.nx() - 1); ++a)
-      for (int b = std::max(cj - 1, 0); b <= std::min(cj + 1, grid_.ny() - 1); ++b) {
-        // (An interior row, or one rank's: one layer, as in the loop below.)
-        const std::uint32_t lo =
-            std::max<std::uint32_t>(cell_start_[grid_.index(a, b, c_lo)], i + 1);
-        const std::uint32_t hi = cell_start_[grid_.index(a, b, c_hi) + 1];
-        if (lo < hi) {
-          room(hi - lo + 4);
-          count += near_(x, p.radius.data(), lo, hi, &xi.x, ri, period_z_, nbr.data() + count);
+      for (int b = std::max(cj - 1, 0); b <= std::min(cj + 1, grid_.ny() - 1); ++b)
+        for (int s = 0; s < scan_count; ++s) {
+          const std::uint32_t lo = cell_start_[scans[s].first_cell + grid_.index(a, b, c_lo)];
+          const std::uint32_t hi = cell_start_[scans[s].first_cell + grid_.index(a, b, c_hi) + 1];
+          filter(scans[s].all ? lo : std::max<std::uint32_t>(lo, i + 1), hi);
         }
-      }
     return count;
   }
   for (int a = std::max(ci - 1, 0); a <= std::min(ci + 1, grid_.nx() - 1); ++a)
@@ -88,25 +111,15 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
       for (int cc = c_lo; cc <= c_hi; ++cc) {
         const int c = (cc + grid_.nz()) % grid_.nz();
         const std::uint32_t cell = grid_.index(a, b, c);
-        for (int layer = 0; layer < (border_row ? 2 : 1); ++layer) {
-          const std::uint32_t lc = cell + static_cast<std::uint32_t>(layer * grid_.cell_count());
-          const std::uint32_t lo = border_row && layer == 0
-                                       ? cell_start_[lc]
-                                       : std::max<std::uint32_t>(cell_start_[lc], i + 1);
-          const std::uint32_t hi = frozen_row ? moving_end_[lc] : cell_start_[lc + 1];
-          if (lo < hi) {
-            room(hi - lo + 4);
-            count += near_(x, p.radius.data(), lo, hi, &xi.x, ri, period_z_, nbr.data() + count);
-          }
+        for (int s = 0; s < scan_count; ++s) {
+          const std::uint32_t lo = cell_start_[scans[s].first_cell + cell];
+          const std::uint32_t hi = cell_start_[scans[s].first_cell + cell + 1];
+          filter(scans[s].all ? lo : std::max<std::uint32_t>(lo, i + 1), hi);
         }
         if (with_ghosts && ghosts_in_cell_order_ && !frozen_row) {
           // (ghost_of_cell_ is then n_local, n_local + 1, ...: the cell's ghosts are one range.)
           const std::uint32_t g0 = ghost_start_[cell], g1 = ghost_start_[cell + 1];
-          if (g0 < g1) {
-            room(g1 - g0 + 4);
-            count += near_(x, p.radius.data(), ghost_of_cell_[g0], ghost_of_cell_[g0] + (g1 - g0),
-                           &xi.x, ri, period_z_, nbr.data() + count);
-          }
+          if (g0 < g1) filter(ghost_of_cell_[g0], ghost_of_cell_[g0] + (g1 - g0));
         } else if (with_ghosts)
           for (std::uint32_t g = ghost_start_[cell]; g < ghost_start_[cell + 1]; ++g) {
             const std::uint32_t j = ghost_of_cell_[g];
@@ -190,12 +203,13 @@ void VerletList::fill_rows() {
 
 void VerletList::sort(Particles& p, bool frozen_last, const std::vector<std::uint8_t>* border) {
   skip_frozen_ = frozen_last;
-  layers_ = border ? 2 : 1;
-  grid_.sort(p.x, perm_, cell_start_, frozen_last ? p.bulk_state.data() : nullptr, &moving_end_,
+  per_class_ = frozen_last ? 2 : 1;
+  layers_ = CellGrid::layer_count(border != nullptr, frozen_last);
+  grid_.sort(p.x, perm_, cell_start_, frozen_last ? p.bulk_state.data() : nullptr,
              border ? border->data() : nullptr);
   p.permute(perm_);
   // The first border particle's index (without flags no row is known to be free of ghosts).
-  interior_rows_ = border ? cell_start_[grid_.cell_count()] : 0;
+  interior_rows_ = border ? cell_start_[per_class_ * grid_.cell_count()] : 0;
 }
 
 namespace {
@@ -338,9 +352,10 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved, ContactHisto
   // The particles are sorted first: the permutation's scratch column then never coincides with
   // the copy of the old springs below (the rebuild's peak is the lower for it).
   skip_frozen_ = dormant != nullptr;
-  layers_ = 1;
+  per_class_ = skip_frozen_ ? 2 : 1;
+  layers_ = CellGrid::layer_count(false, skip_frozen_);
   interior_rows_ = n;  // one rank: no ghosts
-  grid_.sort(p.x, perm_, cell_start_, dormant ? p.bulk_state.data() : nullptr, &moving_end_);
+  grid_.sort(p.x, perm_, cell_start_, dormant ? p.bulk_state.data() : nullptr);
   p.permute(perm_);
   if (carry_local) {
     // Only the live springs of the old list are kept (a pair whose spring is zero carries

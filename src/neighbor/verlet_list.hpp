@@ -113,14 +113,15 @@ class VerletList {
   bool old_start_capacity_ok(std::size_t n) const { return start.size() == n + 1; }
   std::vector<Vec3> x_ref_;
   std::vector<std::uint32_t> perm_, cell_start_;
-  // The rigid bulk: frozen rows skip frozen partners; moving_end_[c]: where cell c's frozen
-  // particles begin (the sort puts them last).
+  // The rigid bulk: frozen rows skip frozen partners (the sort puts each border class's frozen
+  // particles after its moving ones: CellGrid::sort).
   bool skip_frozen_ = false;
-  // Layers of the sort: 1, or 2 (the border particles after the others; cell c of layer L is
-  // cell L cell_count() + c of cell_start_ and moving_end_).
+  // Layers of the sort (cell c of layer L is cell L cell_count() + c of cell_start_): per border
+  // class 2 with the rigid bulk (moving, frozen), else 1; 1 or 2 border classes (the border
+  // particles after the others).
+  int per_class_ = 1;
   int layers_ = 1;
   std::size_t interior_rows_ = 0;
-  std::vector<std::uint32_t> moving_end_;
   std::vector<std::uint32_t> ghost_start_, ghost_of_cell_;  // ghosts binned by cell (not moved)
   bool ghosts_in_cell_order_ = false;  // ... and they lie in cell order (ghost_order())
   // The previous list's live springs (rows, partners, springs) while a rebuild carries them over.
