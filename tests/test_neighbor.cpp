@@ -194,6 +194,20 @@ void expect_split(const Particles& p, const neighbor::VerletList& l,
   EXPECT_EQ(kept.size(), frozen_springs);
   EXPECT_GT(frozen_springs, p.size() / 4);  // the case is not empty
   EXPECT_GT(pairs, p.size() / 2);
+  // One rank, one border class: the sort puts the frozen after every moving particle, so the
+  // moving rows are one run (the integrator's lanes take it) and a frozen row lists nothing (its
+  // moving partners lie below it, in their rows).
+  std::size_t first_frozen = p.size();
+  for (std::size_t i = 0; i < p.size() && first_frozen == p.size(); ++i)
+    if (frozen(i)) first_frozen = i;
+  std::size_t out_of_place = 0, frozen_rows_listing = 0;
+  for (std::size_t i = first_frozen; i < p.size(); ++i) {
+    out_of_place += !frozen(i);
+    frozen_rows_listing += l.start[i + 1] != l.start[i];
+  }
+  EXPECT_EQ(out_of_place, 0u);
+  EXPECT_EQ(frozen_rows_listing, 0u);
+  EXPECT_LT(first_frozen, p.size());
 }
 }  // namespace
 
