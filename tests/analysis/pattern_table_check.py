@@ -1,0 +1,111 @@
+"""jobs/accuracy/pattern_table.py on constructed campaigns (no engine run): the fairness of its
+pattern correlation and its multiplicity control.
+
+  /usr/bin/python3 pattern_table_check.py SCRATCH_DIR
+
+1. One campaign whose cases are split by a swept key into two columns with *identical* maps and
+   series on the same beds (replicas): every difference must be 0, the correlation's included.
+   (Correlating the second column with the mean of all N reference maps, and the reference's own
+   replicas with the other N - 1, made the copy look +0.1 to +0.4 better correlated.)
+2. The same with one observable of the second column shifted by far more than the replicas'
+   scatter (radial segregation after iteration 2) and small noise elsewhere: the
+   Benjamini-Hochberg line counts exactly that one difference (both tests of it), not the others.
+3. --tier LABEL=DIR reads two campaign folders as columns in the order given, the first the
+   reference, and refuses a folder that is not there.
+"""
+import os
+import re
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+TABLE = os.path.join(HERE, "..", "..", "jobs", "accuracy", "pattern_table.py")
+ITERATIONS = 4
+failures = 0
+
+
+def check(name, ok, detail=""):
+    global failures
+    print(f"{'ok  ' if ok else 'FAIL'} {name}{': ' + detail if detail else ''}")
+    failures += not ok
+
+
+def write_case(out, cid, replica, params, c_l, radial):
+    d = os.path.join(out, "cases", cid)
+    os.makedirs(d, exist_ok=True)
+    with h5py.File(os.path.join(d, "fields.h5"), "w") as f:
+        f.attrs["case_id"] = cid
+        f.attrs["replica"] = replica
+        f.attrs["params"] = params
+        f.create_dataset("concentration/c_L", data=c_l)
+        f.create_dataset("series/iteration", data=np.arange(0.0, ITERATIONS + 0.5, 0.5))
+        f.create_dataset("series/radial_segregation", data=np.repeat(radial, 2)[:2 * ITERATIONS + 1])
+    with open(os.path.join(d, "log.txt"), "w") as f:
+        f.write(f"[run] done: 1000 steps in {100.0 + replica} s (12.5 s simulated, {ITERATIONS} iterations)\n")
+
+
+def campaign(out, columns, shift=0.0, noise=0.0, seed=1):
+    """Three replicas per column value; every column the first's maps and series (+ shift of the
+    radial segregation at iteration 2 and a little noise in the others' series)."""
+    rng = np.random.default_rng(seed)
+    pattern = np.sin(np.linspace(0, 3, 256)).reshape(16, 16)
+    for r in range(3):
+        c_l = pattern + 0.3 * rng.standard_normal((16, 16))
+        radial = np.concatenate([[0.0], 0.05 * np.arange(1, ITERATIONS + 1) + 0.01 * rng.standard_normal(ITERATIONS)])
+        for k, (key, value) in enumerate(columns):
+            rad = radial.copy()
+            if k:
+                rad[2] += shift
+                rad[1:] += noise * rng.standard_normal(ITERATIONS)
+            write_case(out, f"{value}{r}", r, f"theta_z=57;theta_x=57;{key}={value}", c_l, rad)
+
+
+def run(*args):
+    p = subprocess.run([sys.executable, TABLE, *args], capture_output=True, text=True)
+    return p.returncode, p.stdout + p.stderr
+
+
+def main():
+    scratch = sys.argv[1]
+    # 1. identical columns on common beds
+    same = os.path.join(scratch, "same")
+    campaign(same, [("fidelity.bulk", "dynamic"), ("fidelity.bulk", "rigid")])
+    rc, text = run(same, str(ITERATIONS), "--split", "fidelity.bulk=dynamic,rigid")
+    print(text)
+    deltas = re.findall(r"; Δ ([-+0-9.e]+) ± ", text)
+    paired = re.findall(r"paired Δ ([-+0-9.e]+) ± ", text)
+    check("identical columns: table printed", rc == 0 and len(deltas) == 1 + ITERATIONS, f"{len(deltas)} differences")
+    check("identical columns: every Welch difference 0 (the correlation's too)",
+          all(float(d) == 0 for d in deltas), " ".join(deltas))
+    check("identical columns: every paired difference 0", all(float(d) == 0 for d in paired), " ".join(paired))
+    check("identical columns: N = 3 warned", "few replicas" in text)
+    # 2. one large shift among small noise
+    shifted = os.path.join(scratch, "shifted")
+    campaign(shifted, [("fidelity.bulk", "dynamic"), ("fidelity.bulk", "rigid")], shift=0.2, noise=0.005)
+    rc, text = run(shifted, str(ITERATIONS), "--split", "fidelity.bulk=dynamic,rigid")
+    print(text)
+    m = re.search(r"(\d+) tests; Benjamini-Hochberg at q = 0.05: (\d+) significant", text)
+    starred = re.findall(r"#   (.*) \((Welch|paired)\): p = .* \*$", text, re.M)
+    check("one shifted observable: BH line", m is not None)
+    check("one shifted observable: only radial segregation at N = 2 significant",
+          bool(starred) and all(s[0] == "radial segregation, N = 2" for s in starred),
+          f"{starred}")
+    # 3. --tier columns from two folders
+    a, b = os.path.join(scratch, "tier_a"), os.path.join(scratch, "tier_b")
+    campaign(a, [("fidelity.bulk", "dynamic")], seed=2)
+    campaign(b, [("fidelity.bulk", "dynamic")], seed=3)
+    rc, text = run("-", str(ITERATIONS), "--tier", f"standard={a}", "--tier", f"fast={b}",
+                   "--point", "fidelity.bulk=dynamic")
+    print(text)
+    check("--tier: columns in the order given, the first the reference",
+          rc == 0 and "| observable | standard | fast |" in text and "reference tier: standard" in text)
+    rc, text = run("-", str(ITERATIONS), "--tier", f"standard={a}", "--tier", "fast=/nonexistent/x")
+    check("--tier: a missing folder refused", rc != 0 and "LABEL=DIR" in text, text.strip())
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == "__main__":
+    main()
