@@ -18,8 +18,14 @@
 # Environment: TUMBLE (the binary; default SUBMIT_DIR/build/tumble, then tumble on PATH),
 # TUMBLE_LAUNCH (default "srun"), TUMBLE_SLICES (default: the array's size), TUMBLE_RANKS_PER_CASE
 # (ranks per case, default: the campaign file's campaign.ranks_per_case).
+#
+# Five minutes before the time limit Slurm sends SIGUSR1 to the tasks (--signal below): every
+# running case writes a checkpoint at its next neighbour rebuild, no case starts any more, and the
+# task exits 10 (work left); the resubmitted task continues the cases bit for bit. Raise the 300 s
+# if one neighbour rebuild plus a checkpoint of your largest case can take longer.
 #SBATCH --job-name=tumble-campaign
 #SBATCH --output=tumble-campaign-%A_%a.out
+#SBATCH --signal=USR1@300
 set -euo pipefail
 campaign=${1:?usage: sbatch --array=1-N jobs/slurm_array.sh CAMPAIGN.toml [tumble campaign options]}
 shift

@@ -6,6 +6,7 @@
 
 #include "app/campaign_commands.hpp"
 #include "app/commands.hpp"
+#include "base/stop_request.hpp"
 #include "campaign/campaign_run.hpp"
 
 namespace tumble::app {
@@ -47,6 +48,8 @@ void register_campaign(CLI::App& app) {
       campaign::parse_slice(opts->slice, opts->run.slice_i, opts->run.slice_n);
       if (!opts->ranks_per_case.empty())
         opts->run.ranks_per_case = campaign::parse_ranks_per_case(opts->ranks_per_case);
+      // SIGUSR1/SIGTERM/SIGINT: every case checkpoints and the campaign ends, resumable.
+      if (!opts->run.list && !opts->run.status) install_stop_handlers();
       rc = campaign::run_campaign(opts->run, MPI_COMM_WORLD, std::cout);
     } catch (...) {
       // Every rank reads the same file and fails the same way: let only rank 0 say so.

@@ -7,7 +7,9 @@
 
 #include "app/commands.hpp"
 #include "base/error.hpp"
+#include "base/exit_codes.hpp"
 #include "base/memory.hpp"
+#include "base/stop_request.hpp"
 #include "run/realization.hpp"
 #include "scene/fill.hpp"
 #include "scene/scene.hpp"
@@ -90,7 +92,18 @@ void register_run(CLI::App& app) {
     int ranks = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
     if (ranks > 1) ro.comm = MPI_COMM_WORLD;
-    run_realization(scene, ro);
+    // SIGUSR1/SIGTERM/SIGINT: a checkpoint at the next neighbour rebuild, then exit 10.
+    install_stop_handlers();
+    try {
+      run_realization(scene, ro);
+    } catch (const StopRequest& e) {
+      int rank = 0;
+      MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+      if (rank == 0)
+        std::cout << "[run] " << e.what() << "; go on with: tumble run " << opts->scene
+                  << " --resume (the same --set options)\n";
+      throw CLI::RuntimeError(exit_code::kWorkLeft);
+    }
   });
 }
 

@@ -13,6 +13,7 @@
 #include "base/error.hpp"
 #include "base/exit_codes.hpp"
 #include "base/hash.hpp"
+#include "base/stop_request.hpp"
 #include "base/version.hpp"
 #include "campaign/campaign_spec.hpp"
 #include "campaign/case_runner.hpp"
@@ -410,12 +411,21 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
 
   // Rank 0 folds the statistics while the others wait (sleeping); an error here must not leave
   // them waiting forever, so it is rethrown only after the barrier.
+  // A stop request leaves the statistics to the rerun that finishes the slice: the point of the
+  // signal is to be gone before the batch system's time limit.
   std::string error;
-  std::size_t unfinished = 0;
+  int rc = exit_code::kOk;
   if (rank == 0) {
     try {
       manifest.reset();  // releases the lock: the slice may be run again
-      unfinished = fold_statistics(spec, e, dir, slice, opt, stats, out);
+      if (stats.stop_signal != 0) {
+        out << "[campaign] stopped by " << signal_name(stats.stop_signal) << ": " << stats.stopped
+            << " case" << (stats.stopped == 1 ? "" : "s") << " stopped at a checkpoint, "
+            << stats.not_started << " not started; rerun the same command to go on\n";
+        rc = exit_code::kWorkLeft;
+      } else if (fold_statistics(spec, e, dir, slice, opt, stats, out) > 0) {
+        rc = exit_code::kFailedCases;
+      }
     } catch (const std::exception& err) {
       error = err.what();
     }
@@ -423,9 +433,8 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   sleeping_barrier(world);
   if (!error.empty()) throw std::runtime_error(error);
   // Every rank exits with rank 0's verdict (mpirun reports the first non-zero code).
-  int failed = unfinished > 0 ? 1 : 0;
-  MPI_Bcast(&failed, 1, MPI_INT, 0, world);
-  return failed ? exit_code::kFailedCases : exit_code::kOk;
+  MPI_Bcast(&rc, 1, MPI_INT, 0, world);
+  return rc;
 }
 
 }  // namespace tumble::campaign

@@ -9,6 +9,7 @@
 #include "base/comm.hpp"
 #include "base/error.hpp"
 #include "base/hash.hpp"
+#include "base/stop_request.hpp"
 #include "campaign/case_collector.hpp"
 #include "campaign/collect_plan.hpp"
 #include "campaign/fault_injection.hpp"
@@ -108,6 +109,16 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
   CaseOutcome out;
   out.start = utc_now();
   const auto t0 = Clock::now();
+  // A stop request that came after this case was handed to its group and before it began: it
+  // does not begin (the rerun starts it). The group agrees, as its ranks may have seen it apart.
+  int signal = stop_signal();
+  if (ranks > 1) MPI_Allreduce(MPI_IN_PLACE, &signal, 1, MPI_INT, MPI_MAX, group);
+  if (signal != 0) {
+    out.failure = "stopped";
+    out.diagnostic = "not begun: " + signal_name(signal) + " came first";
+    out.end = utc_now();
+    return out;
+  }
   std::ofstream log;  // the group's rank 0 only
   try {
     on_leader(group, [&] {
@@ -165,6 +176,9 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
       out.checksum = file_checksum(fields);
     });
     out.ok = true;
+  } catch (const StopRequest& e) {
+    out.failure = "stopped";
+    out.diagnostic = e.what();
   } catch (const TimeLimitError& e) {
     out.failure = "time_limit";
     out.diagnostic = e.what();
@@ -185,7 +199,10 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
   out.end = utc_now();
   out.wall = std::chrono::duration<double>(Clock::now() - t0).count();
   if (log.is_open())
-    log << "[case] " << (out.ok ? "done" : "failed (" + out.failure + "): " + out.diagnostic)
+    log << "[case] "
+        << (out.ok                     ? "done"
+            : out.failure == "stopped" ? out.diagnostic
+                                       : "failed (" + out.failure + "): " + out.diagnostic)
         << " after " << out.wall << " s" << std::endl;
   return out;
 }

@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "base/stop_request.hpp"
 #include "base/text_util.hpp"
 #include "campaign/eta.hpp"
 #include "campaign/expand.hpp"
@@ -124,7 +125,12 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
   stats_.rank_seconds += o.wall * k;
   left_cost_ -= cost(t);
   std::string what;
-  if (o.ok) {
+  if (o.failure == "stopped") {  // neither done nor failed: the rerun continues the same attempt
+    r.status = "stopped";
+    r.diagnostic = o.diagnostic;
+    stats_.stopped += 1;
+    what = o.diagnostic;  // "stopped by SIGUSR1 at step ..." or "not begun: ..."
+  } else if (o.ok) {
     r.status = "done";
     r.checksum = o.checksum;
     done_ += 1;
@@ -135,7 +141,7 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
     r.status = "failed";
     r.failure = o.failure;
     r.diagnostic = o.diagnostic;
-    const bool retry = o.retryable && t.attempt < ctx_.spec->max_attempts;
+    const bool retry = o.retryable && t.attempt < ctx_.spec->max_attempts && !stopping();
     r.final_failure = !retry;
     what = "FAILED (" + o.failure + "): " + o.diagnostic;
     if (retry) {
@@ -164,6 +170,20 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
                   : ""),
          true);
   return held.ranks;
+}
+
+void Dispatcher::stop(int signal) {
+  if (stopping()) return;
+  stop_signal_ = signal;
+  stats_.stop_signal = signal;
+  stats_.not_started = static_cast<int>(queue_.size());
+  for (const auto& t : queue_) left_cost_ -= cost(t);
+  queue_.clear();
+  not_before_.clear();
+  const std::size_t n = running_.size();
+  line(signal_name(signal) + ": stopping; no case starts any more, " +
+       (n == 1 ? std::string("the running case ends") : std::to_string(n) + " running cases end") +
+       " at the next neighbour rebuild with a checkpoint; rerun the same command to go on");
 }
 
 void Dispatcher::tick() {

@@ -35,6 +35,10 @@ class Dispatcher {
   // handed to the same ranks before this one ended (held next in line) starts counting now.
   std::vector<int> finished(const CaseTask& t, const CaseOutcome& o);
 
+  // A stop request (base/stop_request.hpp): no case starts any more; those running end at their
+  // next checkpoint with the outcome "stopped" (recorded as such: a rerun continues them).
+  void stop(int signal);
+  bool stopping() const { return stop_signal_ != 0; }
   // A status line now and then, and the manifest flushed to disk.
   void tick();
   ScheduleStats& stats() { return stats_; }
@@ -60,7 +64,7 @@ class Dispatcher {
     CaseTask task;
   };
   std::map<std::size_t, Held> running_;  // case index -> who runs it
-  int done_ = 0, failed_ = 0;
+  int done_ = 0, failed_ = 0, stop_signal_ = 0;
   double left_cost_ = 0, done_cost_ = 0, done_rank_seconds_ = 0;
   ScheduleStats stats_;
   Clock::time_point t0_ = Clock::now(), last_tick_ = Clock::now(), last_line_ = Clock::now();

@@ -47,6 +47,7 @@ std::string to_json(const CaseRecord& r) {
   if (!r.checksum.empty()) w.add("checksum", r.checksum);
   if (r.status == "failed")
     w.add("failure", r.failure).add("diagnostic", r.diagnostic).add("final", r.final_failure);
+  if (r.status == "stopped") w.add("diagnostic", r.diagnostic);
   w.add("slice", r.slice).add("t", r.t);
   return w.str();
 }

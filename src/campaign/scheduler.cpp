@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "base/stop_request.hpp"
 #include "campaign/dispatcher.hpp"
 #include "campaign/rank_pool.hpp"
 
@@ -171,6 +172,7 @@ class Coordinator {
 
  private:
   void pump() {
+    if (const int signal = stop_signal(); signal != 0) book_.stop(signal);
     int flag = 0;
     MPI_Status st;
     while (MPI_Iprobe(MPI_ANY_SOURCE, kTagResult, world_, &flag, &st), flag) {

@@ -2,6 +2,9 @@
 
 #include <mpi.h>
 
+#include <sstream>
+
+#include "base/stop_request.hpp"
 #include "io/checkpoint.hpp"
 #include "run/run_state.hpp"
 
@@ -14,22 +17,39 @@ bool CheckpointObserver::due(const RunState& s, std::int64_t step) const {
 void CheckpointObserver::start(RunState& s) { rebuilds_seen_ = s.sim.rebuilds(); }
 
 void CheckpointObserver::before_step(RunState& s, std::int64_t next) {
-  if (due(s, next)) s.sim.request_rebuild();
+  if (due(s, next) || (stop_signal_ != 0 && next - stop_asked_ >= kStopWait))
+    s.sim.request_rebuild();
 }
 
-bool CheckpointObserver::wall_due(const RunState& s) {
-  if (wall_ <= 0) return false;
-  const std::uint64_t rebuilds = s.sim.rebuilds();
-  if (rebuilds == rebuilds_seen_) return false;  // not a step that rebuilt the list
-  rebuilds_seen_ = rebuilds;
-  int late = std::chrono::duration<double>(Clock::now() - last_).count() >= wall_ ? 1 : 0;
-  if (s.comm != MPI_COMM_NULL) MPI_Bcast(&late, 1, MPI_INT, 0, s.comm);
-  return late != 0;
+// What the ranks ask for together: kLate from rank 0's clock (at rebuilds), kStop from any rank's
+// signal, with the signal's number above those bits (the largest, should ranks differ).
+// Collective: called at the same steps on every rank (rebuilds are collective).
+int CheckpointObserver::agreed_requests(const RunState& s, bool rebuilt) const {
+  int ask[2] = {0, stop_signal()};
+  if (rebuilt && wall_ > 0 && s.lead() &&
+      std::chrono::duration<double>(Clock::now() - last_).count() >= wall_)
+    ask[0] = kLate;
+  if (s.comm != MPI_COMM_NULL) MPI_Allreduce(MPI_IN_PLACE, ask, 2, MPI_INT, MPI_MAX, s.comm);
+  return ask[0] | (ask[1] != 0 ? kStop | (ask[1] << 2) : 0);
 }
 
 void CheckpointObserver::after_step(RunState& s) {
-  if (due(s, s.sim.step_count()) || wall_due(s)) write(s);
+  const std::int64_t step = s.sim.step_count();
+  const bool rebuilt = s.sim.rebuilds() != rebuilds_seen_;
   rebuilds_seen_ = s.sim.rebuilds();
+  int ask = 0;
+  if (rebuilt || step % kStopPoll == 0) ask = agreed_requests(s, rebuilt);
+  if ((ask & kStop) && stop_signal_ == 0) {
+    stop_signal_ = ask >> 2;
+    stop_asked_ = step;
+  }
+  if (due(s, step) || (rebuilt && ((ask & kLate) || stop_signal_ != 0))) write(s);
+  if (stop_signal_ != 0 && rebuilt && step < s.end_step) {  // (at the end: simply done)
+    std::ostringstream os;
+    os << "stopped by " << signal_name(stop_signal_) << " at step " << step << " of "
+       << s.total_steps << " (t = " << s.sim.time() << " s): checkpoint written to " << path_;
+    throw StopRequest(os.str());
+  }
 }
 
 void CheckpointObserver::write(RunState& s) {

@@ -12,7 +12,15 @@
 // by itself. Such a step leaves the engine exactly as a forced rebuild does, so the checkpoint
 // changes nothing in the run (forcing a rebuild at a wall-clock moment would make the trajectory
 // depend on the machine's speed) and a restart from it is still bitwise. On a decomposed run
-// rank 0's clock decides, broadcast at rebuild steps only.
+// rank 0's clock decides.
+//
+// And on a stop request (SIGUSR1, SIGTERM, SIGINT: base/stop_request.hpp) the same: a checkpoint
+// after the next step that rebuilt by itself, then the run ends with StopRequest, and its
+// continuation is bitwise the run that was never stopped. A bed that goes more than
+// kStopWait steps without a rebuild (a still one) gets a forced rebuild instead: that run's
+// continuation then differs from the unstopped one in round-off. The ranks agree (one reduction
+// of a few bits) at every rebuild and every kStopPoll steps, so a signal that reached only some
+// ranks still stops them all together.
 #include <chrono>
 #include <cstdint>
 #include <string>
@@ -23,6 +31,9 @@ namespace tumble {
 
 class CheckpointObserver : public Observer {
  public:
+  static constexpr std::int64_t kStopPoll = 256;   // steps between checks when nothing rebuilds
+  static constexpr std::int64_t kStopWait = 1000;  // steps to wait for a rebuild before forcing one
+
   CheckpointObserver(std::string path, std::int64_t every_steps, double wall_seconds)
       : path_(std::move(path)), every_(every_steps), wall_(wall_seconds) {}
   void start(RunState& s) override;
@@ -31,14 +42,17 @@ class CheckpointObserver : public Observer {
 
  private:
   using Clock = std::chrono::steady_clock;
+  enum Request : int { kLate = 1, kStop = 2 };
   bool due(const RunState& s, std::int64_t step) const;
-  bool wall_due(const RunState& s);
+  int agreed_requests(const RunState& s, bool rebuilt) const;
   void write(RunState& s);
   std::string path_;
   std::int64_t every_;
   double wall_;
   Clock::time_point last_ = Clock::now();
   std::uint64_t rebuilds_seen_ = 0;
+  int stop_signal_ = 0;          // agreed: the run stops at its next rebuild
+  std::int64_t stop_asked_ = 0;  // the step at which the ranks agreed
 };
 
 }  // namespace tumble

@@ -9,7 +9,15 @@ statistics identical, bit for bit, to an uninterrupted run of the same campaign.
 With --ranks-per-case K and --rerun-ranks-per-case K2 the reference and the killed run use groups
 of K ranks and the rerun groups of K2: the interrupted cases then resume from their checkpoints on
 a different decomposition, whose trajectories agree with the first to round-off only, so the
-statistics must agree to 1e-9 (relative) instead of bit for bit (groups_check.py says why)."""
+statistics must agree to 1e-9 (relative) instead of bit for bit (groups_check.py says why).
+
+With --signal USR1 (or TERM) the job is not killed but asked to stop: the signal goes to mpiexec
+alone, which passes SIGUSR1 on to both ranks (SIGTERM it turns into a kill of its own after a few
+seconds, so USR1 is what a batch system should send). The campaign must then end by itself with
+exit code 10 (work left), no case left "running" in the manifest and at least one "stopped" with
+a checkpoint written at a neighbour rebuild, no statistics; and the rerun must give the
+uninterrupted run's statistics bit for bit, as a stop at a rebuild changes nothing in a case's
+trajectory (run/checkpoint_observer.hpp)."""
 import argparse
 import json
 import os
@@ -27,10 +35,12 @@ ap.add_argument("--np-flag", default="-n")
 ap.add_argument("--campaign", required=True)
 ap.add_argument("--ranks-per-case", type=int, default=1)
 ap.add_argument("--rerun-ranks-per-case", type=int, default=None)
+ap.add_argument("--signal", default="KILL", choices=["KILL", "USR1", "TERM"])
 a = ap.parse_args()
 k1 = a.ranks_per_case
 k2 = a.rerun_ranks_per_case or k1
-tag = "" if (k1, k2) == (1, 1) else "_k%d_to_%d" % (k1, k2)
+tag = ("" if (k1, k2) == (1, 1) else "_k%d_to_%d" % (k1, k2)) + \
+    ("" if a.signal == "KILL" else "_" + a.signal.lower())
 
 ref, run = "kill_reference" + tag, "kill_interrupted" + tag
 for d in (ref, run):
@@ -114,7 +124,18 @@ while time.time() < deadline:
     resumable = [c for c, r in recs.items() if r["status"] == "running"
                  and os.path.exists(os.path.join(run, r["output"], "checkpoint.h5"))]
     if done and resumable:
-        killed = kill_job(proc)  # mpiexec and every rank, without warning
+        if a.signal == "KILL":
+            killed = kill_job(proc)  # mpiexec and every rank, without warning
+            break
+        proc.send_signal(getattr(signal, "SIG" + a.signal))  # to mpiexec; it passes it on
+        try:
+            rc = proc.wait(timeout=120)
+        except subprocess.TimeoutExpired:
+            kill_job(proc)
+            cc.fail("SIG%s: the campaign did not end within 120 s" % a.signal)
+        if rc != 10:
+            cc.fail("SIG%s: exit code %d, expected 10 (work left; see %s.log)" % (a.signal, rc, run))
+        killed = 1
         break
     time.sleep(0.02)
 if not killed:
@@ -125,10 +146,25 @@ if os.path.exists(os.path.join(run, "ensemble.h5")):
 lines_before, latest = cc.manifest(run)
 done_before = {c: r for c, r in latest.items() if r["status"] == "done"}
 running_before = [c for c, r in latest.items() if r["status"] == "running"]
+if a.signal != "KILL":
+    stopped = [c for c, r in latest.items() if r["status"] == "stopped"
+               and os.path.exists(os.path.join(run, r["output"], "checkpoint.h5"))]
+    log.flush()
+    text = open(run + ".log").read()
+    if running_before:
+        cc.fail("SIG%s: cases still 'running' in the manifest after the stop: %s" % (a.signal, running_before))
+    if not stopped:
+        cc.fail("SIG%s: no case recorded as stopped with a checkpoint" % a.signal)
+    if "stopped by SIG" + a.signal not in text or "rerun the same command to go on" not in text:
+        cc.fail("SIG%s: the campaign did not say why it stopped (see %s.log)" % (a.signal, run))
+    print("SIG%s: the campaign stopped by itself, exit 10, %d case(s) stopped at a checkpoint"
+          % (a.signal, len(stopped)), flush=True)
+    running_before = stopped
 stamp = {c: os.stat(os.path.join(run, r["output"], "fields.h5")).st_mtime_ns
          for c, r in done_before.items()}
-print("killed %d processes with %d case(s) done and %d running"
-      % (killed, len(done_before), len(running_before)), flush=True)
+if a.signal == "KILL":
+    print("killed %d processes with %d case(s) done and %d running"
+          % (killed, len(done_before), len(running_before)), flush=True)
 
 t0 = time.time()
 if subprocess.run(rerun + [run], stdout=log, stderr=subprocess.STDOUT).returncode != 0:
@@ -148,7 +184,7 @@ if not resumed:
     cc.fail("no case resumed from a checkpoint")
 for l in resumed:
     if l["case"] not in running_before:
-        cc.fail("case %s resumed but was not running at the kill" % l["case"])
+        cc.fail("case %s resumed but was not running (or stopped) at the kill" % l["case"])
 if any(r["status"] != "done" for r in latest.values()) or len(latest) != 4:
     cc.fail("not every case is done after the rerun")
 for l in new_lines:
@@ -156,7 +192,8 @@ for l in new_lines:
         cc.fail("the rerun ran case %s on ranks %s, not in groups of %d" % (l["case"], l["ranks"], k2))
 tol = 0.0 if k1 == k2 else 1e-9
 worst = cc.compare_ensembles(os.path.join(run, "ensemble.h5"), os.path.join(ref, "ensemble.h5"), tol)
-print("OK: groups of %d, killed, rerun in groups of %d: %d finished case(s) skipped, %d resumed "
+how = "killed" if a.signal == "KILL" else "stopped by SIG" + a.signal
+print("OK: groups of %d, %s, rerun in groups of %d: %d finished case(s) skipped, %d resumed "
       "from checkpoints (at steps %s); ensemble equal to the uninterrupted run's (largest "
-      "difference %g, tolerance %g)" % (k1, k2, len(done_before), len(resumed),
+      "difference %g, tolerance %g)" % (k1, how, k2, len(done_before), len(resumed),
                                        [l["resumed_from_step"] for l in resumed], worst, tol))

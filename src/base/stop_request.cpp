@@ -1,0 +1,46 @@
+#include "base/stop_request.hpp"
+
+#include <csignal>
+
+namespace tumble {
+namespace {
+volatile std::sig_atomic_t g_stop = 0;
+bool g_installed = false;
+
+extern "C" void on_stop_signal(int signal) {
+  // A second terminating signal while a stop is pending: the default action, now.
+  if (g_stop != 0 && signal != SIGUSR1) {
+    std::signal(signal, SIG_DFL);
+    std::raise(signal);
+    return;
+  }
+  g_stop = signal;
+}
+}  // namespace
+
+void install_stop_handlers() {
+  if (g_installed) return;
+  g_installed = true;
+  struct sigaction sa = {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;  // a blocking write or MPI poll is not interrupted by it
+  for (int s : {SIGUSR1, SIGTERM, SIGINT}) sigaction(s, &sa, nullptr);
+}
+
+int stop_signal() { return g_stop; }
+
+std::string signal_name(int signal) {
+  switch (signal) {
+    case SIGUSR1:
+      return "SIGUSR1";
+    case SIGTERM:
+      return "SIGTERM";
+    case SIGINT:
+      return "SIGINT";
+    default:
+      return "signal " + std::to_string(signal);
+  }
+}
+
+}  // namespace tumble

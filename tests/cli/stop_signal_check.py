@@ -1,0 +1,112 @@
+"""cli.stop_signal_resume: a signal stops `tumble run` cleanly, and the continuation is the run
+that was never stopped, bit for bit (base/stop_request.hpp, run/checkpoint_observer.hpp).
+
+A bst_tiny run of ~14,800 steps on a cached bed, serially and on 2 ranks under mpiexec:
+  A  uninterrupted: the reference;
+  S  the same, sent a signal once it is stepping (SIGTERM to the serial run; SIGUSR1 to mpiexec,
+     which passes it on to both ranks): it must end by itself with exit code 10, say at which
+     step it stopped and how to go on, leave its checkpoint at that step (between 0 and the
+     end), and `--resume` must end with A's results.h5 series bit for bit.
+Signalled when its first line after the set-up is out, not after a fixed time, so the test does
+not depend on the machine's speed (a run that ends before the signal arrives fails the test).
+
+usage: stop_signal_check.py TUMBLE SCENE WORK MPIEXEC NP_FLAG"""
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import h5py
+import numpy as np
+
+tumble, scene, work, mpiexec, np_flag = sys.argv[1:6]
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+beds = os.path.join(work, "beds")
+
+
+def fail(msg):
+    print("FAIL: " + msg)
+    sys.exit(1)
+
+
+def cmd(name, ranks, extra=()):
+    launch = [mpiexec, np_flag, str(ranks)] if ranks > 1 else []
+    return launch + [tumble, "run", scene, "--set", "scene.output_dir=" + os.path.join(work, name),
+                     "--set", "fill.bed_cache=" + beds, "--set", "protocol.iterations=0.024",
+                     "--set", "output.checkpoint_interval=1000", "--set", "output.snapshot_interval=1000",
+                     "--set", "output.checkpoint_wall=0"] + list(extra)
+
+
+def series(name):
+    with h5py.File(os.path.join(work, name, "results.h5"), "r") as f:
+        out = {}
+        f["series"].visititems(lambda n, o: out.__setitem__(n, o[()]) if isinstance(o, h5py.Dataset) else None)
+        return out
+
+
+def same(a, b, what):
+    if sorted(a) != sorted(b):
+        fail("%s: different series %s vs %s" % (what, sorted(a), sorted(b)))
+    for k in a:
+        if not np.array_equal(a[k], b[k], equal_nan=True):
+            fail("%s: series/%s differs" % (what, k))
+
+
+def stopped_run(name, ranks, sig):
+    """Starts the run, signals it once its header line (printed after the set-up, when the stop
+    handlers are in place) is out, and returns (exit code, its output)."""
+    proc = subprocess.Popen(cmd(name, ranks), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    lines, header = [], threading.Event()
+
+    def read():
+        for line in proc.stdout:
+            lines.append(line)
+            if line.startswith("[run] ") and " particles, dt = " in line:
+                header.set()
+
+    reader = threading.Thread(target=read)
+    reader.start()
+    if not header.wait(120):
+        proc.kill()
+        fail("%s: no header line within 120 s" % name)
+    time.sleep(0.2)  # into the step loop
+    if proc.poll() is not None:
+        fail("%s: the run ended before it could be signalled: make it longer" % name)
+    proc.send_signal(sig)
+    try:
+        rc = proc.wait(timeout=120)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        fail("%s: still running 120 s after %s" % (name, sig.name))
+    reader.join()
+    return rc, "".join(lines)
+
+
+for ranks, sig in ((1, signal.SIGTERM), (2, signal.SIGUSR1)):
+    ref, name = "A%d" % ranks, "S%d" % ranks
+    r = subprocess.run(cmd(ref, ranks), capture_output=True, text=True)
+    if r.returncode != 0:
+        fail("reference %s: exit %d\n%s%s" % (ref, r.returncode, r.stdout, r.stderr))
+    with h5py.File(os.path.join(work, ref, "results.h5"), "r") as f:
+        total = int(f.attrs["steps"])
+    rc, text = stopped_run(name, ranks, sig)
+    if rc != 10:
+        fail("%s: exit code %d after %s, expected 10 (work left)\n%s" % (name, rc, sig.name, text))
+    said = [l for l in text.splitlines() if "stopped by " + sig.name + " at step " in l]
+    if len(said) != 1 or "--resume" not in said[0]:
+        fail("%s: expected one line 'stopped by %s at step ... --resume', got\n%s" % (name, sig.name, text))
+    step = int(said[0].split(" at step ")[1].split()[0])
+    with h5py.File(os.path.join(work, name, "checkpoint.h5"), "r") as f:
+        at = int(f.attrs["step"])
+    if at != step or not 0 < step < total:
+        fail("%s: stopped at step %d, checkpoint at step %d, run of %d steps" % (name, step, at, total))
+    r = subprocess.run(cmd(name, ranks, ["--resume"]), capture_output=True, text=True)
+    if r.returncode != 0 or "restarting from" not in r.stdout + r.stderr:
+        fail("%s --resume: exit %d\n%s%s" % (name, r.returncode, r.stdout, r.stderr))
+    same(series(ref), series(name), "%s, stopped by %s and resumed" % (name, sig.name))
+    print("OK: %d rank(s), %s: stopped at step %d of %d with exit code 10, resumed; series = the "
+          "uninterrupted run's bit for bit" % (ranks, sig.name, step, total), flush=True)
