@@ -30,6 +30,18 @@ void install_stop_handlers() {
 
 int stop_signal() { return g_stop; }
 
+int agreed_stop_signal(MPI_Comm comm) {
+  int signal = g_stop;
+  if (comm != MPI_COMM_NULL) MPI_Allreduce(MPI_IN_PLACE, &signal, 1, MPI_INT, MPI_MAX, comm);
+  return signal;
+}
+
+void stop_if_requested(MPI_Comm comm, const std::string& what) {
+  if (const int signal = agreed_stop_signal(comm); signal != 0)
+    throw StopRequest("stopped by " + signal_name(signal) + " while " + what +
+                      " (nothing of it is kept: the next run starts it again)");
+}
+
 std::string signal_name(int signal) {
   switch (signal) {
     case SIGUSR1:

@@ -8,6 +8,8 @@
 // the signal's default action (a user who presses Ctrl-C twice means it).
 //
 // One process-wide flag: every case that a campaign's rank runs stops at the same request.
+#include <mpi.h>
+
 #include <stdexcept>
 #include <string>
 
@@ -22,6 +24,12 @@ struct StopRequest : std::runtime_error {
 void install_stop_handlers();
 // The signal that asked this process to stop, 0 if none.
 int stop_signal();
+// The signal any rank of `comm` has seen (the largest number), 0 if none. Collective over comm
+// (MPI_COMM_NULL: this process alone).
+int agreed_stop_signal(MPI_Comm comm);
+// Ends a phase that keeps nothing worth a checkpoint (settling a bed, measuring the repose angle)
+// at once with StopRequest naming `what` if any rank has seen a stop signal; collective.
+void stop_if_requested(MPI_Comm comm, const std::string& what);
 // "SIGUSR1", "SIGTERM", "SIGINT", or "signal N".
 std::string signal_name(int signal);
 

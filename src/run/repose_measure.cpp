@@ -12,6 +12,7 @@
 #include "base/comm.hpp"
 #include "base/error.hpp"
 #include "base/hash.hpp"
+#include "base/stop_request.hpp"
 #include "base/text_util.hpp"
 #include "engine/simulation.hpp"
 #include "h5/hdf5_file.hpp"
@@ -51,7 +52,10 @@ ReposeMeasurement measure_repose(const Scene& scene, const Particles& bed, std::
   while (sim.step_count() < last) {
     sim.step();
     const std::int64_t k = sim.step_count();
-    if (between_blocks && k % 200 == 0) between_blocks();
+    if (k % 200 == 0) {
+      if (between_blocks) between_blocks();
+      stop_if_requested(comm, "measuring the repose angle");
+    }
     if (k >= first && k % steps_per_degree == 0) {
       const Particles all = sim.gather_all();  // collective
       const double a = analysis::flow_profile(all, all.size(), frame).repose_deg;

@@ -9,6 +9,7 @@
 
 #include "base/comm.hpp"
 #include "base/error.hpp"
+#include "base/stop_request.hpp"
 #include "base/text_util.hpp"
 #include "engine/simulation.hpp"
 #include "io/bed_io.hpp"
@@ -84,6 +85,7 @@ Particles fill_and_settle(const Scene& scene, std::ostream* log, MPI_Comm comm,
     }
     for (int k = 0; k < 200; ++k) sim.step();
     if (between_blocks) between_blocks();
+    stop_if_requested(comm, "settling the bed");
     const double rms = sim.rms_speed();
     const bool grown = shrink == 1 || block >= kGrowBlocks;
     if (grown && sim.time() > min_time && rms < scene.settle_rms_speed) break;

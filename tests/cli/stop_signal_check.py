@@ -9,6 +9,8 @@ A bst_tiny run of ~14,800 steps on a cached bed, serially and on 2 ranks under m
      end), and `--resume` must end with A's results.h5 series bit for bit.
 Signalled when its first line after the set-up is out, not after a fixed time, so the test does
 not depend on the machine's speed (a run that ends before the signal arrives fails the test).
+And a run whose bed is not cached yet, sent SIGINT once it is settling: it must stop within the
+settling (exit 10, "while settling the bed") and cache no half-settled bed.
 
 usage: stop_signal_check.py TUMBLE SCENE WORK MPIEXEC NP_FLAG"""
 import os
@@ -56,16 +58,17 @@ def same(a, b, what):
             fail("%s: series/%s differs" % (what, k))
 
 
-def stopped_run(name, ranks, sig):
-    """Starts the run, signals it once its header line (printed after the set-up, when the stop
-    handlers are in place) is out, and returns (exit code, its output)."""
-    proc = subprocess.Popen(cmd(name, ranks), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+def stopped_run(name, ranks, sig, extra=(), when=lambda line: line.startswith("[run] ") and " particles, dt = " in line):
+    """Starts the run, signals it once a line for which `when` holds is out (by default the
+    header printed after the set-up, when the stop handlers are in place), and returns (exit
+    code, its output)."""
+    proc = subprocess.Popen(cmd(name, ranks, extra), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     lines, header = [], threading.Event()
 
     def read():
         for line in proc.stdout:
             lines.append(line)
-            if line.startswith("[run] ") and " particles, dt = " in line:
+            if when(line):
                 header.set()
 
     reader = threading.Thread(target=read)
@@ -110,3 +113,13 @@ for ranks, sig in ((1, signal.SIGTERM), (2, signal.SIGUSR1)):
     same(series(ref), series(name), "%s, stopped by %s and resumed" % (name, sig.name))
     print("OK: %d rank(s), %s: stopped at step %d of %d with exit code 10, resumed; series = the "
           "uninterrupted run's bit for bit" % (ranks, sig.name, step, total), flush=True)
+
+fresh = os.path.join(work, "beds_fresh")
+rc, text = stopped_run("F1", 1, signal.SIGINT, ["--set", "fill.bed_cache=" + fresh],
+                       when=lambda line: line.startswith("[fill] "))
+if rc != 10 or "stopped by SIGINT while settling the bed" not in text:
+    fail("F1: exit code %d after SIGINT while settling, expected 10 and 'stopped by SIGINT while "
+         "settling the bed'\n%s" % (rc, text))
+if os.path.isdir(fresh) and os.listdir(fresh):
+    fail("F1: a bed was cached although the settling was stopped: %s" % os.listdir(fresh))
+print("OK: SIGINT while settling: exit code 10, nothing cached", flush=True)
