@@ -19,7 +19,8 @@ import sys
 import time
 
 import h5py
-import numpy as np
+
+import results_series
 
 tumble, scene, work = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(work, ignore_errors=True)
@@ -40,18 +41,13 @@ def fail(msg):
 
 
 def series(name):
-    with h5py.File(os.path.join(work, name, "results.h5"), "r") as f:
-        out = {}
-        f["series"].visititems(lambda n, o: out.__setitem__(n, o[()]) if isinstance(o, h5py.Dataset) else None)
-        return out
+    return results_series.series(os.path.join(work, name))
 
 
 def same(a, b, what):
-    if sorted(a) != sorted(b):
-        fail("%s: different series %s vs %s" % (what, sorted(a), sorted(b)))
-    for k in a:
-        if not np.array_equal(a[k], b[k], equal_nan=True):
-            fail("%s: series/%s differs" % (what, k))
+    diff = results_series.difference(a, b)
+    if diff:
+        fail("%s: %s" % (what, diff))
 
 
 for name, wall in (("A", 0), ("B", 1e-9)):

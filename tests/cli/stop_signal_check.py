@@ -22,7 +22,8 @@ import threading
 import time
 
 import h5py
-import numpy as np
+
+import results_series
 
 tumble, scene, work, mpiexec, np_flag = sys.argv[1:6]
 shutil.rmtree(work, ignore_errors=True)
@@ -44,18 +45,13 @@ def cmd(name, ranks, extra=()):
 
 
 def series(name):
-    with h5py.File(os.path.join(work, name, "results.h5"), "r") as f:
-        out = {}
-        f["series"].visititems(lambda n, o: out.__setitem__(n, o[()]) if isinstance(o, h5py.Dataset) else None)
-        return out
+    return results_series.series(os.path.join(work, name))
 
 
 def same(a, b, what):
-    if sorted(a) != sorted(b):
-        fail("%s: different series %s vs %s" % (what, sorted(a), sorted(b)))
-    for k in a:
-        if not np.array_equal(a[k], b[k], equal_nan=True):
-            fail("%s: series/%s differs" % (what, k))
+    diff = results_series.difference(a, b)
+    if diff:
+        fail("%s: %s" % (what, diff))
 
 
 def stopped_run(name, ranks, sig, extra=(), when=lambda line: line.startswith("[run] ") and " particles, dt = " in line):
