@@ -40,12 +40,8 @@ def fail(msg):
     sys.exit(1)
 
 
-def series(name):
-    return results_series.series(os.path.join(work, name))
-
-
-def same(a, b, what):
-    diff = results_series.difference(a, b)
+def same(a, b, what):  # runs a and b (folders under work) ended with the same series
+    diff = results_series.difference(*(results_series.series(os.path.join(work, r)) for r in (a, b)))
     if diff:
         fail("%s: %s" % (what, diff))
 
@@ -54,7 +50,7 @@ for name, wall in (("A", 0), ("B", 1e-9)):
     r = subprocess.run(cmd(name, wall), capture_output=True, text=True)
     if r.returncode != 0:
         fail("run %s: exit %d\n%s" % (name, r.returncode, r.stderr))
-same(series("A"), series("B"), "a checkpoint at every self-made rebuild")
+same("A", "B", "a checkpoint at every self-made rebuild")
 print("B (a checkpoint at every self-made rebuild) = A bit for bit", flush=True)
 
 ckpt = os.path.join(work, "C", "checkpoint.h5")
@@ -77,6 +73,6 @@ if not 0 < step < total:
 r = subprocess.run(cmd("C", 0.5, ["--resume"]), capture_output=True, text=True)
 if r.returncode != 0 or "restarting from" not in r.stdout + r.stderr:
     fail("resume: exit %d\n%s%s" % (r.returncode, r.stdout, r.stderr))
-same(series("A"), series("C"), "killed and resumed from a wall-clock checkpoint")
+same("A", "C", "killed and resumed from a wall-clock checkpoint")
 print("OK: killed after its first wall-clock checkpoint, resumed from the wall-clock checkpoint at step %d of %d; series = A "
       "bit for bit" % (step, total))

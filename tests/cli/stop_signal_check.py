@@ -44,12 +44,8 @@ def cmd(name, ranks, extra=()):
                      "--set", "output.checkpoint_wall=0"] + list(extra)
 
 
-def series(name):
-    return results_series.series(os.path.join(work, name))
-
-
-def same(a, b, what):
-    diff = results_series.difference(a, b)
+def same(a, b, what):  # runs a and b (folders under work) ended with the same series
+    diff = results_series.difference(*(results_series.series(os.path.join(work, r)) for r in (a, b)))
     if diff:
         fail("%s: %s" % (what, diff))
 
@@ -106,7 +102,7 @@ for ranks, sig in ((1, signal.SIGTERM), (2, signal.SIGUSR1)):
     r = subprocess.run(cmd(name, ranks, ["--resume"]), capture_output=True, text=True)
     if r.returncode != 0 or "restarting from" not in r.stdout + r.stderr:
         fail("%s --resume: exit %d\n%s%s" % (name, r.returncode, r.stdout, r.stderr))
-    same(series(ref), series(name), "%s, stopped by %s and resumed" % (name, sig.name))
+    same(ref, name, "%s, stopped by %s and resumed" % (name, sig.name))
     print("OK: %d rank(s), %s: stopped at step %d of %d with exit code 10, resumed; series = the "
           "uninterrupted run's bit for bit" % (ranks, sig.name, step, total), flush=True)
 
