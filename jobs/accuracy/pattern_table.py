@@ -14,7 +14,8 @@ tier folder, the first value being the reference, e.g. --split fidelity.bulk=dyn
 (jobs/accuracy/rigid_pattern.sh); points that differ only in such a key share their replicas'
 beds, so the differences are also given paired by replica (Student t on the differences);
 radial segregation reported at iterations 1..ITERATIONS; each tier's wall per iteration from its
-own runs' length, so tiers run for different numbers of iterations can share one table;
+own runs' length, so tiers run for different numbers of iterations can share one table, and from
+the last call's rate when a case was resumed (its earlier calls print no total);
 --tier: the columns are the campaigns in the DIRs given, in that order, the first the reference,
 instead of OUT's tier folders (OUT is then ignored), e.g. the dynamic cases of two rigid_pattern.sh
 campaigns at different tiers: --tier standard=results/rigid_pattern/bst_small_standard
@@ -83,10 +84,13 @@ def load_tier(d, iterations, point=""):
         log = os.path.join(os.path.dirname(path), "log.txt")
         if os.path.exists(log):
             txt = open(log).read()
-            m = re.findall(r"\[run\] done: \d+ steps in ([0-9.e+]+) s", txt)
-            n = re.findall(r"s simulated, ([0-9.]+) iterations[,)]", txt)  # the run's own length
-            if m and n:
-                c["wall"] = float(m[-1]) / float(n[-1])
+            # The last call's rate (a resumed case's earlier calls printed no "done" line) times
+            # the steps of one iteration: the run's own steps and length from its header.
+            m = re.findall(r"\[run\] done: (\d+) steps in ([0-9.e+]+) s", txt)
+            n = re.findall(r"s simulated, ([0-9.]+) iterations[,)]", txt)
+            total = re.findall(r" s, (\d+) steps \(", txt)
+            if m and n and total and int(m[-1][0]) > 0:
+                c["wall"] = float(m[-1][1]) / int(m[-1][0]) * int(total[-1]) / float(n[-1])
         cases.append(c)
     return cases
 
