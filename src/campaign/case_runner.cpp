@@ -111,9 +111,7 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
   const auto t0 = Clock::now();
   // A stop request that came after this case was handed to its group and before it began: it
   // does not begin (the rerun starts it). The group agrees, as its ranks may have seen it apart.
-  int signal = stop_signal();
-  if (ranks > 1) MPI_Allreduce(MPI_IN_PLACE, &signal, 1, MPI_INT, MPI_MAX, group);
-  if (signal != 0) {
+  if (const int signal = agreed_stop_signal(group); signal != 0) {
     out.failure = "stopped";
     out.diagnostic = "not begun: " + signal_name(signal) + " came first";
     out.end = utc_now();
