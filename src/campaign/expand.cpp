@@ -49,11 +49,12 @@ ParamValue num(double v) {
 
 std::string display(const ParamValue& v) { return v.numeric ? display_number(v.num) : v.text; }
 
-// A rigid-bulk key added after rigid campaigns existed, at the value that turns its rule off
-// (as it was before the key): it stays out of case ids, so their ids stand.
-// fidelity.bulk_thaw_gravity = 2 is the only one.
+// A rigid-bulk key added after rigid campaigns existed, at the value that keeps the behaviour of
+// before the key: it stays out of case ids, so their ids stand. fidelity.bulk_thaw_gravity = 2
+// (its rule off) and fidelity.bulk_segment_thaw = on (every segment change thaws).
 bool added_bulk_key_off(const std::string& key, const Scene& scene) {
-  return key == "fidelity.bulk_thaw_gravity" && scene.bulk_thaw_gravity == 2;
+  return (key == "fidelity.bulk_thaw_gravity" && scene.bulk_thaw_gravity == 2) ||
+         (key == "fidelity.bulk_segment_thaw" && scene.bulk_segment_thaw == OnOff::on);
 }
 
 }  // namespace

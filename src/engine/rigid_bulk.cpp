@@ -10,7 +10,8 @@
 // wall) and restart from there when one of the pair thaws (neighbor/verlet_list.hpp). Pairs with a
 // moving particle are computed as for any pair (the frozen one acts as a rough wall grain). It
 // thaws at the next rebuild when a neighbour moves (leaves its calm distance) or the surface comes
-// within the margin, at the first rebuild of a new protocol segment, at a rebuild when gravity,
+// within the margin, at the first rebuild of a new protocol segment (unless bulk_segment_thaw is
+// off), at a rebuild when gravity,
 // seen from the tumbler, has changed by more than bulk_thaw_gravity g since it froze (off at the
 // default 2), and at the very next step when its moving neighbours push it harder than
 // bulk_thaw_force times its weight (checked in kick_drift_rigid below).
@@ -124,7 +125,11 @@ void Simulation::update_bulk_states() {
   // tops differ by as much as the margin.)
   // A change of the protocol's segment (a new axis or speed, a tilt) thaws everything: the bed
   // re-forms its free surface and flowing layer about the new axis, and whatever stays put
-  // refreezes one dwell later.
+  // refreezes one dwell later. With bulk_segment_thaw off it thaws nothing by itself: the bulk
+  // below the surface goes on turning with the wall, and what the new motion sets moving thaws by
+  // the other rules (its surface, a moving neighbour, the push, gravity's turn). That saves the
+  // refreezing dwell after each of an iteration's six segment changes, and changes what the bed
+  // does, so it is off by default until measured (docs/accuracy.md).
   // Gravity's turn: a frozen particle's held contacts carried its weight when it froze, and still
   // do so as they were; gravity, seen from the tumbler, has since turned with the wall. Released,
   // it would accelerate relative to the wall by about g |ĝ_T(now) - ĝ_T(freeze)| (its moving
@@ -134,7 +139,7 @@ void Simulation::update_bulk_states() {
   const bool gravity_rule = b.thaw_gravity < 2;  // |ĝ - ĝ'| <= 2: at 2 the rule never fires
   const std::int64_t elapsed = step_ - b.last_update;
   const std::int64_t segment = protocol_.segment_count(time_);
-  const bool new_segment = segment != b.segment;
+  const bool new_segment = segment != b.segment && b.segment_thaw;
   b.segment = segment;
   std::int64_t frozen = 0;
   for (std::size_t i = 0; i < n; ++i) {

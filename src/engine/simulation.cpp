@@ -108,6 +108,7 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     bulk_.margin = s.bulk_margin * s.d_large;
     bulk_.thaw_acceleration = s.bulk_thaw_force * s.g;
     bulk_.thaw_gravity = s.bulk_thaw_gravity;
+    bulk_.segment_thaw = s.bulk_segment_thaw == OnOff::on;
     bulk_.bin = s.d_large;
     const double hz = is_cylinder_ ? 0.5 * s.length : s.radius;
     bulk_.x0 = -s.radius;

@@ -272,6 +272,7 @@ class Simulation {
     double margin = 0;              // [m] below the free surface
     double thaw_acceleration = 0;   // [m/s^2]: thaw_force g
     double thaw_gravity = 2;        // |change of gravity's direction| since freezing (2: never)
+    bool segment_thaw = true;       // a new protocol segment thaws everything
     double bin = 0, x0 = 0, z0 = 0;
     int nx = 0, nz = 0;
     std::vector<double> top;  // highest particle top per column (-1e300: empty)

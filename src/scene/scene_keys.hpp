@@ -138,6 +138,8 @@ struct ReposeTilt {
     "rigid bulk: a frozen particle thaws when its moving neighbours push it harder than this many times its weight") \
   X(double, bulk_thaw_gravity, "fidelity.bulk_thaw_gravity", 2, 0.01, 2, \
     "rigid bulk: a frozen particle thaws when gravity, seen from the tumbler, has changed by more than this many g since it froze (2 sin of half the turn; 2: never)") \
+  X(OnOff, bulk_segment_thaw, "fidelity.bulk_segment_thaw", OnOff::on, 0, 0, \
+    "rigid bulk: on: a change of the protocol's segment (a tilt, a new axis) thaws every frozen particle; off: the other rules alone decide") \
   X(double, rebalance_threshold, "parallel.rebalance_threshold", 1.1, 1, 100, \
     "domain-decomposed runs: re-bisect when max/mean particles per rank exceeds this") \
   X(double, frozen_weight, "parallel.frozen_weight", 1, 0.01, 1, \

@@ -341,6 +341,12 @@ TEST(Expand, RigidBulkKeysEnterTheIdOnlyWhenTheBulkIsRigid) {
   s.overrides.push_back("fidelity.bulk_thaw_gravity=0.5");
   EXPECT_NE(expand(s).cases[0].id, rigid);
   s.overrides.push_back("fidelity.bulk_thaw_gravity=2");
+  // Likewise the segment-change thaw: on (as before the key) leaves the ids alone, off enters.
+  s.overrides.push_back("fidelity.bulk_segment_thaw=on");
+  EXPECT_EQ(expand(s).cases[0].id, rigid);
+  s.overrides.push_back("fidelity.bulk_segment_thaw=off");
+  EXPECT_NE(expand(s).cases[0].id, rigid);
+  s.overrides.push_back("fidelity.bulk_segment_thaw=on");
   s.overrides.push_back("fidelity.bulk_dwell=8");
   EXPECT_NE(expand(s).cases[0].id, rigid);
 }
@@ -361,10 +367,13 @@ TEST(Expand, ASweptRigidBulkHasItsThresholdsInItsId) {
     EXPECT_EQ(a.cases[k].id == b.cases[k].id, !rigid) << a.cases[k].params_text;
     EXPECT_EQ(a.cases[k].point_id == b.cases[k].point_id, !rigid) << a.cases[k].params_text;
   }
-  // The gravity rule at its "off" value stays out here too.
+  // The gravity rule at its "off" value stays out here too, and so does the segment thaw on.
   s.overrides.back() = "fidelity.bulk_thaw_gravity=2";
   const Expansion c = expand(s);
   for (std::size_t k = 0; k < 2; ++k) EXPECT_EQ(a.cases[k].id, c.cases[k].id);
+  s.overrides.back() = "fidelity.bulk_segment_thaw=on";
+  const Expansion d = expand(s);
+  for (std::size_t k = 0; k < 2; ++k) EXPECT_EQ(a.cases[k].id, d.cases[k].id);
 }
 
 TEST(Expand, ASweptBulkOptionKeepsTheBedsCommon) {
