@@ -11,8 +11,12 @@ usage: jobs/accuracy/pattern_table.py OUT ITERATIONS [--point "theta_z=57;theta_
 points, jobs/accuracy/campaign_tiers.sh;
 --split: OUT is one campaign, and its cases are compared by the value of a swept KEY instead of by
 tier folder, the first value being the reference, e.g. --split fidelity.bulk=dynamic,rigid
-(jobs/accuracy/rigid_pattern.sh); points that differ only in such a key share their replicas'
-beds, so the differences are also given paired by replica (Student t on the differences);
+(jobs/accuracy/rigid_pattern.sh); a value may name more swept keys after '+', e.g.
+--split fidelity.bulk=dynamic,rigid,rigid+fidelity.bulk_segment_thaw=off: a column then takes the
+cases whose params hold its key=values and lack every other key that some column names (the plain
+"rigid" column: the cases without fidelity.bulk_segment_thaw in their params); points that differ
+only in such keys share their replicas' beds, so the differences are also given paired by replica
+(Student t on the differences);
 radial segregation reported at iterations 1..ITERATIONS; each tier's wall per iteration from its
 own runs' length, so tiers run for different numbers of iterations can share one table, and from
 the last call's rate when a case was resumed (its earlier calls print no total);
@@ -61,9 +65,9 @@ def at_point(params, point):
     return True
 
 
-def load_tier(d, iterations, point=""):
-    """Per finished case at the point: c_L map, radial segregation at iterations 1..N, wall per
-    iteration, island enrichment (analysis.h5)."""
+def load_tier(d, iterations, point="", absent=()):
+    """Per finished case at the point (and without any of the keys in absent): c_L map, radial
+    segregation at iterations 1..N, wall per iteration, island enrichment (analysis.h5)."""
     enrich = {}
     an = os.path.join(d, "analysis.h5")
     if os.path.exists(an):
@@ -74,7 +78,8 @@ def load_tier(d, iterations, point=""):
     cases = []
     for path in sorted(glob.glob(os.path.join(d, "cases", "*", "fields.h5"))):
         with h5py.File(path, "r") as f:
-            if not at_point(text(f.attrs["params"]), point):
+            params = text(f.attrs["params"])
+            if not at_point(params, point) or any(f";{k}=" in f";{params}" for k in absent):
                 continue
             cid = text(f.attrs["case_id"])
             it, rs = f["series/iteration"][:], f["series/radial_segregation"][:]
@@ -145,8 +150,13 @@ def main():
     out, iterations = args[0], int(args[1])
     if split:
         key, values = split.split("=", 1)
-        data = {v: load_tier(out, iterations, ";".join(filter(None, [point, f"{key}={v}"])))
-                for v in values.split(",")}
+        # "rigid+k=v": the column's own conditions; every key some column names must be absent
+        # from the cases of a column that does not name it.
+        conds = {v: [f"{key}={v.split('+')[0]}"] + v.split("+")[1:] for v in values.split(",")}
+        named = {c.split("=", 1)[0] for cs in conds.values() for c in cs}
+        data = {v: load_tier(out, iterations, ";".join(filter(None, [point] + cs)),
+                             absent=named - {c.split("=", 1)[0] for c in cs})
+                for v, cs in conds.items()}
         data = {v: cases for v, cases in data.items() if cases}
         if not data:
             raise SystemExit(f"{out}: no finished case with any value of {key}")

@@ -9,6 +9,8 @@
 # usage: jobs/accuracy/rigid_pattern.sh [SCENE=scenes/bst_small.toml] [TIER=fast] [REPLICAS=3]
 #                                       [ITERATIONS=8] [NP=2]
 #   THETA="57 57" the point; ACCURACY_OUT (default results/rigid_pattern/<scene>_<tier>)
+#   VARIANT="fidelity.bulk_segment_thaw=off": a third point, rigid with that key=value (on the same
+#   beds; its cases join a campaign that ran without it, whose cases keep their ids)
 # Rerunning resumes: the campaign skips its finished cases.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -45,6 +47,8 @@ progress_interval = 120
 theta_z = $TZ
 theta_x = $TX
 "fidelity.bulk" = ["dynamic", "rigid"]
+$(if [ -n "${VARIANT:-}" ]; then printf '\n[[sweep]]\ntheta_z = %s\ntheta_x = %s\n"fidelity.bulk" = "rigid"\n"%s" = "%s"\n' \
+  "$TZ" "$TX" "${VARIANT%%=*}" "${VARIANT#*=}"; fi)
 
 [collect]
 fields = ["concentration", "series"]
@@ -55,4 +59,4 @@ frame = "lab"
 EOF
 run_tier_campaign "$OUT" "$TIER" "$NP"
 /usr/bin/python3 jobs/accuracy/pattern_table.py "$OUT" "$ITERATIONS" \
-  --split fidelity.bulk=dynamic,rigid
+  --split "fidelity.bulk=dynamic,rigid${VARIANT:+,rigid+$VARIANT}"

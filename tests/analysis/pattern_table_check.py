@@ -12,6 +12,9 @@ pattern correlation and its multiplicity control.
    Benjamini-Hochberg line counts exactly that one difference (both tests of it), not the others.
 3. --tier LABEL=DIR reads two campaign folders as columns in the order given, the first the
    reference, and refuses a folder that is not there.
+4. --split with a value that names a second swept key (rigid+fidelity.bulk_segment_thaw=off):
+   three columns of 3 replicas each, the plain "rigid" column without the other's cases (its
+   differences 0), the third's planted shift seen in its column only.
 """
 import os
 import re
@@ -47,9 +50,10 @@ def write_case(out, cid, replica, params, c_l, radial):
         f.write(f"[run] done: 1000 steps in {100.0 + replica} s (12.5 s simulated, {ITERATIONS} iterations)\n")
 
 
-def campaign(out, columns, shift=0.0, noise=0.0, seed=1):
+def campaign(out, columns, shift=0.0, noise=0.0, seed=1, shifted=None):
     """Three replicas per column value; every column the first's maps and series (+ shift of the
-    radial segregation at iteration 2 and a little noise in the others' series)."""
+    radial segregation at iteration 2 in the columns `shifted`, default all but the first, and a
+    little noise in the others' series)."""
     rng = np.random.default_rng(seed)
     pattern = np.sin(np.linspace(0, 3, 256)).reshape(16, 16)
     for r in range(3):
@@ -57,10 +61,12 @@ def campaign(out, columns, shift=0.0, noise=0.0, seed=1):
         radial = np.concatenate([[0.0], 0.05 * np.arange(1, ITERATIONS + 1) + 0.01 * rng.standard_normal(ITERATIONS)])
         for k, (key, value) in enumerate(columns):
             rad = radial.copy()
-            if k:
+            if k and (shifted is None or k in shifted):
                 rad[2] += shift
                 rad[1:] += noise * rng.standard_normal(ITERATIONS)
-            write_case(out, f"{value}{r}", r, f"theta_z=57;theta_x=57;{key}={value}", c_l, rad)
+            # (a value "rigid;k=v" writes a second swept key into the params)
+            cid = value.replace(";", "_").replace("=", "_")
+            write_case(out, f"{cid}{r}", r, f"theta_z=57;theta_x=57;{key}={value}", c_l, rad)
 
 
 def run(*args):
@@ -104,6 +110,21 @@ def main():
           rc == 0 and "| observable | standard | fast |" in text and "reference tier: standard" in text)
     rc, text = run("-", str(ITERATIONS), "--tier", f"standard={a}", "--tier", "fast=/nonexistent/x")
     check("--tier: a missing folder refused", rc != 0 and "LABEL=DIR" in text, text.strip())
+    # 4. a column named by two swept keys
+    three = os.path.join(scratch, "three")
+    off = "rigid;fidelity.bulk_segment_thaw=off"
+    campaign(three, [("fidelity.bulk", "dynamic"), ("fidelity.bulk", "rigid"), ("fidelity.bulk", off)],
+             shift=0.2, noise=0.005, shifted={2})
+    label = "rigid+fidelity.bulk_segment_thaw=off"
+    rc, text = run(three, str(ITERATIONS), "--split", f"fidelity.bulk=dynamic,rigid,{label}")
+    print(text)
+    row = next((line for line in text.splitlines() if line.startswith("| radial segregation, N = 2 |")), "")
+    cells = row.split(" | ")[1:]
+    check("two keys: three columns", rc == 0 and f"| observable | dynamic | rigid | {label} |" in text)
+    check("two keys: every column N = 3 (the plain rigid column without the other's cases)",
+          len(cells) == 3 and all("(N = 3)" in c for c in cells), row)
+    check("two keys: the planted shift in its own column only",
+          len(cells) == 3 and "Δ +0.2" not in cells[1] and re.search(r"; Δ \+0\.2\d* ±", cells[2]) is not None, row)
     sys.exit(1 if failures else 0)
 
 
