@@ -83,7 +83,8 @@ def load_tier(d, iterations, point="", absent=()):
                 continue
             cid = text(f.attrs["case_id"])
             it, rs = f["series/iteration"][:], f["series/radial_segregation"][:]
-            c = dict(id=cid, replica=int(f.attrs.get("replica", -1)), c_L=f["concentration/c_L"][:].ravel(),
+            c = dict(id=cid, params=params, replica=int(f.attrs.get("replica", -1)),
+                     c_L=f["concentration/c_L"][:].ravel(),
                      radial=[float(rs[np.argmin(np.abs(it - k))]) for k in range(1, iterations + 1)],
                      enrichment=enrich.get(cid, np.nan), wall=np.nan)
         log = os.path.join(os.path.dirname(path), "log.txt")
@@ -179,6 +180,14 @@ def main():
         if not data:
             raise SystemExit(f"{out}: no finished case of any tier")
         ref = next(t for t in TIERS if t in data)
+    # A column is one point's replicas: cases of two points (another swept key the selection
+    # does not name) would be averaged as if they were one, so that is refused.
+    for t, cases in data.items():
+        points = sorted({c["params"] for c in cases})
+        if len(points) > 1:
+            raise SystemExit(f"column {t} holds cases of {len(points)} points:\n  " + "\n  ".join(points)
+                             + "\nname the one wanted (--point, or with --split a value KEY=V+OTHER=W for"
+                             " each, which also keeps the others out of the plain column)")
     ref_maps = np.array([c["c_L"] for c in data[ref]])
     ref_replicas = [c["replica"] for c in data[ref]]
     for t, cases in data.items():

@@ -14,7 +14,8 @@ pattern correlation and its multiplicity control.
    reference, and refuses a folder that is not there.
 4. --split with a value that names a second swept key (rigid+fidelity.bulk_segment_thaw=off):
    three columns of 3 replicas each, the plain "rigid" column without the other's cases (its
-   differences 0), the third's planted shift seen in its column only.
+   differences 0), the third's planted shift seen in its column only; without the third value
+   the "rigid" column would hold two points' cases, and that is refused.
 """
 import os
 import re
@@ -125,6 +126,9 @@ def main():
           len(cells) == 3 and all("(N = 3)" in c for c in cells), row)
     check("two keys: the planted shift in its own column only",
           len(cells) == 3 and "Δ +0.2" not in cells[1] and re.search(r"; Δ \+0\.2\d* ±", cells[2]) is not None, row)
+    rc, text = run(three, str(ITERATIONS), "--split", "fidelity.bulk=dynamic,rigid")
+    check("two keys: a column of two points refused", rc != 0 and "holds cases of 2 points" in text,
+          text.strip().splitlines()[0] if text.strip() else "")
     sys.exit(1 if failures else 0)
 
 
