@@ -325,70 +325,69 @@ TEST(RigidBulk, BedTiltedAboveReposeThawsAndFlowsAsTheDynamicBed) {
       frozen_before, count_frozen(rigid), moved, moved_dynamic, deep, deep_dynamic, fewest_frozen);
 }
 
-TEST(RigidBulk, AChangeOfSegmentThawsTheBedAndItRefreezes) {
-  // The biaxial protocol's segments at 10 rpm, short: tilt 3 deg, rotate 6 deg about z, ... The
-  // bed turning with the wall freezes below its surface during the tilt; at the first pass after
-  // the tilt ends (a quarter of the dwell at most) nothing is frozen; one dwell later the bulk is
-  // frozen again.
+namespace {
+// The biaxial protocol's segments at 10 rpm, short: tilt 3 deg, rotate 6 deg about z, ... The bed
+// turning with the wall freezes below its surface during the tilt. Counted: the frozen at the
+// tilt's end, the fewest up to the first pass after it (a quarter of the dwell at most) and the
+// frozen four dwells later; the positions at the tilt's end, by id.
+struct SegmentChange {
+  std::size_t before = 0, fewest = 0, after = 0, particles = 0;
+  std::vector<Vec3> x_at_change;
+};
+
+SegmentChange through_segment_change(const std::string& segment_thaw) {
   const Scene s = tiny_scene({"protocol.mode=biaxial", "protocol.rpm=10", "fidelity.bulk=rigid",
-                              "fidelity.bulk_dwell=0.004"});
+                              "fidelity.bulk_dwell=0.004", segment_thaw});
   const auto proto = geometry::Protocol::biaxial(deg2rad(6), deg2rad(6), deg2rad(3), s.omega());
   Simulation sim(s, tiny_settled_bed(), proto);
   sim.compute_forces();
   const double tilt_end = deg2rad(3) / s.omega();
   while (sim.time() + sim.dt() < tilt_end) sim.step();
-  const std::size_t before = count_frozen(sim);
-  EXPECT_GT(static_cast<double>(before), 0.1 * static_cast<double>(sim.local_count()));
-  std::size_t fewest = before;
+  SegmentChange c;
+  c.particles = sim.local_count();
+  c.before = c.fewest = count_frozen(sim);
+  c.x_at_change = by_id(sim.particles());
   const double quarter_dwell = 0.25 * 0.004 + 10 * sim.dt();
   while (sim.time() < tilt_end + quarter_dwell + sim.dt()) {
     sim.step();
-    fewest = std::min(fewest, count_frozen(sim));
+    c.fewest = std::min(c.fewest, count_frozen(sim));
   }
-  EXPECT_EQ(fewest, 0u);
   while (sim.time() < tilt_end + 4 * 0.004) sim.step();
-  const std::size_t after = count_frozen(sim);
-  EXPECT_GT(static_cast<double>(after), 0.1 * static_cast<double>(sim.local_count()));
+  c.after = count_frozen(sim);
+  return c;
+}
+}  // namespace
+
+TEST(RigidBulk, AChangeOfSegmentThawsTheBedAndItRefreezes) {
+  // With the default segment thaw nothing is frozen at the first pass after the tilt ends; one
+  // dwell later the bulk is frozen again.
+  const SegmentChange c = through_segment_change("fidelity.bulk_segment_thaw=on");
+  EXPECT_GT(static_cast<double>(c.before), 0.1 * static_cast<double>(c.particles));
+  EXPECT_EQ(c.fewest, 0u);
+  EXPECT_GT(static_cast<double>(c.after), 0.1 * static_cast<double>(c.particles));
   std::printf("segment change: frozen %zu before, %zu fewest after, %zu four dwells later\n",
-              before, fewest, after);
+              c.before, c.fewest, c.after);
 }
 
 TEST(RigidBulk, WithoutTheSegmentThawTheBulkStaysFrozenAcrossTheChange) {
-  // The same tilt and segment change with fidelity.bulk_segment_thaw = off: the bulk frozen at the
-  // tilt's end stays frozen through the change (it thaws only by the other rules: the surface,
-  // which the bed's new motion lifts slowly at 10 rpm, a moving neighbour, a push); the particles
-  // still frozen turn with the wall. Up to the change the run is the default one bit for bit.
-  const auto run = [](const char* thaw, std::size_t& before, std::size_t& fewest,
-                      std::vector<Vec3>& x_before) {
-    const Scene s = tiny_scene({"protocol.mode=biaxial", "protocol.rpm=10", "fidelity.bulk=rigid",
-                                "fidelity.bulk_dwell=0.004", thaw});
-    const auto proto = geometry::Protocol::biaxial(deg2rad(6), deg2rad(6), deg2rad(3), s.omega());
-    Simulation sim(s, tiny_settled_bed(), proto);
-    sim.compute_forces();
-    const double tilt_end = deg2rad(3) / s.omega();
-    while (sim.time() + sim.dt() < tilt_end) sim.step();
-    before = count_frozen(sim);
-    x_before = by_id(sim.particles());
-    fewest = before;
-    while (sim.time() < tilt_end + 0.25 * 0.004 + 10 * sim.dt()) {
-      sim.step();
-      fewest = std::min(fewest, count_frozen(sim));
-    }
-  };
-  std::size_t before_on, fewest_on, before_off, fewest_off;
-  std::vector<Vec3> x_on, x_off;
-  run("fidelity.bulk_segment_thaw=on", before_on, fewest_on, x_on);
-  run("fidelity.bulk_segment_thaw=off", before_off, fewest_off, x_off);
-  ASSERT_EQ(x_on.size(), x_off.size());
-  std::size_t differ = 0;  // bitwise the same up to the change
-  for (std::size_t i = 0; i < x_on.size(); ++i)
-    differ += x_on[i].x != x_off[i].x || x_on[i].y != x_off[i].y || x_on[i].z != x_off[i].z;
+  // With fidelity.bulk_segment_thaw = off the bulk frozen at the tilt's end stays frozen through
+  // the change (it thaws only by the other rules: the surface, which the bed's new motion lifts
+  // slowly at 10 rpm, a moving neighbour, a push). Up to the change the run is the default one bit
+  // for bit.
+  const SegmentChange on = through_segment_change("fidelity.bulk_segment_thaw=on");
+  const SegmentChange off = through_segment_change("fidelity.bulk_segment_thaw=off");
+  ASSERT_EQ(on.x_at_change.size(), off.x_at_change.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < on.x_at_change.size(); ++i) {
+    const Vec3 &a = on.x_at_change[i], &b = off.x_at_change[i];
+    differ += a.x != b.x || a.y != b.y || a.z != b.z;
+  }
   EXPECT_EQ(differ, 0u);
-  EXPECT_EQ(before_on, before_off);
-  EXPECT_EQ(fewest_on, 0u);
-  EXPECT_GT(static_cast<double>(fewest_off), 0.8 * static_cast<double>(before_off));
+  EXPECT_EQ(on.before, off.before);
+  EXPECT_EQ(on.fewest, 0u);
+  EXPECT_GT(static_cast<double>(off.fewest), 0.8 * static_cast<double>(off.before));
   std::printf("segment change without its thaw: frozen %zu before, %zu fewest after (with it: 0)\n",
-              before_off, fewest_off);
+              off.before, off.fewest);
 }
 
 TEST(RigidBulk, RestartContinuesBitwise) {

@@ -11,10 +11,10 @@
 // moving particle are computed as for any pair (the frozen one acts as a rough wall grain). It
 // thaws at the next rebuild when a neighbour moves (leaves its calm distance) or the surface comes
 // within the margin, at the first rebuild of a new protocol segment (unless bulk_segment_thaw is
-// off), at a rebuild when gravity,
-// seen from the tumbler, has changed by more than bulk_thaw_gravity g since it froze (off at the
-// default 2), and at the very next step when its moving neighbours push it harder than
-// bulk_thaw_force times its weight (checked in kick_drift_rigid below).
+// off), at a rebuild when gravity, seen from the tumbler, has changed by more than
+// bulk_thaw_gravity g since it froze (off at the default 2), and at the very next step when its
+// moving neighbours push it harder than bulk_thaw_force times its weight (checked in
+// kick_drift_rigid below).
 //
 // A frozen particle's place is a function of time alone: turn(t_b -> t) x_b, from its position
 // x_b at the last rebuild (time t_b), so every rank computes the same bits for it, owner or ghost
@@ -129,7 +129,7 @@ void Simulation::update_bulk_states() {
   // below the surface goes on turning with the wall, and what the new motion sets moving thaws by
   // the other rules (its surface, a moving neighbour, the push, gravity's turn). That saves the
   // refreezing dwell after each of an iteration's six segment changes, and changes what the bed
-  // does, so it is off by default until measured (docs/accuracy.md).
+  // does, so `on` stays the default until its errors are measured (docs/accuracy.md).
   // Gravity's turn: a frozen particle's held contacts carried its weight when it froze, and still
   // do so as they were; gravity, seen from the tumbler, has since turned with the wall. Released,
   // it would accelerate relative to the wall by about g |ĝ_T(now) - ĝ_T(freeze)| (its moving
