@@ -67,7 +67,9 @@ PAPER_LARGE = 1980
 
 def displacement_groups(pts):
     """The Δψ groups of the campaigns' fields (displacement, displacement_k6, ...) with their lag
-    in periods, from the per-case collect text (';k=1,6,18;'): [(group, periods)]."""
+    in protocol periods, i.e. iterations (collect.displacement_periods), from the per-case collect
+    text (';k=1,6,18;'): [(group, iterations)]. Labels say "iterations": "periods" would read as
+    the islands' period (3 iterations for (57°, 57°)), which is the paper's unit."""
     groups = {}
     for q in pts:
         for cf in q["members"]:
@@ -89,7 +91,7 @@ def map_fields(pts):
         for sp in ("large", "small"):
             field = f"{g}/dpsi_{sp}"
             EMPTY_COUNT[field] = f"{g}/count_{sp}"
-            out.append((field, f"Δψ {sp} over {k} periods [deg]", 180 / np.pi, "magma",
+            out.append((field, f"Δψ {sp} over {k} iterations [deg]", 180 / np.pi, "magma",
                         (0.0, 180.0)))
     return out
 
@@ -853,7 +855,7 @@ def section_dpsi_contrast(R, pts):
                     m, h, n = mean_ci(x)
                     cells.append(f"{m:.2f} ± {h:.2f} ({n})" if n else "—")
                 rows.append([q["label"], k, sp] + cells)
-    R.table(["point", "lag [periods]", "species", "Δψ inside [deg]", "Δψ outside [deg]",
+    R.table(["point", "lag [iterations]", "species", "Δψ inside [deg]", "Δψ outside [deg]",
              "contrast outside − inside [deg]"], rows, "dpsi_contrast.csv")
 
 

@@ -269,7 +269,7 @@ with h5py.File(os.path.join(d, "analysis.h5"), "r") as h:
                 if wi.sum() > 0 and wo.sum() > 0:
                     vals.append(np.sum(wo * m[ok]) / wo.sum() - np.sum(wi * m[ok]) / wi.sum())
             rows = [r for r in csv.DictReader(open(os.path.join(rep, "dpsi_contrast.csv")))
-                    if r["point"].startswith("A") and r["lag [periods]"] == lag
+                    if r["point"].startswith("A") and r["lag [iterations]"] == lag
                     and r["species"] == "large"]
             if vals:
                 got = [float(r["contrast outside − inside [deg]"].split()[0]) for r in rows]
