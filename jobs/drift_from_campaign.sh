@@ -62,8 +62,9 @@ awk '{print $1, $2, $3}' "$out/cases.txt" | xargs -P "$np" -n 3 bash -c 'run_cas
 
 read -r _ _ _ tz tx < "$out/cases.txt"
 "$tumble" cm drift --merge "$out"/*/drift_grid.h5 -o "$out/drift_merged.h5" | tee "$out/summary.txt"
-islands=$dir/analysis/orbits_${tz}_${tx}.h5
-[ -f "$islands" ] || islands=""
+# The campaign's cached CM islands (tumble analyze names them orbits_TZ_TX_METHOD.h5, the KAM
+# tubes in orbits_TZ_TX_kam_METHOD.h5); none cached: the MCM computes them with the same method.
+islands=$(ls "$dir"/analysis/orbits_"${tz}"_"${tx}"_*.h5 2>/dev/null | grep -v '_kam_' | head -n 1 || true)
 for seed in 1 2 3; do
   for drift in measured synthetic none; do
     case $drift in
