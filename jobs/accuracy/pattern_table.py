@@ -19,7 +19,8 @@ only in such keys share their replicas' beds, so the differences are also given 
 (Student t on the differences);
 radial segregation reported at iterations 1..ITERATIONS; each tier's wall per iteration from its
 own runs' length, so tiers run for different numbers of iterations can share one table, and from
-the last call's rate when a case was resumed (its earlier calls print no total);
+all of a case's calls when it was stopped and resumed (their steps and wall times summed; logs
+from before stopped calls printed theirs hold only the last call's);
 --tier: the columns are the campaigns in the DIRs given, in that order, the first the reference,
 instead of OUT's tier folders (OUT is then ignored), e.g. the dynamic cases of two rigid_pattern.sh
 campaigns at different tiers: --tier standard=results/rigid_pattern/bst_small_standard
@@ -90,13 +91,16 @@ def load_tier(d, iterations, point="", absent=()):
         log = os.path.join(os.path.dirname(path), "log.txt")
         if os.path.exists(log):
             txt = open(log).read()
-            # The last call's rate (a resumed case's earlier calls printed no "done" line) times
-            # the steps of one iteration: the run's own steps and length from its header.
-            m = re.findall(r"\[run\] done: (\d+) steps in ([0-9.e+]+) s", txt)
+            # Every call's steps and wall time (a finished call's done line, a stopped call's
+            # "this call ran S steps in W s"), summed: the case's mean rate over all its calls,
+            # times the steps of one iteration (the run's own steps and length from its header).
+            # Logs from before the stopped calls said it have only the last call's done line.
+            m = re.findall(r"(?:\[run\] done:|this call ran) (\d+) steps in ([0-9.e+]+) s", txt)
             n = re.findall(r"s simulated, ([0-9.]+) iterations[,)]", txt)
             total = re.findall(r" s, (\d+) steps \(", txt)
-            if m and n and total and int(m[-1][0]) > 0:
-                c["wall"] = float(m[-1][1]) / int(m[-1][0]) * int(total[-1]) / float(n[-1])
+            steps, wall = sum(int(k[0]) for k in m), sum(float(k[1]) for k in m)
+            if n and total and steps > 0:
+                c["wall"] = wall / steps * int(total[-1]) / float(n[-1])
         cases.append(c)
     return cases
 

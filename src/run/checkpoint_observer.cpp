@@ -2,6 +2,8 @@
 
 #include <mpi.h>
 
+#include <chrono>
+#include <iomanip>
 #include <sstream>
 
 #include "base/stop_request.hpp"
@@ -45,9 +47,17 @@ void CheckpointObserver::after_step(RunState& s) {
   }
   if (due(s, step) || (rebuilt && ((ask & kLate) || stop_signal_ != 0))) write(s);
   if (stop_signal_ != 0 && rebuilt && step < s.end_step) {  // (at the end: simply done)
+    // This call's steps and wall time, as the done line of a finished call gives them, so that
+    // a run made of stopped and resumed calls can be costed from its log (pattern_table.py).
+    const double wall = std::chrono::duration<double>(Clock::now() - s.started).count();
+    const std::int64_t steps = step - s.first_step;
     std::ostringstream os;
     os << "stopped by " << signal_name(stop_signal_) << " at step " << step << " of "
-       << s.total_steps << " (t = " << s.sim.time() << " s): checkpoint written to " << path_;
+       << s.total_steps << " (t = " << s.sim.time() << " s): checkpoint written to " << path_
+       << "; this call ran " << steps << " steps in " << std::setprecision(4) << wall << " s ("
+       << std::scientific << std::setprecision(3)
+       << (wall > 0 ? static_cast<double>(steps) * static_cast<double>(s.particles) / wall : 0.0)
+       << " particle-steps/s)";
     throw StopRequest(os.str());
   }
 }

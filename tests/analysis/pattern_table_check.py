@@ -6,7 +6,8 @@ pattern correlation and its multiplicity control.
 1. One campaign whose cases are split by a swept key into two columns with *identical* maps and
    series on the same beds (replicas): every difference must be 0, the correlation's included.
    (Correlating the second column with the mean of all N reference maps, and the reference's own
-   replicas with the other N - 1, made the copy look +0.1 to +0.4 better correlated.)
+   replicas with the other N - 1, made the copy look +0.1 to +0.4 better correlated.) The wall per
+   iteration counts every call of a stopped and resumed case, not only the last.
 2. The same with one observable of the second column shifted by far more than the replicas'
    scatter (radial segregation after iteration 2) and small noise elsewhere: the
    Benjamini-Hochberg line counts exactly that one difference (both tests of it), not the others.
@@ -47,8 +48,17 @@ def write_case(out, cid, replica, params, c_l, radial):
         f.create_dataset("concentration/c_L", data=c_l)
         f.create_dataset("series/iteration", data=np.arange(0.0, ITERATIONS + 0.5, 0.5))
         f.create_dataset("series/radial_segregation", data=np.repeat(radial, 2)[:2 * ITERATIONS + 1])
+    # A run of 2000 steps made of two calls: stopped by a signal after 1000 steps in 50 + replica
+    # s, resumed and done in 150 s: (200 + replica) s over 4 iterations (the last call alone
+    # would say 75 s an iteration).
+    header = (f"[run] case: 100 particles, dt = 0.01 s, 2000 steps (20 s simulated, {ITERATIONS} iterations, "
+              "beta = 27 deg), pair loop: scalar, output in x\n")
     with open(os.path.join(d, "log.txt"), "w") as f:
-        f.write(f"[run] done: 1000 steps in {100.0 + replica} s (12.5 s simulated, {ITERATIONS} iterations)\n")
+        f.write(header)
+        f.write(f"[case] stopped by SIGUSR1 at step 1000 of 2000 (t = 10 s): checkpoint written to x; this call "
+                f"ran 1000 steps in {50.0 + replica} s (2.0e+03 particle-steps/s) after 51 s\n")
+        f.write(header)
+        f.write("[run] done: 1000 steps in 150 s (6.7e+02 particle-steps/s); results in x\n")
 
 
 def campaign(out, columns, shift=0.0, noise=0.0, seed=1, shifted=None):
@@ -89,6 +99,9 @@ def main():
           all(float(d) == 0 for d in deltas), " ".join(deltas))
     check("identical columns: every paired difference 0", all(float(d) == 0 for d in paired), " ".join(paired))
     check("identical columns: N = 3 warned", "few replicas" in text)
+    wall = next((line for line in text.splitlines() if line.startswith("| wall per iteration [s] |")), "")
+    check("wall per iteration summed over a case's stopped and finished calls (50.25 s, not the last call's 75)",
+          wall.count("| 50.2 ± 0.62 (N = 3)") == 2, wall)
     # 2. one large shift among small noise
     shifted = os.path.join(scratch, "shifted")
     campaign(shifted, [("fidelity.bulk", "dynamic"), ("fidelity.bulk", "rigid")], shift=0.2, noise=0.005)

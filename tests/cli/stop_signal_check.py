@@ -99,6 +99,10 @@ for ranks, sig in ((1, signal.SIGTERM), (2, signal.SIGUSR1)):
         at = int(f.attrs["step"])
     if at != step or not 0 < step < total:
         fail("%s: stopped at step %d, checkpoint at step %d, run of %d steps" % (name, step, at, total))
+    # The call's own cost, as a finished call's done line gives it (a fresh start: all its steps).
+    ran = said[0].split("this call ran ")[1].split() if "this call ran " in said[0] else []
+    if len(ran) < 4 or int(ran[0]) != step or ran[1:3] != ["steps", "in"] or not float(ran[3]) > 0:
+        fail("%s: expected 'this call ran %d steps in W s' with W > 0, got\n%s" % (name, step, said[0]))
     r = subprocess.run(cmd(name, ranks, ["--resume"]), capture_output=True, text=True)
     if r.returncode != 0 or "restarting from" not in r.stdout + r.stderr:
         fail("%s --resume: exit %d\n%s%s" % (name, r.returncode, r.stdout, r.stderr))
