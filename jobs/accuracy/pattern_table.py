@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Pattern observables per fidelity tier (jobs/accuracy/pattern_accuracy.sh writes the input):
-wall time per iteration, radial segregation at the end of every iteration, island enrichment,
+wall time per iteration, the rigid bulk's frozen share (mean over the run; reported, not tested),
+radial segregation at the end of every iteration, island enrichment,
 and the correlation of each replica's c_L map with the reference tier's mean map; mean ± 95% CI
 over replicas (Student t) and each tier's difference from the reference with Welch's 95% interval.
 The first tier present in the order reference, standard, fast, preview is the reference.
@@ -87,7 +88,14 @@ def load_tier(d, iterations, point="", absent=()):
             c = dict(id=cid, params=params, replica=int(f.attrs.get("replica", -1)),
                      c_L=f["concentration/c_L"][:].ravel(),
                      radial=[float(rs[np.argmin(np.abs(it - k))]) for k in range(1, iterations + 1)],
-                     enrichment=enrich.get(cid, np.nan), wall=np.nan)
+                     enrichment=enrich.get(cid, np.nan), wall=np.nan, frozen=np.nan)
+        # The rigid bulk's frozen share, the mean of the run's series (results.h5, written by
+        # every call with the whole run's series; a dynamic bulk has none).
+        res = os.path.join(os.path.dirname(path), "results.h5")
+        if os.path.exists(res):
+            with h5py.File(res, "r") as f:
+                if "series/frozen_fraction" in f:
+                    c["frozen"] = float(np.mean(f["series/frozen_fraction"][:]))
         log = os.path.join(os.path.dirname(path), "log.txt")
         if os.path.exists(log):
             txt = open(log).read()
@@ -197,7 +205,11 @@ def main():
     for t, cases in data.items():
         for k, c in enumerate(cases):
             c["corr"] = pattern_correlation(c, k, t == ref, ref_maps, ref_replicas, bool(split))
+    # Costs first, reported but not tested: the wall time (which depends on the machine and its
+    # load) and the frozen share (which only a rigid bulk has; it explains the wall time).
+    untested = ("wall per iteration [s]", "frozen share of the bed (run mean)")
     metrics = [("wall per iteration [s]", lambda c: c["wall"]),
+               ("frozen share of the bed (run mean)", lambda c: c["frozen"]),
                ("island enrichment", lambda c: c["enrichment"]),
                ("c_L pattern correlation with " + ref, lambda c: c["corr"])]
     metrics += [(f"radial segregation, N = {k + 1}", lambda c, k=k: c["radial"][k])
@@ -216,7 +228,7 @@ def main():
         for t, cases in data.items():
             v = np.array([get(c) for c in cases], float)
             s = fmt(*mean_ci(v))
-            if t != ref and np.isfinite(v).sum() and "wall" not in name:
+            if t != ref and np.isfinite(v).sum() and name not in untested:
                 va, vb = v[np.isfinite(v)], rv[np.isfinite(rv)]
                 if len(va) >= 2 and len(vb) >= 2:
                     h = welch_half_width([va.var(ddof=1)], [len(va)], [vb.var(ddof=1)], [len(vb)])[0]
