@@ -264,9 +264,19 @@ void register_campaign_analysis(CLI::App& an) {
                   "Fig. 5 bins per in-plane axis (default 0: one per large diameter)");
   cmd->add_option("--section-half-width", a->opt.section_half_width,
                   "Fig. 5 slab half-width, in large diameters");
+  cmd->add_option("--dpsi-lags", a->opt.dpsi_lags,
+                  "Figs. 6-7 from the snapshots: Delta psi over each lag (iterations, e.g. 6 18), "
+                  "summed over every start in the Fig. 8 window whose end is in it, inside and "
+                  "outside the islands (default: none; the fields' lags are the report's)");
+  cmd->add_option("--dpsi-inner", a->opt.dpsi_inner,
+                  "Delta psi of the particles with r/R >= this at the start");
   cmd->callback([a] {
     require(a->opt.islands.r > 0.15 && a->opt.islands.r < 1, "--r", "in (0.15, 1)",
             a->opt.islands.r);
+    for (const double lag : a->opt.dpsi_lags)
+      require(lag > 0 && lag <= 1000, "--dpsi-lags", "in (0, 1000] iterations", lag);
+    require(a->opt.dpsi_inner >= 0 && a->opt.dpsi_inner < 1, "--dpsi-inner", "in [0, 1)",
+            a->opt.dpsi_inner);
     require(a->opt.section_grid == 0 || (a->opt.section_grid >= 4 && a->opt.section_grid <= 1000),
             "--section-grid", "0 (one bin per large diameter) or in [4, 1000]",
             a->opt.section_grid);
@@ -344,6 +354,24 @@ void register_campaign_analysis(CLI::App& an) {
         }
       }
     }
+    for (const auto& p : points)
+      for (const auto& d : p.dpsi) {
+        if (d.contrast[1].n + d.contrast[0].n == 0) {
+          std::printf(
+              "warning: point %s: no start in the Fig. 8 window has a snapshot %g iterations "
+              "later: no Delta psi over that lag (widen --from/--to or continue the runs)\n",
+              p.point_id.c_str(), d.lag);
+          continue;
+        }
+        for (int sp = 1; sp >= 0; --sp)
+          std::printf(
+              "point %s Delta psi over %g iterations from snapshots (%d-%d starts per case), "
+              "%s: inside %.1f +- %.1f, outside %.1f +- %.1f, contrast outside - inside %+.1f "
+              "+- %.1f deg (N = %d)\n",
+              p.point_id.c_str(), d.lag, d.starts_min, d.starts_max, p.mixture.name[sp].c_str(),
+              d.inside[sp].mean, d.inside[sp].ci95, d.outside[sp].mean, d.outside[sp].ci95,
+              d.contrast[sp].mean, d.contrast[sp].ci95, d.contrast[sp].n);
+      }
     for (const auto& p : points)
       for (const auto& [qid, m] : p.enrichment_vs)
         if (qid != p.point_id)

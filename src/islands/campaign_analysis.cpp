@@ -24,6 +24,7 @@ namespace fs = std::filesystem;
 namespace {
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
+const double kDeg = 180.0 / 3.14159265358979323846;
 
 // What one finished case's fields file says about it.
 struct CaseFields {
@@ -133,6 +134,19 @@ void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMas
     ca.fates_from = iters[a];
     ca.fates_to = iters[b];
   }
+  if (have_islands)
+    for (const double lag : opt.dpsi_lags) {
+      const SnapshotDisplacement d =
+          displacement_from_snapshots(snaps, lag, iters[a], iters[b], grid, opt.dpsi_inner);
+      CaseDpsi cd;
+      cd.lag = lag;
+      cd.starts = d.starts;
+      cd.first = d.first;
+      cd.last = d.last;
+      cd.species[1] = dpsi_contrast(d.map.sum_large, d.map.count_large, p.coverage);
+      cd.species[0] = dpsi_contrast(d.map.sum_small, d.map.count_small, p.coverage);
+      ca.dpsi.push_back(cd);
+    }
   if (have_islands)
     ca.enrichment_snap =
         enrichment_from_particles(snaps.back(), mask, opt.enrichment_inner, p.mixture.mapped).value;
@@ -363,6 +377,28 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
       p.fates[k] = mean_ci95(fate_column(p.cases, k, false));
       p.fates_by_chance[k] = mean_ci95(fate_column(p.cases, k, true));
     }
+    for (std::size_t k = 0; k < opt.dpsi_lags.size(); ++k) {
+      PointDpsi pd;
+      pd.lag = opt.dpsi_lags[k];
+      pd.starts_min = std::numeric_limits<int>::max();
+      for (int sp = 0; sp < 2; ++sp) {
+        std::vector<double> in, outside, contrast;
+        for (const auto& c : p.cases) {
+          if (k >= c.dpsi.size() || c.dpsi[k].starts == 0) continue;
+          const DpsiContrast& d = c.dpsi[k].species[sp];
+          in.push_back(d.inside * kDeg);
+          outside.push_back(d.outside * kDeg);
+          contrast.push_back(d.contrast() * kDeg);
+          pd.starts_min = std::min(pd.starts_min, c.dpsi[k].starts);
+          pd.starts_max = std::max(pd.starts_max, c.dpsi[k].starts);
+        }
+        pd.inside[sp] = mean_ci95(in);
+        pd.outside[sp] = mean_ci95(outside);
+        pd.contrast[sp] = mean_ci95(contrast);
+      }
+      if (pd.contrast[1].n + pd.contrast[0].n == 0) pd.starts_min = 0;
+      if (!p.islands.empty()) p.dpsi.push_back(pd);
+    }
     if (p.light_species >= 0)
       fold_maps(light, static_cast<std::size_t>(p.grid_n) * p.grid_n, p.light_mean, p.light_ci95);
     if (!section.empty()) {
@@ -400,6 +436,50 @@ void write_section_stats(io::H5File& f, const std::string& g, const PointAnalysi
   f.set_attr(g, "island_a", static_cast<std::int64_t>(p.section_pair.first));
   f.set_attr(g, "island_b", static_cast<std::int64_t>(p.section_pair.second));
   f.set_attr(g, "half_width_m", p.section_half_width);
+}
+// Figs. 6-7 from the snapshots, one group per lag: per case (in the order of the point's
+// "cases") the starts and the inside / outside / contrast Δψ in degrees, and their statistics.
+void write_dpsi(io::H5File& f, const std::string& g, const PointAnalysis& p) {
+  f.create_group(g);
+  f.set_attr(g, "definition",
+             std::string("Delta psi [deg] over `lag` iterations from the snapshots, summed over "
+                         "every start in the Fig. 8 window whose end is in it; particles with "
+                         "r/R >= inner at the start, lab frame; inside / outside: each start "
+                         "cell's particles weighted by the share of its area inside / outside "
+                         "the islands (dpsi_snapshots.hpp)"));
+  for (std::size_t k = 0; k < p.dpsi.size(); ++k) {
+    const PointDpsi& pd = p.dpsi[k];
+    const std::string l = g + "/lag_" + short_number(pd.lag);
+    f.create_group(l);
+    f.set_attr(l, "lag", pd.lag);
+    std::vector<std::int64_t> starts;
+    std::vector<double> first, last, v[2][3];
+    for (const auto& c : p.cases) {
+      const bool has = k < c.dpsi.size();
+      starts.push_back(has ? c.dpsi[k].starts : 0);
+      first.push_back(has && c.dpsi[k].starts > 0 ? c.dpsi[k].first : kNaN);
+      last.push_back(has && c.dpsi[k].starts > 0 ? c.dpsi[k].last : kNaN);
+      for (int sp = 0; sp < 2; ++sp) {
+        const bool ok = has && c.dpsi[k].starts > 0;
+        const DpsiContrast& d = ok ? c.dpsi[k].species[sp] : DpsiContrast{kNaN, kNaN};
+        v[sp][0].push_back(d.inside * kDeg);
+        v[sp][1].push_back(d.outside * kDeg);
+        v[sp][2].push_back(d.contrast() * kDeg);
+      }
+    }
+    f.write(l + "/starts", starts);
+    f.write(l + "/first_start", first);
+    f.write(l + "/last_start", last);
+    for (int sp = 0; sp < 2; ++sp) {
+      const std::string name = sp == 1 ? "large" : "small";
+      const MeanCI* stat[3] = {&pd.inside[sp], &pd.outside[sp], &pd.contrast[sp]};
+      const char* what[3] = {"inside_", "outside_", "contrast_"};
+      for (int q = 0; q < 3; ++q) {
+        f.write(l + "/" + what[q] + name, v[sp][q]);
+        write_stat(f, l, what[q] + name, *stat[q]);
+      }
+    }
+  }
 }
 }  // namespace
 
@@ -538,6 +618,7 @@ void write_campaign_analysis(const std::string& path, const std::string& dir,
       write_stat(f, e, "enrichment", stat);
     }
     if (!p.section_mean.empty()) write_section_stats(f, g + "/section", p);
+    if (!p.dpsi.empty()) write_dpsi(f, g + "/dpsi_snapshots", p);
   }
   out.commit();
 }

@@ -18,13 +18,16 @@
 //     (57°, 57°) shows it;
 //   * Fig. 5: c_L in the plane through the tumbler centre and two islands, from the snapshots
 //     of the last half of each case (a point without islands uses the plane of the first point
-//     that has them, so the sections compare side by side), with the KAM-tube boundaries.
+//     that has them, so the sections compare side by side), with the KAM-tube boundaries;
+//   * Figs. 6-7, when lags are asked for: Δψ inside and outside the islands from the snapshots,
+//     over every start in the Fig. 8 window (dpsi_snapshots.hpp).
 #include <map>
 #include <string>
 #include <vector>
 
 #include "islands/cm_islands.hpp"
 #include "islands/cross_section.hpp"
+#include "islands/dpsi_snapshots.hpp"
 #include "islands/fates.hpp"
 #include "islands/replica_stats.hpp"
 #include "scene/mixture.hpp"
@@ -45,6 +48,18 @@ struct CampaignAnalysisOptions {
   int section_grid = 0;           // Fig. 5: bins per in-plane axis (0: one per large diameter)
   double section_half_width = 1;  // Fig. 5: slab half-width, in large diameters
   std::string islands_cache;      // where computed islands are cached ("": DIR/analysis)
+  // Figs. 6-7 from the snapshots (dpsi_snapshots.hpp): Δψ over each lag [iterations], summed
+  // over every start in the Fig. 8 window whose end is in it, inside and outside the islands.
+  std::vector<double> dpsi_lags;
+  double dpsi_inner = 0.8;  // particles with dpsi_inner <= r/R <= 1 at the start
+};
+
+// One lag's Δψ from a case's snapshots [rad], by species (index 1 the large one).
+struct CaseDpsi {
+  double lag = 0;
+  int starts = 0;              // intervals averaged (0: the window holds none)
+  double first = 0, last = 0;  // their first and last start iteration
+  DpsiContrast species[2];
 };
 
 struct CaseAnalysis {
@@ -71,6 +86,14 @@ struct CaseAnalysis {
   std::map<std::string, double> enrichment_vs;  // map enrichment against each island point's
   std::vector<double> section;                  // Fig. 5 c_L per bin (NaN: nothing binned)
   int section_snapshots = 0;                    // configurations averaged into it
+  std::vector<CaseDpsi> dpsi;                   // per CampaignAnalysisOptions::dpsi_lags
+};
+
+// One lag's Δψ over the cases [deg], by species (index 1 the large one).
+struct PointDpsi {
+  double lag = 0;
+  int starts_min = 0, starts_max = 0;  // per case
+  MeanCI inside[2], outside[2], contrast[2];
 };
 
 struct PointAnalysis {
@@ -103,6 +126,7 @@ struct PointAnalysis {
   double section_half_width = 0;  // [m]
   std::vector<double> section_mean, section_ci95;
   std::vector<TubeCrossing> section_tubes;
+  std::vector<PointDpsi> dpsi;  // per CampaignAnalysisOptions::dpsi_lags (points with islands)
 };
 
 // Reads every DIR/cases/*/fields.h5 (the finished cases), groups them by parameter point.

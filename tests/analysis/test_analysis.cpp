@@ -1,5 +1,6 @@
 // Analyses of issue 7 on constructed inputs with known answers: particles placed in and out of a
-// polygon island, classified trajectories, a rigid rotation's Δψ, a plane through two islands,
+// polygon island, classified trajectories, a rigid rotation's Δψ (from maps and from a series of
+// snapshots), a plane through two islands,
 // the lighter species of a density-bidisperse bed, and replica confidence intervals.
 #include <gtest/gtest.h>
 
@@ -11,7 +12,9 @@
 #include "analysis/displacement.hpp"
 #include "analysis/light_concentration.hpp"
 #include "analysis/radial_segregation.hpp"
+#include "base/error.hpp"
 #include "islands/cross_section.hpp"
+#include "islands/dpsi_snapshots.hpp"
 #include "islands/enrichment.hpp"
 #include "islands/fates.hpp"
 #include "islands/island_mask.hpp"
@@ -289,6 +292,72 @@ TEST(Displacement, RigidRotationGivesTheRotationAngle) {
       EXPECT_NEAR(v, theta, 1e-13);
     }
   EXPECT_GE(visited, 4);
+}
+
+// Snapshots at iterations 0 ... 7 (6 written twice, as a run's last snapshot is by the next
+// call): the large particles on a great circle turn by alpha about x each iteration, the small
+// ones stay. Over a lag of L iterations every start cell's large particles moved alpha L, the
+// small ones 0; the starts are those of the window whose end is in it, the repeat counted once.
+TEST(DpsiSnapshots, StartsInTheWindowAndTheRotationAngle) {
+  const double R = 0.02, alpha = 0.1;
+  const ta::LambertGrid grid(8);
+  std::vector<ta::SnapshotData> snaps;
+  for (int k = 0; k <= 7; ++k) {
+    ta::SnapshotData s = empty_snapshot(R);
+    s.iteration = k + 1e-7 * (k % 2 ? 1 : -1);  // within a step of the whole iteration
+    s.path = "snap_" + std::to_string(k);
+    const tumble::Mat3 turn = tumble::Mat3::rotation({1, 0, 0}, alpha * k);
+    for (int i = 0; i < 40; ++i) {
+      const double phi = kPi + kPi * (i + 0.5) / 40;  // the lower half of the circle at k = 0
+      add(s, i, 1, turn * (Vec3{0, std::sin(phi), std::cos(phi)} * (0.95 * R)));
+      add(s, 40 + i, 0, Vec3{0.3, std::sin(phi), std::cos(phi)} * (0.9 * R));
+    }
+    snaps.push_back(s);
+    if (k == 6) snaps.push_back(s), snaps.back().iteration += 4e-7;
+  }
+  const ta::SnapshotDisplacement two = ta::displacement_from_snapshots(snaps, 2, 1, 5, grid, 0.8);
+  EXPECT_EQ(two.starts, 3);  // 1 -> 3, 2 -> 4, 3 -> 5
+  EXPECT_NEAR(two.first, 1, 1e-6);
+  EXPECT_NEAR(two.last, 3, 1e-6);
+  int large = 0, small = 0;
+  for (double v : two.map.mean_large())
+    if (!std::isnan(v)) {
+      ++large;
+      EXPECT_NEAR(v, 2 * alpha, 1e-12);
+    }
+  for (double v : two.map.mean_small())
+    if (!std::isnan(v)) {
+      ++small;
+      EXPECT_NEAR(v, 0, 1e-12);
+    }
+  EXPECT_GE(large, 3);
+  EXPECT_GE(small, 3);
+  // Lag 1 over 0 ... 7: starts 0 ... 6, the repeated 6 once.
+  EXPECT_EQ(ta::displacement_from_snapshots(snaps, 1, 0, 7, grid, 0.8).starts, 7);
+  // A lag longer than the window: none.
+  EXPECT_EQ(ta::displacement_from_snapshots(snaps, 8, 0, 7, grid, 0.8).starts, 0);
+  // No partner for the starts whose end is missing: without snapshot 4, lag 2 over 0 ... 7
+  // keeps 0 -> 2, 1 -> 3, 3 -> 5, 5 -> 7 (and 6 -> 8 is past the window).
+  auto gap = snaps;
+  gap.erase(gap.begin() + 4);
+  EXPECT_EQ(ta::displacement_from_snapshots(gap, 2, 0, 7, grid, 0.8).starts, 4);
+  // Snapshots of different particles are refused, not compared.
+  auto other = snaps;
+  other[3].id[0] = 1000;
+  EXPECT_THROW(ta::displacement_from_snapshots(other, 2, 0, 7, grid, 0.8),
+               tumble::CorruptInputError);
+}
+
+// The inside / outside means weight each cell's particles by its area share: cell 0 (mean 1,
+// inside), cell 1 (mean 3, outside), cell 2 (mean 2, half inside), cell 3 (no particle).
+TEST(DpsiSnapshots, ContrastWeightsCellsByTheirIslandShare) {
+  const std::vector<double> sum = {2, 9, 4, 0}, count = {2, 3, 2, 0}, cover = {1, 0, 0.5, 1};
+  const ta::DpsiContrast c = ta::dpsi_contrast(sum, count, cover);
+  EXPECT_NEAR(c.inside, (2 + 0.5 * 4) / (2 + 0.5 * 2), 1e-15);
+  EXPECT_NEAR(c.outside, (9 + 0.5 * 4) / (3 + 0.5 * 2), 1e-15);
+  EXPECT_NEAR(c.contrast(), 11.0 / 4 - 4.0 / 3, 1e-15);
+  // No cell inside: the inside mean is undefined, not 0.
+  EXPECT_TRUE(std::isnan(ta::dpsi_contrast(sum, count, {0, 0, 0, 0}).inside));
 }
 
 TEST(CrossSection, PlaneThroughTwoDirectionsBinsTheSlab) {
