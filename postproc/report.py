@@ -857,6 +857,35 @@ def section_dpsi_contrast(R, pts):
                 rows.append([q["label"], k, sp] + cells)
     R.table(["point", "lag [iterations]", "species", "Δψ inside [deg]", "Δψ outside [deg]",
              "contrast outside − inside [deg]"], rows, "dpsi_contrast.csv")
+    section_dpsi_snapshots(R, have)
+
+
+def section_dpsi_snapshots(R, pts):
+    """The same contrast from the snapshots (`tumble analyze campaign --dpsi-lags`): any lag,
+    every start of the Fig. 8 window, including starts past the fields' window."""
+    rows = []
+    for q in pts:
+        for d in q["an"].get("dpsi_snapshots", []):
+            ok = np.asarray(d["starts"]) > 0
+            if not ok.any():
+                continue
+            starts = np.asarray(d["starts"])[ok]
+            first, last = np.nanmin(d["first"]), np.nanmax(d["last"])
+            for sp in ("large", "small"):
+                cells = []
+                for w in ("inside", "outside", "contrast"):
+                    m, h, n = mean_ci(np.asarray(d[f"{w}_{sp}"], float)[ok])
+                    cells.append(f"{m:.2f} ± {h:.2f} ({n})" if n else "—")
+                rows.append([q["label"], f"{d['lag']:g}", f"{starts.min()}-{starts.max()}",
+                             f"{first:.3g}-{last:.3g}", sp] + cells)
+    if not rows:
+        return
+    R.h("<p>From the snapshots (<code>tumble analyze campaign --dpsi-lags</code>): the same "
+        "contrast for the lags asked for, summed over every start N of the Fig. 8 window with a "
+        "snapshot at N + lag in it, per replica; mean ± Student 95% half-width (N).</p>")
+    R.table(["point", "lag [iterations]", "starts per case", "start iterations", "species",
+             "Δψ inside [deg]", "Δψ outside [deg]", "contrast outside − inside [deg]"], rows,
+            "dpsi_snapshots.csv")
 
 
 def section_renders(R, pts):

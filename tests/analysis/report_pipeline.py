@@ -12,6 +12,8 @@ campaign` and postproc/report.py, and asserts, with h5py/numpy only:
     file records; a (68°,68°) point with no islands and NaN enrichment;
   * Fig. 8 counts (when snapshots were kept): the four classes sum to the large particles of
     the snapshots;
+  * `--dpsi-lags`: each (57°,57°) case's Δψ inside / outside the islands from its snapshots
+    equal to a numpy recomputation (starts, cells, angles, weighting);
   * every point's enrichment against the (57°,57°) islands equal to a recomputation from each
     case's map; the Fig. 5 section of every point (cut by the (57°,57°) plane) equal to a numpy
     binning of the snapshots of each case's last half;
@@ -73,6 +75,64 @@ def check_map_enrichment(d, ids, values, cover, what):
         mine = (np.sum(cover[ok] * vl[ok]) / np.sum(vl[ok])) / (cover[ok].sum() / len(vl))
         if not abs(mine - e) <= 1e-12 * abs(mine):
             fail(f"case {cid}: {what} {e} vs recomputed {mine}")
+
+
+def check_dpsi_snapshots(d, g):
+    """`--dpsi-lags`: each case's Δψ inside / outside the islands recomputed with numpy from its
+    snapshots (lab directions, 0.8 <= r/R <= 1 at the start, the report's Lambert cells and the
+    file's coverage), starts chosen by the rule of dpsi_snapshots.hpp, to 1e-9 degrees."""
+    sys.path.insert(0, os.path.join(SRC, "postproc"))
+    from report_mixing import cell_of_direction
+    lag_groups = [l for l in g["dpsi_snapshots"].values() if abs(l.attrs["lag"] - DPSI_LAG) < 1e-12]
+    if len(lag_groups) != 1:
+        fail(f"analysis.h5: no dpsi_snapshots group of lag {DPSI_LAG}")
+    lg, cover, n = lag_groups[0], g["coverage"][:].ravel(), int(g.attrs["grid_n"])
+    slack = 1e-3
+    for j, cid in enumerate(text(g.attrs["cases"]).split("\n")):
+        frm, to = g["fates/from_iteration"][j], g["fates/to_iteration"][j]
+        snaps = []
+        for path in sorted(glob.glob(os.path.join(d, "cases", cid, "snap_*.h5"))):
+            with h5py.File(path, "r") as s:
+                scene = text(s.attrs["scene"])
+                R = float(re.search(r"^tumbler.radius = (.*)$", scene, re.M).group(1))
+                snaps.append((float(s.attrs["iteration"]), s["x"][:], s["species"][:], R))
+        sums = np.zeros((2, n * n))
+        counts = np.zeros((2, n * n))
+        starts = 0
+        for k, (it, x, sp, R) in enumerate(snaps):
+            if k and abs(it - snaps[k - 1][0]) < slack or it < frm - slack or it + DPSI_LAG > to + slack:
+                continue
+            ends = [e for e in snaps[k + 1:] if e[0] >= it + DPSI_LAG - slack]
+            if not ends or abs(ends[0][0] - (it + DPSI_LAG)) > slack:
+                continue
+            r = np.linalg.norm(x, axis=1)
+            u0, u1 = x / r[:, None], ends[0][1] / np.linalg.norm(ends[0][1], axis=1)[:, None]
+            cell = np.where((r >= 0.8 * R) & (r <= R), cell_of_direction(u0, n), -1)
+            ang = np.arctan2(np.linalg.norm(np.cross(u0, u1), axis=1), np.sum(u0 * u1, axis=1))
+            for s_ in (0, 1):
+                k_ = (cell >= 0) & (sp == s_)
+                sums[s_] += np.bincount(cell[k_], weights=ang[k_], minlength=n * n)
+                counts[s_] += np.bincount(cell[k_], minlength=n * n)
+            starts += 1
+        if starts != lg["starts"][j]:
+            fail(f"case {cid}: Δψ from snapshots over {starts} starts here, {lg['starts'][j]} in analysis.h5")
+        compared = []
+        for s_, name in ((1, "large"), (0, "small")):
+            ok = counts[s_] > 0
+            w_in, w_out = (cover * counts[s_])[ok], ((1 - cover) * counts[s_])[ok]
+            if starts == 0 or w_in.sum() <= 0 or w_out.sum() <= 0:
+                continue
+            inside = np.sum((cover * sums[s_])[ok]) / w_in.sum() * 180 / np.pi
+            outside = np.sum(((1 - cover) * sums[s_])[ok]) / w_out.sum() * 180 / np.pi
+            got = (lg["inside_" + name][j], lg["outside_" + name][j])
+            if abs(got[0] - inside) > 1e-9 or abs(got[1] - outside) > 1e-9:
+                fail(f"case {cid}: Δψ {name} inside/outside {got} in analysis.h5, {inside}, {outside} "
+                     "recomputed from the snapshots")
+            compared.append(f"{name} {inside:.4f} / {outside:.4f} deg")
+        if not compared:
+            fail(f"case {cid}: no Δψ from the snapshots to compare (no start, or no side with particles)")
+        print(f"case {cid}: Δψ over {DPSI_LAG} iterations from {starts} snapshot starts, inside / "
+              f"outside = numpy's: " + ", ".join(compared))
 
 
 def check_cross_enrichment(d, pts, ref):
@@ -166,7 +226,8 @@ else:
         cmd.append("--oversubscribe")
     run(cmd + [a.tumble, "campaign", a.campaign, "--output", d, "--quiet"])
 
-t_an = run([a.tumble, "analyze", "campaign", d]
+DPSI_LAG = 0.002  # iterations: the snapshots' spacing in this campaign (t = 0, 0.025 s, end)
+t_an = run([a.tumble, "analyze", "campaign", d, "--dpsi-lags", str(DPSI_LAG)]
            + (["--islands-cache", a.islands_cache] if a.islands_cache else []))
 with h5py.File(os.path.join(d, "analysis.h5"), "r") as f:
     pts = {pid: g for pid, g in f["points"].items()}
@@ -213,6 +274,8 @@ with h5py.File(os.path.join(d, "analysis.h5"), "r") as f:
             if g.attrs["n_islands"] != 0 or np.isfinite(g["enrichment_map"][:]).any():
                 fail("(68, 68) should have no islands and undefined enrichment")
     check_cross_enrichment(d, pts, with_islands[0])
+    for g in with_islands:
+        check_dpsi_snapshots(d, g)
     if glob.glob(os.path.join(d, "cases", "*", "snap_*.h5")):
         check_sections(d, pts, with_islands[0])
     elif any("section" in g for g in pts.values()):
