@@ -338,6 +338,20 @@ void register_campaign_analysis(CLI::App& an) {
           p.point_id.c_str(), f[0].n, f[0].mean, f[0].ci95, c[0].mean, f[4].mean, f[4].ci95,
           c[4].mean, f[1].mean, f[1].ci95, c[1].mean, f[2].mean, f[2].ci95, c[2].mean, f[3].mean,
           f[3].ci95, c[3].mean);
+      // A window asked for that a case's snapshots do not reach (a shorter run, a continuation
+      // not joined) is compared at the nearest snapshots instead: say so, per case.
+      for (const auto& cs : p.cases) {
+        if (!cs.has_fates) continue;
+        const bool from_off =
+            a->opt.fates_from >= 0 && std::fabs(cs.fates_from - a->opt.fates_from) > 1e-3;
+        const bool to_off = a->opt.fates_to >= 0 && std::fabs(cs.fates_to - a->opt.fates_to) > 1e-3;
+        if (from_off || to_off)
+          std::printf(
+              "warning: point %s case %s: no snapshot at the window's %s (%g); its Fig. 8 and "
+              "Delta psi window is %g -> %g, the nearest snapshots\n",
+              p.point_id.c_str(), cs.case_id.c_str(), from_off ? "start" : "end",
+              from_off ? a->opt.fates_from : a->opt.fates_to, cs.fates_from, cs.fates_to);
+      }
       // "The same island" holds only over whole periods: a period-3 island sits elsewhere after
       // 1 or 2 iterations, and its particles would be counted as switched.
       for (const auto& cs : p.cases) {

@@ -12,6 +12,7 @@ campaign` and postproc/report.py, and asserts, with h5py/numpy only:
     file records; a (68°,68°) point with no islands and NaN enrichment;
   * Fig. 8 counts (when snapshots were kept): the four classes sum to the large particles of
     the snapshots;
+  * a Fig. 8 window end past the snapshots warned about for each case;
   * `--dpsi-lags`: each (57°,57°) case's Δψ inside / outside the islands from its snapshots
     equal to a numpy recomputation (starts, cells, angles, weighting);
   * every point's enrichment against the (57°,57°) islands equal to a recomputation from each
@@ -229,6 +230,15 @@ else:
 DPSI_LAG = 0.002  # iterations: the snapshots' spacing in this campaign (t = 0, 0.025 s, end)
 t_an = run([a.tumble, "analyze", "campaign", d, "--dpsi-lags", str(DPSI_LAG)]
            + (["--islands-cache", a.islands_cache] if a.islands_cache else []))
+# A window end past every case's last snapshot: each case with fates is compared at its last
+# snapshot instead, and the analysis says so per case (to a file of its own, not analysis.h5).
+r = subprocess.run([a.tumble, "analyze", "campaign", d, "--to", "1", "-o", os.path.join(d, "late.h5")]
+                   + (["--islands-cache", a.islands_cache] if a.islands_cache else []),
+                   capture_output=True, text=True)
+late = re.findall(r"warning: point \S+ case (\S+): no snapshot at the window's end \(1\)", r.stdout)
+if r.returncode != 0 or not late:
+    fail(f"--to 1 past the snapshots: exit {r.returncode}, no per-case warning\n{r.stdout[-2000:]}")
+print(f"--to 1 past the snapshots: {len(late)} cases warned")
 with h5py.File(os.path.join(d, "analysis.h5"), "r") as f:
     pts = {pid: g for pid, g in f["points"].items()}
     with_islands = [g for g in pts.values() if g.attrs["theta_z"] == 57 and g.attrs["theta_x"] == 57]
