@@ -823,6 +823,12 @@ def dpsi_contrast(q, group, species):
     return out
 
 
+def dpsi_cell(values):
+    """'m ± h (N)' of the finite per-replica values [deg], '—' without any (tables 3c)."""
+    m, h, n = mean_ci(np.asarray(values, float))
+    return f"{m:.2f} ± {h:.2f} ({n})" if n else "—"
+
+
 def section_dpsi_contrast(R, pts):
     """Yu 2022 Figs. 6-7: particles caught in period-p islands come back after p iterations, so
     their Δψ over whole periods is small; the contrast outside − inside says how much."""
@@ -848,13 +854,7 @@ def section_dpsi_contrast(R, pts):
                 if not v:
                     continue
                 v = np.array(v, float)
-                cells = []
-                for col in range(3):
-                    x = v[:, col]
-                    x = x[np.isfinite(x)]
-                    m, h, n = mean_ci(x)
-                    cells.append(f"{m:.2f} ± {h:.2f} ({n})" if n else "—")
-                rows.append([q["label"], k, sp] + cells)
+                rows.append([q["label"], k, sp] + [dpsi_cell(v[:, col]) for col in range(3)])
     R.table(["point", "lag [iterations]", "species", "Δψ inside [deg]", "Δψ outside [deg]",
              "contrast outside − inside [deg]"], rows, "dpsi_contrast.csv")
     section_dpsi_snapshots(R, have)
@@ -872,10 +872,8 @@ def section_dpsi_snapshots(R, pts):
             starts = np.asarray(d["starts"])[ok]
             first, last = np.nanmin(d["first"]), np.nanmax(d["last"])
             for sp in ("large", "small"):
-                cells = []
-                for w in ("inside", "outside", "contrast"):
-                    m, h, n = mean_ci(np.asarray(d[f"{w}_{sp}"], float)[ok])
-                    cells.append(f"{m:.2f} ± {h:.2f} ({n})" if n else "—")
+                cells = [dpsi_cell(np.asarray(d[f"{w}_{sp}"], float)[ok])
+                         for w in ("inside", "outside", "contrast")]
                 rows.append([q["label"], f"{d['lag']:g}", f"{starts.min()}-{starts.max()}",
                              f"{first:.3g}-{last:.3g}", sp] + cells)
     if not rows:
