@@ -22,6 +22,24 @@ constexpr int kTagResult = 4101;  // group leader -> rank 0: the outcome of a ca
 constexpr int kTagAssign = 4102;  // rank 0 -> every rank of a group: an Assignment, or "stop"
 constexpr int kTagGroup = 4103;   // MPI_Comm_create_group of a case's ranks
 constexpr auto kPoll = std::chrono::microseconds(200);
+// A rank that waits long (an idle group for the rest of a campaign, a barrier behind a long case)
+// polls ever less often, up to every kPollMax: at a steady 200 us an idle rank took ~6% of a core
+// (a 1-case campaign on 2 ranks) and half a core beside two busy processes; 10 ms delays a
+// case's start by at most that, against cases of seconds to hours.
+constexpr auto kPollMax = std::chrono::microseconds(10000);
+
+// Sleeps kPoll, then twice as long each time, up to kPollMax.
+class Backoff {
+ public:
+  void sleep() {
+    std::this_thread::sleep_for(wait_);
+    wait_ = std::min(wait_ * 2, kPollMax);
+  }
+  void reset() { wait_ = kPoll; }
+
+ private:
+  std::chrono::microseconds wait_ = kPoll;
+};
 
 double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -68,10 +86,11 @@ std::string recv_string(int source, int tag, MPI_Comm comm, int* from = nullptr)
 // Waits for a message by polling with sleeps, then receives it.
 std::string recv_string_sleeping(int source, int tag, MPI_Comm comm) {
   int flag = 0;
+  Backoff backoff;
   while (true) {
     MPI_Iprobe(source, tag, comm, &flag, MPI_STATUS_IGNORE);
     if (flag) return recv_string(source, tag, comm);
-    std::this_thread::sleep_for(kPoll);
+    backoff.sleep();
   }
 }
 
@@ -153,15 +172,17 @@ class Coordinator {
   }
 
   ScheduleStats run() {
+    Backoff backoff;  // rank 0 without a case of its own waits for the others' results
     while (true) {
       pump();
       if (local_pending_) {
         local_pending_ = false;
         run_local();
+        backoff.reset();
         continue;
       }
       if (book_.idle()) break;
-      std::this_thread::sleep_for(kPoll);
+      backoff.sleep();
     }
     for (int r = 1; r < pool_.size(); ++r) outbox_.send("stop", r, kTagAssign);
     outbox_.drain();
@@ -285,7 +306,8 @@ void sleeping_barrier(MPI_Comm comm) {
   MPI_Request req;
   MPI_Ibarrier(comm, &req);
   int flag = 0;
-  while (MPI_Test(&req, &flag, MPI_STATUS_IGNORE), !flag) std::this_thread::sleep_for(kPoll);
+  Backoff backoff;
+  while (MPI_Test(&req, &flag, MPI_STATUS_IGNORE), !flag) backoff.sleep();
 }
 
 ScheduleStats schedule(const CaseContext& ctx, MPI_Comm world, const ScheduleInput& in) {
