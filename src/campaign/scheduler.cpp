@@ -24,9 +24,10 @@ constexpr int kTagGroup = 4103;   // MPI_Comm_create_group of a case's ranks
 constexpr auto kPoll = std::chrono::microseconds(200);
 // A rank that waits long (an idle group for the rest of a campaign, a barrier behind a long case)
 // polls ever less often, up to every kPollMax: at a steady 200 us an idle rank took ~6% of a core
-// (a 1-case campaign on 2 ranks) and half a core beside two busy processes; 10 ms delays a
-// case's start by at most that, against cases of seconds to hours.
-constexpr auto kPollMax = std::chrono::microseconds(10000);
+// (a 1-case campaign on 2 ranks) and half a core beside two busy processes. 2 ms, not more: with
+// 10 ms the 1,000 trivial cases of jobs/bench/bench_campaign_overhead.sh left the ranks idle
+// 1.0-1.3% of the loop instead of 0.6-0.7% (results noticed up to 10 ms late).
+constexpr auto kPollMax = std::chrono::microseconds(2000);
 
 // Sleeps kPoll, then twice as long each time, up to kPollMax.
 class Backoff {
