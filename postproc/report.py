@@ -559,18 +559,19 @@ def case_scalars(q):
         for f in FATES:
             v = an["fates"][f][j] if j is not None else -1
             s[f] = float(v) if v >= 0 else np.nan
+        s["repose tilt β [deg]"] = fi.case_repose(cf)
         out.append(s)
     return out
 
 
 SCALARS = ["enrichment (map)", "enrichment (last snapshot)", "enrichment (window snapshots)",
            "shell c_L", "mean Δψ large [deg]", "mean Δψ small [deg]", "final mixing index",
-           "final radial segregation"]
+           "final radial segregation", "repose tilt β [deg]"]
 BOUNDS = {"enrichment (map)": (0.0, np.inf), "enrichment (last snapshot)": (0.0, np.inf),
           "enrichment (window snapshots)": (0.0, np.inf),
           "shell c_L": (0.0, 1.0), "mean Δψ large [deg]": (0.0, 180.0),
           "mean Δψ small [deg]": (0.0, 180.0), "final mixing index": (0.0, 1.0),
-          "final radial segregation": (-1.0, 1.0)}
+          "final radial segregation": (-1.0, 1.0), "repose tilt β [deg]": (0.0, 90.0)}
 
 
 def shell_inner(cf):
@@ -618,7 +619,10 @@ def section_scalars(R, pts, findings):
         "of segregation of the shell map, 0 = even, 1 = segregated) is compared with its value "
         "for a <b>randomly mixed bed of the same particles</b> (species shuffled among the "
         "positions of the last snapshot's shell, 200 shuffles; postproc/report_mixing.py): "
-        "with a few particles per cell a random bed is far from 0.</p>")
+        "with a few particles per cell a random bed is far from 0. The repose tilt β is the "
+        "one each case's bed was tilted to (measured on the bed unless the campaign set it); "
+        "the Findings warn when points differ in it by more than "
+        f"{fi.TILT_TOL_DEG:g}°.</p>")
     per_case, rows = [], []
     for q in pts:
         sc = case_scalars(q)
@@ -953,6 +957,9 @@ def section_findings(camps, pts, findings):
         pc = fi.pipeline_check(ctx)
         if pc:
             out.append(f'<p class="warn">{pc}</p>')
+    tilt = fi.tilt_spread_warning(pts)
+    if tilt:
+        out.append(f'<p class="warn">{tilt}</p>')
     sentences, csv_rows = fi.enrichment_sentences(pts)
     items = sentences + findings
     if not items:

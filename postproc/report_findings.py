@@ -8,7 +8,12 @@ Rules the sentences follow:
 * a tumbler with R/d_large < PATTERN_MIN_RD, or fewer than PATTERN_MIN_ITERATIONS protocol
   iterations, is called a pipeline check: no island pattern is expected there (Yu 2022 sees
   patterns at R/d_large = 17.5 after 3-6 iterations; the smallest tumbler in which this project
-  measured one is bst_small, R/d_large = 8.75, docs/report.md Sec. 5b)."""
+  measured one is bst_small, R/d_large = 8.75, docs/report.md Sec. 5b);
+* points whose beds were tilted to repose angles more than TILT_TOL_DEG apart are named in a
+  warning: the tilt sets where the flowing layer is cut, and Fig. 8's persistent count was
+  estimated ~20% higher (+4.8 +- 4.1 particles) at beds' measured tilts than at 27 deg, under 1
+  degree away (docs/validation.md, "A replication with four new beds"), so part of a
+  difference between such points may be the tilt's."""
 import html
 import re
 import tomllib
@@ -23,6 +28,7 @@ else:  # run from postproc/report.py as a file: its directory is on sys.path
 PATTERN_MIN_RD = 8.0
 PATTERN_MIN_ITERATIONS = 3
 ALPHA = 0.05
+TILT_TOL_DEG = 0.3
 
 
 def _scene(cf):
@@ -38,6 +44,42 @@ def _get(d, dotted, default=None):
             return default
         d = d[k]
     return d
+
+
+def case_repose(cf):
+    """The repose tilt beta [deg] a case ran with: its scene records the resolved value
+    (protocol.repose, measured on its bed or given); NaN if the file predates that."""
+    v = _get(_scene(cf), "protocol.repose")
+    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else np.nan
+
+
+def point_repose(q):
+    """Mean, min and max of the repose tilt over a point's cases (NaN where none is known)."""
+    b = np.array([case_repose(cf) for cf in q["members"]], float)
+    b = b[np.isfinite(b)]
+    return (float(b.mean()), float(b.min()), float(b.max())) if b.size else (np.nan,) * 3
+
+
+def tilt_spread_warning(pts, tol=TILT_TOL_DEG):
+    """A warning (HTML) when the points' mean repose tilts span more than tol degrees, naming
+    each point's tilt; None when they agree or fewer than two points know theirs."""
+    known = [(q, point_repose(q)) for q in pts]
+    known = [(q, r) for q, r in known if np.isfinite(r[0])]
+    if len(known) < 2:
+        return None
+    means = [r[0] for _, r in known]
+    spread = max(means) - min(means)
+    if spread <= tol:
+        return None
+    each = "; ".join(f"{html.escape(q['short'])} {r[0]:.2f}° ({r[1]:.2f}–{r[2]:.2f})"
+                     for q, r in known)
+    return (f"<b>Warning: the points were tilted to repose angles {spread:.2f}° apart</b> "
+            f"(mean β per point, range over its cases: {each}). The tilt sets where the "
+            f"flowing layer is cut; Fig. 8's persistent count was estimated ~20% higher at beds' "
+            f"measured tilts than at 27°, under 1° away (docs/validation.md), so a difference "
+            f"between these points may be partly the tilt's. "
+            f"To compare at one tilt, set <code>protocol.repose</code> to a number in the "
+            f"campaign's overrides.")
 
 
 def campaign_context(c, pts):

@@ -1,7 +1,7 @@
 """The report's statistics (postproc/report_stats.py) against closed forms and hand-computed
 examples.
 
-  PYTHONPATH=SOURCE_ROOT /usr/bin/python3 report_stats_check.py [stats|bounded|fdr|cells]
+  PYTHONPATH=SOURCE_ROOT /usr/bin/python3 report_stats_check.py [stats|bounded|fdr|cells|tilt]
 
   stats    Student t quantiles (scipy) and Welch's half-width of a difference of two means;
   bounded  intervals of bounded quantities (logit / log scale): closed forms, never outside the
@@ -11,7 +11,9 @@ examples.
            the rate of any false discovery over 144 null cells;
   cells    the difference maps' per-cell test: Welch's p equal to scipy's ttest_ind on the
            replicas, and the cells excluded from testing (empty in both, < 2 replicas, no
-           variance) neither significant nor counted in the number of tests.
+           variance) neither significant nor counted in the number of tests;
+  tilt     the Findings' warning when points were tilted to repose angles more than 0.3 deg
+           apart (postproc/report_findings.py), on constructed points.
 No argument: all groups. ctest runs each group as its own test (tests/analysis/CMakeLists.txt).
 """
 import math
@@ -236,7 +238,40 @@ def group_cells():
     return good
 
 
-GROUPS = dict(stats=group_stats, bounded=group_bounded, fdr=group_fdr, cells=group_cells)
+def group_tilt():
+    """The Findings' tilt warning (report_findings.tilt_spread_warning) on constructed points:
+    each case's scene records the resolved protocol.repose."""
+    from postproc import report_findings as fi
+
+    def point(name, betas):
+        members = [dict(scene=(f"[protocol]\nrepose = {b!r}\n" if b is not None else
+                               "[protocol]\nrpm = 3.0\n")) for b in betas]
+        return dict(short=name, members=members)
+
+    good = []
+    a, b = point("A1 (57,57)", [26.4, 26.6]), point("A2 (57,57) beta27", [27.0, 27.0])
+    good.append(check("case_repose reads the scene's protocol.repose",
+                      fi.case_repose(a["members"][0]), 26.4, 0.0))
+    good.append(check("case_repose is NaN without one", fi.case_repose(
+        point("x", [None])["members"][0]), math.nan, 0.0))
+    w = fi.tilt_spread_warning([a, b])
+    good.append(truth("0.50 deg apart (> 0.3): a warning naming both points and the spread",
+                      w is not None and "0.50° apart" in w and "A1 (57,57) 26.50°" in w
+                      and "(26.40–26.60)" in w and "A2 (57,57) beta27 27.00°" in w, str(w)))
+    near = point("A3", [26.75, 26.85])
+    good.append(truth("0.20 deg apart: no warning", fi.tilt_spread_warning([near, b]) is None))
+    good.append(truth("the widest pair counts: 0.20 and 0.30 apart from the middle, 0.50 in all",
+                      fi.tilt_spread_warning([a, near, b]) is not None))
+    old = point("B1", [None, None])
+    good.append(truth("a point whose files predate the resolved tilt is left out (no warning "
+                      "from one known point)", fi.tilt_spread_warning([old, b]) is None))
+    good.append(truth("a string (\"measured\", unresolved) is not read as a tilt",
+                      math.isnan(fi.case_repose(dict(scene='[protocol]\nrepose = "measured"\n')))))
+    return good
+
+
+GROUPS = dict(stats=group_stats, bounded=group_bounded, fdr=group_fdr, cells=group_cells,
+              tilt=group_tilt)
 which = sys.argv[1:] or list(GROUPS)
 results = []
 for g in which:
