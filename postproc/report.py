@@ -801,32 +801,6 @@ def section_fates(R, pts):
                            "coloured by fate, with the CM islands (black), one case per point.")
 
 
-def dpsi_contrast(q, group, species):
-    """Per case of q: mean Δψ [deg] of the particles that started outside the islands minus that
-    of those that started inside, each cell weighted by its particle count times the share of
-    its area outside (inside) the islands. NaN where a side holds no particle."""
-    cov = (q["an"] or {}).get("coverage")
-    out = []
-    if cov is None:
-        return out
-    cov = np.asarray(cov, float).ravel()
-    for cf in q["members"]:
-        d = cf["data"]
-        m, c = d.get(f"{group}/dpsi_{species}"), d.get(f"{group}/count_{species}")
-        if m is None or c is None or np.size(m) != cov.size:
-            continue
-        m, c = np.asarray(m, float).ravel() * 180 / np.pi, np.asarray(c, float).ravel()
-        ok = np.isfinite(m) & (c > 0)
-        w_in, w_out = (c * cov)[ok], (c * (1 - cov))[ok]
-        if w_in.sum() <= 0 or w_out.sum() <= 0:
-            out.append((np.nan, np.nan, np.nan))
-            continue
-        inside = float(np.sum(w_in * m[ok]) / w_in.sum())
-        outside = float(np.sum(w_out * m[ok]) / w_out.sum())
-        out.append((inside, outside, outside - inside))
-    return out
-
-
 def dpsi_cell(values):
     """'m ± h (N)' of the finite per-replica values [deg], '—' without any (tables 3c)."""
     m, h, n = mean_ci(np.asarray(values, float))
@@ -835,11 +809,11 @@ def dpsi_cell(values):
 
 def section_dpsi_contrast(R, pts):
     """Yu 2022 Figs. 6-7: particles caught in period-p islands come back after p iterations, so
-    their Δψ over whole periods is small; the contrast outside − inside says how much."""
-    groups = displacement_groups(pts)
-    have = [q for q in pts if q["an"] is not None and q["an"].get("coverage") is not None
-            and len(q["islands"]) > 0]
-    if not groups or not have:
+    their Δψ over whole periods is small; the contrast outside − inside says how much. The
+    numbers are `tumble analyze campaign`'s (analysis.h5 dpsi_fields, from each case's
+    collected Δψ maps), the weighting defined once there (dpsi_snapshots.hpp)."""
+    have = [q for q in pts if q["an"] is not None and len(q["islands"]) > 0]
+    if not displacement_groups(pts) or not have:
         return
     R.h("<h2>3c. Δψ inside and outside the CM islands, per lag</h2><p>Mean angular "
         "displacement over each collected lag of the particles that started inside the CM "
@@ -850,15 +824,18 @@ def section_dpsi_contrast(R, pts):
         "particles in period-3 islands return after 3, 6, 18 iterations, the chaotic ones do "
         "not. Over a lag that is not a whole number of periods the islands' particles are "
         "elsewhere and the contrast says little.</p>")
-    rows = []
+    rows, stale = [], []
     for q in have:
-        for g, k in groups:
+        if "dpsi_fields" not in q["an"]:
+            stale.append(q["label"])
+            continue
+        for d in q["an"]["dpsi_fields"]:
             for sp in ("large", "small"):
-                v = dpsi_contrast(q, g, sp)
-                if not v:
-                    continue
-                v = np.array(v, float)
-                rows.append([q["label"], k, sp] + [dpsi_cell(v[:, col]) for col in range(3)])
+                rows.append([q["label"], f"{d['lag']:g}", sp]
+                            + [dpsi_cell(d[f"{w}_{sp}"]) for w in ("inside", "outside", "contrast")])
+    if stale:
+        R.h("<p class='warn'>No contrast for " + html.escape(", ".join(stale)) + ": the "
+            "campaign's analysis.h5 predates it; run <code>tumble analyze campaign DIR</code> again.</p>")
     R.table(["point", "lag [iterations]", "species", "Δψ inside [deg]", "Δψ outside [deg]",
              "contrast outside − inside [deg]"], rows, "dpsi_contrast.csv")
     section_dpsi_snapshots(R, have)

@@ -201,13 +201,18 @@ def load_analysis(d):
                                     tubes=s["tube_crossings"][:], snapshots=s["snapshots"][:],
                                     plane_of=text(s.attrs["plane_of"]),
                                     half_width=float(s.attrs["half_width_m"]))
-            # Δψ from the snapshots (`tumble analyze campaign --dpsi-lags`), per lag.
-            p["dpsi_snapshots"] = [
-                dict(lag=float(l.attrs["lag"]), starts=l["starts"][:],
-                     first=l["first_start"][:], last=l["last_start"][:],
-                     **{f"{w}_{sp}": l[f"{w}_{sp}"][:] for w in ("inside", "outside", "contrast")
-                        for sp in ("large", "small")})
-                for l in sorted(g.get("dpsi_snapshots", {}).values(), key=lambda l: l.attrs["lag"])]
+            # Δψ inside / outside the islands per lag: from the snapshots (`tumble analyze
+            # campaign --dpsi-lags`) and from the maps the run collected (absent from files
+            # written before it).
+            for name in ("dpsi_snapshots", "dpsi_fields"):
+                if name == "dpsi_fields" and name not in g:
+                    continue
+                p[name] = [
+                    dict(lag=float(l.attrs["lag"]), starts=l["starts"][:],
+                         first=l["first_start"][:], last=l["last_start"][:],
+                         **{f"{w}_{sp}": l[f"{w}_{sp}"][:]
+                            for w in ("inside", "outside", "contrast") for sp in ("large", "small")})
+                    for l in sorted(g.get(name, {}).values(), key=lambda l: l.attrs["lag"])]
             out[pid] = p
     return out
 

@@ -26,6 +26,21 @@ namespace {
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 const double kDeg = 180.0 / 3.14159265358979323846;
 
+// A case's Δψ of one lag, or nullptr.
+const CaseDpsi* find_lag(const std::vector<CaseDpsi>& v, double lag) {
+  for (const auto& d : v)
+    if (d.lag == lag) return &d;
+  return nullptr;
+}
+
+// A Δψ map the run collected (fields.h5 displacement*): per cell of the start grid, the mean Δψ
+// [rad] and the particle count, by species (index 1 the large one).
+struct FieldsDpsiMap {
+  double lag = 0;  // iterations
+  int intervals = 0;
+  std::vector<double> mean[2], count[2];
+};
+
 // What one finished case's fields file says about it.
 struct CaseFields {
   std::string dir, case_id, point_id, params, scene_text;
@@ -34,7 +49,48 @@ struct CaseFields {
   double shell_inner = 0.9;
   double window_first = -1, window_last = -1;  // the fields' collection window (iterations)
   std::vector<double> volume_large, volume_small, c_L, c_S;
+  std::vector<FieldsDpsiMap> dpsi;  // the Δψ maps collected during the run, one per lag
 };
+
+// The fields file's Δψ groups, named by its collect text: "k=1,3,6" holds "displacement" (the
+// first lag), "displacement_k3" and "displacement_k6" (campaign_spec.hpp: displacement_group).
+std::vector<std::string> displacement_groups(const std::string& collect) {
+  std::vector<std::string> out;
+  std::size_t at = collect.rfind(";k=", std::string::npos);
+  if (at != std::string::npos)
+    at += 3;
+  else if (collect.rfind("k=", 0) == 0)
+    at = 2;
+  else
+    return out;
+  const std::string list = collect.substr(at, collect.find(';', at) - at);
+  std::size_t from = 0;
+  while (from <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', from), list.size());
+    const std::string k = list.substr(from, comma - from);
+    if (!k.empty()) out.push_back(out.empty() ? "displacement" : "displacement_k" + k);
+    from = comma + 1;
+  }
+  return out;
+}
+
+std::vector<FieldsDpsiMap> read_dpsi_maps(const io::H5File& f) {
+  std::vector<FieldsDpsiMap> out;
+  if (!f.has_attr("/", "collect")) return out;
+  for (const auto& g : displacement_groups(f.attr_string("/", "collect"))) {
+    if (!f.exists(g + "/dpsi_large")) continue;
+    FieldsDpsiMap m;
+    m.lag = f.attr_double(g, "periods");
+    m.intervals = static_cast<int>(f.attr_int64(g, "intervals"));
+    const char* name[2] = {"small", "large"};
+    for (int sp = 0; sp < 2; ++sp) {
+      m.mean[sp] = f.read_double(g + "/dpsi_" + name[sp]);
+      m.count[sp] = f.read_double(g + "/count_" + name[sp]);
+    }
+    out.push_back(std::move(m));
+  }
+  return out;
+}
 
 // The mask of a point's islands; a secondary chain's islands count as the primary island they
 // surround (the Fig. 8 fates' "same island").
@@ -71,6 +127,7 @@ std::vector<CaseFields> read_cases(const std::string& dir) {
       c.c_S = f.read_double("concentration/c_S");
       c.shell_inner = f.attr_double("concentration", "shell_inner");
     }
+    c.dpsi = read_dpsi_maps(f);
     out.push_back(std::move(c));
   }
   std::sort(out.begin(), out.end(), [](const CaseFields& a, const CaseFields& b) {
@@ -239,6 +296,53 @@ std::vector<double> fate_column(const std::vector<CaseAnalysis>& cases, int k, b
   return v;
 }
 
+// One collected Δψ map's contrast between the islands' inside and outside (dpsi_contrast, the
+// weighting the snapshots' Δψ uses); NaN on both sides where the map's grid is not the islands'.
+CaseDpsi fields_contrast(const FieldsDpsiMap& m, const std::vector<double>& coverage) {
+  CaseDpsi cd;
+  cd.lag = m.lag;
+  cd.starts = m.intervals;
+  cd.first = cd.last = kNaN;  // the fields' window, not individual starts
+  for (int sp = 0; sp < 2; ++sp) {
+    if (m.mean[sp].size() != coverage.size() || m.count[sp].size() != coverage.size()) {
+      cd.species[sp] = {kNaN, kNaN};
+      continue;
+    }
+    std::vector<double> sum(coverage.size()), count(coverage.size());
+    for (std::size_t c = 0; c < coverage.size(); ++c) {
+      const bool ok = std::isfinite(m.mean[sp][c]) && m.count[sp][c] > 0;
+      count[c] = ok ? m.count[sp][c] : 0;
+      sum[c] = ok ? m.mean[sp][c] * m.count[sp][c] : 0;
+    }
+    cd.species[sp] = dpsi_contrast(sum, count, coverage);
+  }
+  return cd;
+}
+
+// One lag's Δψ of a point's cases [deg] (cases without it, or with no start, left out).
+PointDpsi fold_dpsi(const std::vector<CaseAnalysis>& cases,
+                    std::vector<CaseDpsi> CaseAnalysis::*which, double lag) {
+  PointDpsi pd;
+  pd.lag = lag;
+  pd.starts_min = std::numeric_limits<int>::max();
+  for (int sp = 0; sp < 2; ++sp) {
+    std::vector<double> in, outside, contrast;
+    for (const auto& c : cases) {
+      const CaseDpsi* d = find_lag(c.*which, lag);
+      if (d == nullptr || d->starts == 0) continue;
+      in.push_back(d->species[sp].inside * kDeg);
+      outside.push_back(d->species[sp].outside * kDeg);
+      contrast.push_back(d->species[sp].contrast() * kDeg);
+      pd.starts_min = std::min(pd.starts_min, d->starts);
+      pd.starts_max = std::max(pd.starts_max, d->starts);
+    }
+    pd.inside[sp] = mean_ci95(in);
+    pd.outside[sp] = mean_ci95(outside);
+    pd.contrast[sp] = mean_ci95(contrast);
+  }
+  if (pd.contrast[1].n + pd.contrast[0].n == 0) pd.starts_min = 0;
+  return pd;
+}
 }  // namespace
 
 std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
@@ -332,6 +436,8 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
         if (!q.islands.empty() && q.coverage.size() == volume.size())
           ca.enrichment_vs[qid] = enrichment_from_map(volume, q.coverage).value;
     analyze_snapshots(ca, c.dir, mask, have_islands, p, grid, opt, c.window_first, c.window_last);
+    if (have_islands)
+      for (const auto& m : c.dpsi) ca.dpsi_fields.push_back(fields_contrast(m, p.coverage));
     if (p.light_species >= 0 && ca.light.empty() && !c.c_L.empty()) {
       ca.light = p.light_species == 1 ? c.c_L : c.c_S;
       p.light_source = "fields " + std::string(p.light_species == 1 ? "c_L" : "c_S") + ", r/R > " +
@@ -377,27 +483,16 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
       p.fates[k] = mean_ci95(fate_column(p.cases, k, false));
       p.fates_by_chance[k] = mean_ci95(fate_column(p.cases, k, true));
     }
-    for (std::size_t k = 0; k < opt.dpsi_lags.size(); ++k) {
-      PointDpsi pd;
-      pd.lag = opt.dpsi_lags[k];
-      pd.starts_min = std::numeric_limits<int>::max();
-      for (int sp = 0; sp < 2; ++sp) {
-        std::vector<double> in, outside, contrast;
-        for (const auto& c : p.cases) {
-          if (k >= c.dpsi.size() || c.dpsi[k].starts == 0) continue;
-          const DpsiContrast& d = c.dpsi[k].species[sp];
-          in.push_back(d.inside * kDeg);
-          outside.push_back(d.outside * kDeg);
-          contrast.push_back(d.contrast() * kDeg);
-          pd.starts_min = std::min(pd.starts_min, c.dpsi[k].starts);
-          pd.starts_max = std::max(pd.starts_max, c.dpsi[k].starts);
-        }
-        pd.inside[sp] = mean_ci95(in);
-        pd.outside[sp] = mean_ci95(outside);
-        pd.contrast[sp] = mean_ci95(contrast);
-      }
-      if (pd.contrast[1].n + pd.contrast[0].n == 0) pd.starts_min = 0;
-      if (!p.islands.empty()) p.dpsi.push_back(pd);
+    if (!p.islands.empty()) {
+      for (const double lag : opt.dpsi_lags)
+        p.dpsi.push_back(fold_dpsi(p.cases, &CaseAnalysis::dpsi, lag));
+      std::vector<double> lags;  // the collected lags, as the cases' fields files name them
+      for (const auto& c : p.cases)
+        for (const auto& d : c.dpsi_fields)
+          if (std::find(lags.begin(), lags.end(), d.lag) == lags.end()) lags.push_back(d.lag);
+      std::sort(lags.begin(), lags.end());
+      for (const double lag : lags)
+        p.dpsi_fields.push_back(fold_dpsi(p.cases, &CaseAnalysis::dpsi_fields, lag));
     }
     if (p.light_species >= 0)
       fold_maps(light, static_cast<std::size_t>(p.grid_n) * p.grid_n, p.light_mean, p.light_ci95);
@@ -439,32 +534,30 @@ void write_section_stats(io::H5File& f, const std::string& g, const PointAnalysi
 }
 // Figs. 6-7 from the snapshots, one group per lag: per case (in the order of the point's
 // "cases") the starts and the inside / outside / contrast Δψ in degrees, and their statistics.
-void write_dpsi(io::H5File& f, const std::string& g, const PointAnalysis& p) {
+// `dpsi_fields`: the same from the maps the run collected (fields.h5 displacement*), "starts" the
+// intervals each map averaged, first / last start NaN.
+void write_dpsi(io::H5File& f, const std::string& g, const PointAnalysis& p,
+                const std::vector<PointDpsi>& folded, std::vector<CaseDpsi> CaseAnalysis::*which,
+                const std::string& definition) {
   f.create_group(g);
-  f.set_attr(g, "definition",
-             std::string("Delta psi [deg] over `lag` iterations from the snapshots, summed over "
-                         "every start in the Fig. 8 window whose end is in it; particles with "
-                         "r/R >= inner at the start, lab frame; inside / outside: each start "
-                         "cell's particles weighted by the share of its area inside / outside "
-                         "the islands (dpsi_snapshots.hpp)"));
-  for (std::size_t k = 0; k < p.dpsi.size(); ++k) {
-    const PointDpsi& pd = p.dpsi[k];
+  f.set_attr(g, "definition", definition);
+  for (const PointDpsi& pd : folded) {
     const std::string l = g + "/lag_" + short_number(pd.lag);
     f.create_group(l);
     f.set_attr(l, "lag", pd.lag);
     std::vector<std::int64_t> starts;
     std::vector<double> first, last, v[2][3];
     for (const auto& c : p.cases) {
-      const bool has = k < c.dpsi.size();
-      starts.push_back(has ? c.dpsi[k].starts : 0);
-      first.push_back(has && c.dpsi[k].starts > 0 ? c.dpsi[k].first : kNaN);
-      last.push_back(has && c.dpsi[k].starts > 0 ? c.dpsi[k].last : kNaN);
+      const CaseDpsi* d = find_lag(c.*which, pd.lag);
+      const bool ok = d != nullptr && d->starts > 0;
+      starts.push_back(d != nullptr ? d->starts : 0);
+      first.push_back(ok ? d->first : kNaN);
+      last.push_back(ok ? d->last : kNaN);
       for (int sp = 0; sp < 2; ++sp) {
-        const bool ok = has && c.dpsi[k].starts > 0;
-        const DpsiContrast& d = ok ? c.dpsi[k].species[sp] : DpsiContrast{kNaN, kNaN};
-        v[sp][0].push_back(d.inside * kDeg);
-        v[sp][1].push_back(d.outside * kDeg);
-        v[sp][2].push_back(d.contrast() * kDeg);
+        const DpsiContrast& dc = ok ? d->species[sp] : DpsiContrast{kNaN, kNaN};
+        v[sp][0].push_back(dc.inside * kDeg);
+        v[sp][1].push_back(dc.outside * kDeg);
+        v[sp][2].push_back(dc.contrast() * kDeg);
       }
     }
     f.write(l + "/starts", starts);
@@ -618,7 +711,21 @@ void write_campaign_analysis(const std::string& path, const std::string& dir,
       write_stat(f, e, "enrichment", stat);
     }
     if (!p.section_mean.empty()) write_section_stats(f, g + "/section", p);
-    if (!p.dpsi.empty()) write_dpsi(f, g + "/dpsi_snapshots", p);
+    const std::string weighting =
+        "inside / outside: each start cell's particles weighted by the share of its area inside "
+        "/ outside the islands (dpsi_snapshots.hpp: dpsi_contrast)";
+    if (!p.dpsi.empty())
+      write_dpsi(f, g + "/dpsi_snapshots", p, p.dpsi, &CaseAnalysis::dpsi,
+                 "Delta psi [deg] over `lag` iterations from the snapshots, summed over every "
+                 "start in the Fig. 8 window whose end is in it; particles with r/R >= inner at "
+                 "the start, lab frame; " +
+                     weighting);
+    if (!p.dpsi_fields.empty())
+      write_dpsi(f, g + "/dpsi_fields", p, p.dpsi_fields, &CaseAnalysis::dpsi_fields,
+                 "Delta psi [deg] over `lag` iterations from the maps the run collected "
+                 "(fields.h5 displacement*: the campaign's window, its shell); starts: the "
+                 "intervals each map averaged; " +
+                     weighting);
   }
   out.commit();
 }

@@ -20,7 +20,8 @@
 //     of the last half of each case (a point without islands uses the plane of the first point
 //     that has them, so the sections compare side by side), with the KAM-tube boundaries;
 //   * Figs. 6-7, when lags are asked for: Δψ inside and outside the islands from the snapshots,
-//     over every start in the Fig. 8 window (dpsi_snapshots.hpp).
+//     over every start in the Fig. 8 window (dpsi_snapshots.hpp); and always from the Δψ maps
+//     the run collected (fields.h5 displacement*), with the same weighting (dpsi_contrast).
 #include <map>
 #include <string>
 #include <vector>
@@ -87,6 +88,7 @@ struct CaseAnalysis {
   std::vector<double> section;                  // Fig. 5 c_L per bin (NaN: nothing binned)
   int section_snapshots = 0;                    // configurations averaged into it
   std::vector<CaseDpsi> dpsi;                   // per CampaignAnalysisOptions::dpsi_lags
+  std::vector<CaseDpsi> dpsi_fields;            // per lag the run collected (fields.h5)
 };
 
 // One lag's Δψ over the cases [deg], by species (index 1 the large one).
@@ -127,6 +129,9 @@ struct PointAnalysis {
   std::vector<double> section_mean, section_ci95;
   std::vector<TubeCrossing> section_tubes;
   std::vector<PointDpsi> dpsi;  // per CampaignAnalysisOptions::dpsi_lags (points with islands)
+  // The same contrast from the Δψ maps the run collected (fields.h5 displacement*), per lag
+  // (points with islands): the numbers of the report's table 3c.
+  std::vector<PointDpsi> dpsi_fields;
 };
 
 // Reads every DIR/cases/*/fields.h5 (the finished cases), groups them by parameter point.

@@ -32,8 +32,9 @@ SnapshotDisplacement displacement_from_snapshots(const std::vector<SnapshotData>
                                                  double inner);
 
 // Mean Δψ [rad] of the particles that started inside the islands and of those outside: each cell's
-// particles weighted by the share of its area inside (`coverage`) or outside (1 - coverage), the
-// weighting of postproc/report.py's table 3c. NaN for a side without particles.
+// particles weighted by the share of its area inside (`coverage`) or outside (1 - coverage). NaN
+// for a side without particles. The one definition: the collected maps' contrast (analysis.h5
+// dpsi_fields, the report's table 3c) uses it too (campaign_analysis.cpp).
 struct DpsiContrast {
   double inside = 0, outside = 0;
   double contrast() const { return outside - inside; }

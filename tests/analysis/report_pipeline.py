@@ -14,7 +14,8 @@ campaign` and postproc/report.py, and asserts, with h5py/numpy only:
     the snapshots;
   * a Fig. 8 window end past the snapshots warned about for each case;
   * `--dpsi-lags`: each (57°,57°) case's Δψ inside / outside the islands from its snapshots
-    equal to a numpy recomputation (starts, cells, angles, weighting);
+    equal to a numpy recomputation (starts, cells, angles, weighting); the contrast of each
+    case's collected Δψ maps (analysis.h5 dpsi_fields, the report's table 3c) likewise;
   * every point's enrichment against the (57°,57°) islands equal to a recomputation from each
     case's map; the Fig. 5 section of every point (cut by the (57°,57°) plane) equal to a numpy
     binning of the snapshots of each case's last half;
@@ -336,7 +337,8 @@ with h5py.File(os.path.join(d, "analysis.h5"), "r") as h:
         cover = g["coverage"][:].ravel()
         for grp, lag in lags:
             vals = []
-            for cid in text(g.attrs["cases"]).split("\n"):
+            stored = g[f"dpsi_fields/lag_{lag}/contrast_large"][:]
+            for j, cid in enumerate(text(g.attrs["cases"]).split("\n")):
                 with h5py.File(os.path.join(d, "cases", cid, "fields.h5"), "r") as c:
                     m = c[grp + "/dpsi_large"][:].ravel() * 180 / np.pi
                     w = c[grp + "/count_large"][:].ravel()
@@ -344,6 +346,10 @@ with h5py.File(os.path.join(d, "analysis.h5"), "r") as h:
                 wi, wo = (w * cover)[ok], (w * (1 - cover))[ok]
                 if wi.sum() > 0 and wo.sum() > 0:
                     vals.append(np.sum(wo * m[ok]) / wo.sum() - np.sum(wi * m[ok]) / wi.sum())
+                    # analysis.h5 dpsi_fields (C++, the one definition) against numpy, per case.
+                    if not abs(stored[j] - vals[-1]) <= 1e-9:
+                        fail(f"analysis.h5 dpsi_fields lag {lag}, case {cid}: {stored[j]} deg, "
+                             f"recomputed {vals[-1]}")
             rows = [r for r in csv.DictReader(open(os.path.join(rep, "dpsi_contrast.csv")))
                     if r["point"].startswith("A") and r["lag [iterations]"] == lag
                     and r["species"] == "large"]
