@@ -62,4 +62,17 @@ std::vector<std::string> list_snapshots(const std::string& dir) {
   return out;
 }
 
+std::vector<bool> repeated_snapshots(const std::vector<double>& iterations) {
+  std::vector<double> gaps;
+  for (std::size_t k = 1; k < iterations.size(); ++k)
+    gaps.push_back(iterations[k] - iterations[k - 1]);
+  std::vector<bool> out(iterations.size(), false);
+  if (gaps.empty()) return out;
+  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+  const double tiny = 0.01 * gaps[gaps.size() / 2];
+  for (std::size_t k = 1; k < iterations.size(); ++k)
+    out[k] = iterations[k] - iterations[k - 1] < tiny;
+  return out;
+}
+
 }  // namespace tumble::analysis

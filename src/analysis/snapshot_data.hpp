@@ -33,4 +33,20 @@ SnapshotData read_snapshot(const std::string& path);
 // The snap_NNNNNN.h5 files of a directory, in order (empty if none).
 std::vector<std::string> list_snapshots(const std::string& dir);
 
+// A snapshot "at iteration N" lies near N, not on it (35.0000014 or 34.99994 for N = 35: the
+// protocol's segments are whole steps; ~1e-4 after 35 iterations), so whole iterations are
+// compared with this slack.
+inline constexpr double kIterationSlack = 1e-3;
+
+// Whether a snapshot at iteration n belongs to the window first <= N <= last (both ends in).
+inline bool in_iteration_window(double n, double first, double last) {
+  return n >= first - kIterationSlack && n <= last + kIterationSlack;
+}
+
+// Per snapshot (iterations ascending): whether it repeats its predecessor's configuration. A run
+// that ends a few steps after a periodic snapshot writes its end as well (34.99994 and 35.0); a
+// snapshot closer to the one before than 1% of the list's median spacing is such a repeat, so
+// stroboscopic analyses count each configuration once (the first).
+std::vector<bool> repeated_snapshots(const std::vector<double>& iterations);
+
 }  // namespace tumble::analysis

@@ -178,6 +178,19 @@ void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMas
     snaps.push_back(read_snapshot(p));
     iters.push_back(snaps.back().iteration);
   }
+  {
+    // A run's end written a few steps after its last periodic snapshot is the same
+    // configuration: counted once (snapshot_data.hpp).
+    const std::vector<bool> repeat = repeated_snapshots(iters);
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < snaps.size(); ++k)
+      if (!repeat[k]) {
+        if (kept != k) snaps[kept] = std::move(snaps[k]);
+        iters[kept++] = iters[k];
+      }
+    snaps.resize(kept);
+    iters.resize(kept);
+  }
   // Neither end given: the paper's window (fates.hpp: default_fates_start).
   const bool default_window = opt.fates_from < 0 && opt.fates_to < 0;
   const std::size_t b = nearest(iters, opt.fates_to, true);
@@ -211,7 +224,7 @@ void analyze_snapshots(CaseAnalysis& ca, const std::string& dir, const IslandMas
   // all of them when the window is unknown or holds none.
   std::vector<SnapshotData> window;
   for (std::size_t k = 0; k < snaps.size(); ++k)
-    if (window_first >= 0 && iters[k] >= window_first - 1e-9 && iters[k] <= window_last + 1e-9)
+    if (window_first >= 0 && in_iteration_window(iters[k], window_first, window_last))
       window.push_back(snaps[k]);
   const bool windowed = !window.empty();
   if (have_islands) {

@@ -10,8 +10,6 @@
 namespace tumble::analysis {
 
 namespace {
-constexpr double kSlack = 1e-3;  // iterations: snapshots lie within a time step of whole ones
-
 ShellDirections directions(const SnapshotData& s, const LambertGrid& grid, double inner) {
   // Snapshots hold the particles in global-id order: the slot of particle i is i.
   std::vector<std::uint32_t> slot(s.size());
@@ -25,13 +23,16 @@ SnapshotDisplacement displacement_from_snapshots(const std::vector<SnapshotData>
                                                  double inner) {
   SnapshotDisplacement out;
   out.map = DisplacementMap(grid.cells());
+  std::vector<double> iterations;
+  for (const auto& s : snaps) iterations.push_back(s.iteration);
+  const std::vector<bool> repeat = repeated_snapshots(iterations);
   for (std::size_t a = 0; a < snaps.size(); ++a) {
     const double n = snaps[a].iteration;
-    if (a > 0 && std::fabs(n - snaps[a - 1].iteration) < kSlack) continue;  // a repeat
-    if (n < from - kSlack || n + lag > to + kSlack) continue;
+    if (repeat[a]) continue;
+    if (n < from - kIterationSlack || n + lag > to + kIterationSlack) continue;
     std::size_t b = a + 1;
-    while (b < snaps.size() && snaps[b].iteration < n + lag - kSlack) ++b;
-    if (b == snaps.size() || std::fabs(snaps[b].iteration - (n + lag)) > kSlack) continue;
+    while (b < snaps.size() && snaps[b].iteration < n + lag - kIterationSlack) ++b;
+    if (b == snaps.size() || std::fabs(snaps[b].iteration - (n + lag)) > kIterationSlack) continue;
     if (snaps[b].size() != snaps[a].size() || snaps[b].id != snaps[a].id)
       throw CorruptInputError("snapshots '" + snaps[a].path + "' and '" + snaps[b].path +
                               "' hold different particles");

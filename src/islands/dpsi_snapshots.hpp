@@ -25,8 +25,8 @@ struct SnapshotDisplacement {
 
 // `snaps` in iteration order (as list_snapshots gives them), every one of the same particles.
 // A start is a snapshot with from <= N <= to - lag whose partner at N + lag exists (within 1e-3
-// iterations: snapshot times lie within a time step of whole iterations); a snapshot that repeats
-// its predecessor's iteration (a run's last snapshot, written again by the next call) counts once.
+// iterations: snapshot times lie near whole iterations); a snapshot that repeats its
+// predecessor's configuration (snapshot_data.hpp: repeated_snapshots) counts once.
 SnapshotDisplacement displacement_from_snapshots(const std::vector<SnapshotData>& snaps, double lag,
                                                  double from, double to, const LambertGrid& grid,
                                                  double inner);

@@ -79,6 +79,17 @@ def check_map_enrichment(d, ids, values, cover, what):
             fail(f"case {cid}: {what} {e} vs recomputed {mine}")
 
 
+def repeated(iterations):
+    """snapshot_data.hpp's rule, written again: a snapshot closer to the one before than 1% of
+    the median spacing repeats it (a run's end a few steps after its last periodic snapshot)."""
+    it = np.asarray(iterations, float)
+    if len(it) < 2:
+        return np.zeros(len(it), bool)
+    gaps = np.diff(it)
+    tiny = 0.01 * np.sort(gaps)[len(gaps) // 2]
+    return np.r_[False, gaps < tiny]
+
+
 def check_dpsi_snapshots(d, g):
     """`--dpsi-lags`: each case's Δψ inside / outside the islands recomputed with numpy from its
     snapshots (lab directions, 0.8 <= r/R <= 1 at the start, the report's Lambert cells and the
@@ -101,8 +112,10 @@ def check_dpsi_snapshots(d, g):
         sums = np.zeros((2, n * n))
         counts = np.zeros((2, n * n))
         starts = 0
+        rep = repeated([e[0] for e in snaps])
+        snaps = [e for e, r in zip(snaps, rep) if not r]
         for k, (it, x, sp, R) in enumerate(snaps):
-            if k and abs(it - snaps[k - 1][0]) < slack or it < frm - slack or it + DPSI_LAG > to + slack:
+            if it < frm - slack or it + DPSI_LAG > to + slack:
                 continue
             ends = [e for e in snaps[k + 1:] if e[0] >= it + DPSI_LAG - slack]
             if not ends or abs(ends[0][0] - (it + DPSI_LAG)) > slack:
@@ -177,8 +190,9 @@ def check_sections(d, pts, ref):
             files = [h5py.File(p, "r") for p in snaps]
             last = max(f.attrs["iteration"] for f in files)
             vol = np.zeros((2, n * n))
-            for f in files:
-                if f.attrs["iteration"] < 0.5 * last:
+            rep = repeated([f.attrs["iteration"] for f in files])
+            for f, r in zip(files, rep):
+                if r or f.attrs["iteration"] < 0.5 * last:  # a repeat counts once
                     continue
                 R = tomllib.loads(text(f.attrs["scene"]))["tumbler"]["radius"]
                 x, r, sp = f["x"][:], f["radius"][:], f["species"][:]

@@ -126,6 +126,28 @@ TEST(Radial, ShellShareOfASpecies) {
   EXPECT_TRUE(std::isnan(ta::shell_share(x, species, 2, R, 0.9)));  // no such particle
 }
 
+// Snapshots lie within a time step of whole iterations, on either side: the window 25 <= N <= 35
+// holds the ones written at 24.99995 and 35.0000015 (the yu2022_density_fast cases had 10 or 11
+// of the 11 configurations by that round-off while the test used 1e-9), not 24.998 or 35.002.
+TEST(Snapshots, IterationWindowHoldsBothEndsWithinAStep) {
+  EXPECT_TRUE(ta::in_iteration_window(24.99995, 25, 35));
+  EXPECT_TRUE(ta::in_iteration_window(35.0000014687252, 25, 35));
+  EXPECT_TRUE(ta::in_iteration_window(30, 25, 35));
+  EXPECT_FALSE(ta::in_iteration_window(24.998, 25, 35));
+  EXPECT_FALSE(ta::in_iteration_window(35.002, 25, 35));
+}
+
+// A run's end written a few steps after its last periodic snapshot repeats it; snapshots a tenth
+// of the spacing apart (the CI campaign's end, 211 steps after its last periodic one) do not.
+TEST(Snapshots, RepeatedSnapshotsAreTheRunsEndAStepLater) {
+  const std::vector<bool> r = ta::repeated_snapshots({33.99994, 34.99994, 35.0, 36.0});
+  EXPECT_EQ(r, (std::vector<bool>{false, false, true, false}));
+  const std::vector<bool> ci = ta::repeated_snapshots({0.0, 0.00184, 0.00369, 0.0040});
+  EXPECT_EQ(ci, (std::vector<bool>{false, false, false, false}));
+  EXPECT_TRUE(ta::repeated_snapshots({}).empty());
+  EXPECT_EQ(ta::repeated_snapshots({1.0}), std::vector<bool>{false});
+}
+
 // The window's snapshots are pooled particle by particle, not averaged snapshot by snapshot.
 TEST(Enrichment, WindowSnapshotsArePooled) {
   const double R = 0.02;
