@@ -153,6 +153,15 @@ def _p(p):
     return "p = –" if not np.isfinite(p) else (f"p = {p:.2g}" if p >= 1e-3 else "p < 0.001")
 
 
+def mapped_name(P):
+    """The species P's enrichment counts, as analysis.h5 names it ("large", or "light" in a
+    density-bidisperse bed); "large" where the file predates the names."""
+    a = P["an"]["attrs"] if P.get("an") else {}
+    k = a.get("mapped_species")
+    name = a.get(f"species_{int(np.ravel(k)[0])}") if k is not None else None
+    return str(name) if name else "large"
+
+
 def enrichment_sentences(pts):
     """One sentence (HTML) per (island point P, other point Q of its campaign): P's enrichment on
     its own islands against Q's on the same mask; and the numbers as CSV rows."""
@@ -172,7 +181,7 @@ def enrichment_sentences(pts):
                        if pe["n"] >= 2 and pe["lower"] <= 1 <= pe["upper"] else
                        "more than their share" if pe["n"] >= 2 and pe["lower"] > 1 else
                        "less than their share" if pe["n"] >= 2 else "one replica: no interval")
-            out.append(f"{pname} concentrates large particles in its CM islands "
+            out.append(f"{pname} concentrates {mapped_name(P)} particles in its CM islands "
                        f"{ci_span(pe)} times the islands' share of the view: "
                        f"{html.escape(verdict)}.")
             continue
@@ -199,7 +208,7 @@ def enrichment_sentences(pts):
                 verdict = "inconclusive: " + ", ".join(why)
             diff = (f"difference {w['diff']:+.3g} ± {w['half']:.2g} (Welch 95%, {_p(w['p'])})"
                     if np.isfinite(w["half"]) else f"difference {w['diff']:+.3g}")
-            out.append(f"<b>{pname}</b> concentrates large particles in its CM islands "
+            out.append(f"<b>{pname}</b> concentrates {mapped_name(P)} particles in its CM islands "
                        f"{ci_span(pe)} times the islands' share of the view, "
                        f"<b>{html.escape(Q['short'])}</b> {ci_span(qe)} on the same mask; "
                        f"{html.escape(diff)}: <b>{html.escape(verdict)}</b>.")
