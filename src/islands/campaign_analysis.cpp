@@ -724,21 +724,27 @@ void write_campaign_analysis(const std::string& path, const std::string& dir,
       write_stat(f, e, "enrichment", stat);
     }
     if (!p.section_mean.empty()) write_section_stats(f, g + "/section", p);
+    // Δψ inside / outside the islands, from the snapshots and from the collected maps.
     const std::string weighting =
         "inside / outside: each start cell's particles weighted by the share of its area inside "
         "/ outside the islands (dpsi_snapshots.hpp: dpsi_contrast)";
-    if (!p.dpsi.empty())
-      write_dpsi(f, g + "/dpsi_snapshots", p, p.dpsi, &CaseAnalysis::dpsi,
-                 "Delta psi [deg] over `lag` iterations from the snapshots, summed over every "
-                 "start in the Fig. 8 window whose end is in it; particles with r/R >= inner at "
-                 "the start, lab frame; " +
-                     weighting);
-    if (!p.dpsi_fields.empty())
-      write_dpsi(f, g + "/dpsi_fields", p, p.dpsi_fields, &CaseAnalysis::dpsi_fields,
-                 "Delta psi [deg] over `lag` iterations from the maps the run collected "
-                 "(fields.h5 displacement*: the campaign's window, its shell); starts: the "
-                 "intervals each map averaged; " +
-                     weighting);
+    const struct {
+      const char* group;
+      const std::vector<PointDpsi>& folded;
+      std::vector<CaseDpsi> CaseAnalysis::*which;
+      const char* source;
+    } dpsi_kinds[2] = {
+        {"/dpsi_snapshots", p.dpsi, &CaseAnalysis::dpsi,
+         "from the snapshots, summed over every start in the Fig. 8 window whose end is in it; "
+         "particles with r/R >= inner at the start, lab frame"},
+        {"/dpsi_fields", p.dpsi_fields, &CaseAnalysis::dpsi_fields,
+         "from the maps the run collected (fields.h5 displacement*: the campaign's window, its "
+         "shell); starts: the intervals each map averaged"}};
+    for (const auto& k : dpsi_kinds)
+      if (!k.folded.empty())
+        write_dpsi(
+            f, g + k.group, p, k.folded, k.which,
+            std::string("Delta psi [deg] over `lag` iterations ") + k.source + "; " + weighting);
   }
   out.commit();
 }
