@@ -483,24 +483,6 @@ void Ensemble::write(const std::string& path) const {
 }
 
 namespace {
-std::vector<std::string> children(hid_t file, const std::string& group) {
-  std::vector<std::string> out;
-  hid_t g = H5Gopen2(file, group.c_str(), H5P_DEFAULT);
-  if (g < 0) return out;
-  H5G_info_t info;
-  H5Gget_info(g, &info);
-  for (hsize_t k = 0; k < info.nlinks; ++k) {
-    const ssize_t len =
-        H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, k, nullptr, 0, H5P_DEFAULT);
-    std::string name(static_cast<std::size_t>(len), '\0');
-    H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, k, name.data(), name.size() + 1,
-                       H5P_DEFAULT);
-    out.push_back(name);
-  }
-  H5Gclose(g);
-  return out;
-}
-
 // Row r, first `len` columns, of a (rows, cols) dataset read whole.
 std::vector<double> row_of(const std::vector<double>& table, std::size_t cols, std::size_t r,
                            std::size_t len) {
@@ -574,7 +556,7 @@ Ensemble Ensemble::read(const std::string& path) {
     rows_of(iterations, series_cols, "/series/iteration");
   }
   Ensemble e;
-  for (const auto& id : children(f.id(), "/points")) {
+  for (const auto& id : f.children("/points")) {
     const std::string base = "/points/" + id;
     PointStats& p = e.points[id];
     p.id = id;

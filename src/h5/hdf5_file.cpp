@@ -256,6 +256,25 @@ void H5File::close() {
 
 void H5File::create_group(const std::string& name) { ensure_parents(file_, name + "/"); }
 
+std::vector<std::string> H5File::children(const std::string& group) const {
+  std::vector<std::string> out;
+  if (!exists(group)) return out;
+  const hid_t g = H5Gopen2(file_, group.c_str(), H5P_DEFAULT);
+  if (g < 0) return out;
+  H5G_info_t info;
+  H5Gget_info(g, &info);
+  for (hsize_t k = 0; k < info.nlinks; ++k) {
+    const ssize_t len =
+        H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, k, nullptr, 0, H5P_DEFAULT);
+    std::string name(static_cast<std::size_t>(len), '\0');
+    H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, k, name.data(), name.size() + 1,
+                       H5P_DEFAULT);
+    out.push_back(name);
+  }
+  H5Gclose(g);
+  return out;
+}
+
 bool H5File::exists(const std::string& name) const {
   // Check each prefix: H5Lexists fails on missing intermediate groups.
   std::size_t pos = 0;

@@ -37,6 +37,8 @@ class H5File {
   // Groups are created on demand; names may be paths like "a/b".
   void create_group(const std::string& name);
   bool exists(const std::string& name) const;
+  // The names of a group's members (groups and datasets), in name order; empty if it is absent.
+  std::vector<std::string> children(const std::string& group) const;
 
   // Datasets: `dims` gives the shape (row-major); data.size() must equal the product.
   void write(const std::string& name, const std::vector<double>& data,

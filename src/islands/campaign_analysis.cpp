@@ -52,33 +52,11 @@ struct CaseFields {
   std::vector<FieldsDpsiMap> dpsi;  // the Δψ maps collected during the run, one per lag
 };
 
-// The fields file's Δψ groups, named by its collect text: "k=1,3,6" holds "displacement" (the
-// first lag), "displacement_k3" and "displacement_k6" (campaign_spec.hpp: displacement_group).
-std::vector<std::string> displacement_groups(const std::string& collect) {
-  std::vector<std::string> out;
-  std::size_t at = collect.rfind(";k=", std::string::npos);
-  if (at != std::string::npos)
-    at += 3;
-  else if (collect.rfind("k=", 0) == 0)
-    at = 2;
-  else
-    return out;
-  const std::string list = collect.substr(at, collect.find(';', at) - at);
-  std::size_t from = 0;
-  while (from <= list.size()) {
-    const std::size_t comma = std::min(list.find(',', from), list.size());
-    const std::string k = list.substr(from, comma - from);
-    if (!k.empty()) out.push_back(out.empty() ? "displacement" : "displacement_k" + k);
-    from = comma + 1;
-  }
-  return out;
-}
-
 std::vector<FieldsDpsiMap> read_dpsi_maps(const io::H5File& f) {
+  // One group per collected lag: "displacement", "displacement_k6", ... (field_collector.cpp).
   std::vector<FieldsDpsiMap> out;
-  if (!f.has_attr("/", "collect")) return out;
-  for (const auto& g : displacement_groups(f.attr_string("/", "collect"))) {
-    if (!f.exists(g + "/dpsi_large")) continue;
+  for (const auto& g : f.children("/")) {
+    if (g.rfind("displacement", 0) != 0 || !f.exists(g + "/dpsi_large")) continue;
     FieldsDpsiMap m;
     m.lag = f.attr_double(g, "periods");
     m.intervals = static_cast<int>(f.attr_int64(g, "intervals"));
