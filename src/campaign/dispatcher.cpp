@@ -106,7 +106,9 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
   const Held held = running_.at(t.case_index);
   running_.erase(t.case_index);
   // The group's next case, held while this one ran, starts now: its age counts from here, and
-  // the manifest gets its real start (its first record has the hand-out time).
+  // the manifest gets its real start (its first record has the hand-out time), and the log a
+  // "start" line after this case's own line, so that every case's start shows in the log.
+  std::vector<std::string> now_starting;
   for (auto& [idx, other] : running_)
     if (other.ranks == held.ranks) {
       other.handed = std::max(other.handed, Clock::now());
@@ -114,6 +116,9 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
       next.status = "running";
       next.start = utc_now();
       in_.manifest->append(next);
+      now_starting.push_back("start " + case_label(other.task) + " on rank" +
+                             (other.ranks.size() > 1 ? "s " : " ") + next.ranks + " (" +
+                             next.hosts + "), held until now");
     }
   const double k = static_cast<double>(held.ranks.size());
   CaseRecord r = record(t, held.ranks);
@@ -169,6 +174,8 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
                   ? " (resumed at step " + std::to_string(o.resumed_from_step) + ")"
                   : ""),
          true);
+  if (!in_.quiet && !stopping())  // when stopping, the held case ends "not begun" instead
+    for (const std::string& s : now_starting) line(s);
   return held.ranks;
 }
 

@@ -206,6 +206,11 @@ def running_within_groups(out, text, groups):
             fail("%s: progress line '%s' (%d groups)" % (out, m.group(0), groups))
     if not seen:
         fail("%s: no progress line" % out)
+    # A case held as a group's "next" gets its own "start" line when the group's case ends.
+    held = re.findall(r"\[campaign\] next (\w+) ", text)
+    started = set(re.findall(r"\[campaign\] start (\w+) .*held until now", text))
+    if sorted(set(held) - started):
+        fail("%s: held cases without a start line: %s" % (out, sorted(set(held) - started)))
 
 
 def mpiexec_command(mpiexec, np_flag, n):
