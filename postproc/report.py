@@ -26,6 +26,7 @@ import time
 import numpy as np
 
 if __package__:  # python3 -m postproc.report
+    from . import report_compare as rc
     from . import report_data as rd
     from . import report_figs as rf
     from . import report_findings as fi
@@ -34,6 +35,7 @@ if __package__:  # python3 -m postproc.report
     from .report_stats import (bounded_interval, bh_reject, cell_tests, fmt, mean_ci,
                                welch_half_width)
 else:  # /usr/bin/python3 postproc/report.py: the script's directory is sys.path[0]
+    import report_compare as rc
     import report_data as rd
     import report_figs as rf
     import report_findings as fi
@@ -556,6 +558,10 @@ def case_scalars(q):
         ew = an.get("enrichment_window") if an is not None else None
         s["enrichment (window snapshots)"] = (float(ew[j]) if j is not None and ew is not None
                                               else np.nan)
+        sm, so = (an.get("shell_share_mapped"), an.get("shell_share_other")) if an else (None,
+                                                                                        None)
+        s[SHELL_RATIO] = (float(sm[j] / so[j]) if j is not None and sm is not None and so[j] > 0
+                          else np.nan)
         for f in FATES:
             v = an["fates"][f][j] if j is not None else -1
             s[f] = float(v) if v >= 0 else np.nan
@@ -564,11 +570,15 @@ def case_scalars(q):
     return out
 
 
+# The mapped species' share in the collection shell over the other species' (analysis.h5
+# shell_share_*: the light over the heavy in a density bed, the large over the small otherwise;
+# window snapshots): radial segregation as in Yu 2022 Fig. 13, 1 = none.
+SHELL_RATIO = "shell share ratio, mapped / other species (window snapshots)"
 SCALARS = ["enrichment (map)", "enrichment (last snapshot)", "enrichment (window snapshots)",
-           "shell c_L", "mean Δψ large [deg]", "mean Δψ small [deg]", "final mixing index",
+           SHELL_RATIO, "shell c_L", "mean Δψ large [deg]", "mean Δψ small [deg]", "final mixing index",
            "final radial segregation", "repose tilt β [deg]"]
 BOUNDS = {"enrichment (map)": (0.0, np.inf), "enrichment (last snapshot)": (0.0, np.inf),
-          "enrichment (window snapshots)": (0.0, np.inf),
+          "enrichment (window snapshots)": (0.0, np.inf), SHELL_RATIO: (0.0, np.inf),
           "shell c_L": (0.0, 1.0), "mean Δψ large [deg]": (0.0, 180.0),
           "mean Δψ small [deg]": (0.0, 180.0), "final mixing index": (0.0, 1.0),
           "final radial segregation": (-1.0, 1.0), "repose tilt β [deg]": (0.0, 90.0)}
@@ -615,7 +625,10 @@ def section_scalars(R, pts, findings):
         "(68°,68°). 'map': from the case's time-averaged c_L window (" + shell_text + "); "
         "'last snapshot': from the particles of its last snapshot; 'window snapshots': the "
         "particles of every stroboscopic snapshot of the collection window pooled (a map "
-        "sampled within the iteration averages islands that move during it). The mixing index (intensity "
+        "sampled within the iteration averages islands that move during it). The shell share "
+        "ratio: the share of the mapped species' particles (light, or large) whose centres lie "
+        "in the collection shell over the other species' share, over the window snapshots "
+        "(Yu 2022 Fig. 13's radial segregation; 1 = none). The mixing index (intensity "
         "of segregation of the shell map, 0 = even, 1 = segregated) is compared with its value "
         "for a <b>randomly mixed bed of the same particles</b> (species shuffled among the "
         "positions of the last snapshot's shell, 200 shuffles; postproc/report_mixing.py): "
@@ -985,6 +998,7 @@ def main():
     section_series(R, pts)
     section_scalars(R, pts, findings)
     ri.section_cross_enrichment(R, pts)
+    rc.section_scalar_differences(R, pts, baseline, SCALARS, BOUNDS, findings)
     section_convergence(R, pts)
     section_fates(R, pts)
     ri.section_cross_sections(R, pts)

@@ -188,6 +188,9 @@ def load_analysis(d):
                                          x_end=ex["x_end"][:], case=text(ex.attrs["case"]),
                                          frm=float(ex.attrs["from_iteration"]),
                                          to=float(ex.attrs["to_iteration"]))
+            for name in ("shell_share_mapped", "shell_share_other"):  # absent: older files
+                if name in g:
+                    p[name] = g[name][:]
             if "light/mean" in g:
                 p["light_mean"], p["light_ci95"] = g["light/mean"][:], g["light/ci95"][:]
             p["enrichment_vs"] = {q: dict(values=e["values"][:],

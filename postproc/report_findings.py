@@ -117,6 +117,11 @@ def campaign_context(c, pts):
         with h5py.File(snaps[0], "r") as f:
             sp = f["species"][:]
         ctx["particles"], ctx["large"] = int(len(sp)), int(np.sum(sp == 1))
+    # Species 1 by the name analysis.h5 gives it ("heavy" in a density bed of equal sizes), when
+    # every point of the campaign agrees; "large" otherwise (or before the analysis has run).
+    names = {str(q["an"]["attrs"].get("species_1", "large")) for q in pts
+             if q["camp"] is c and q.get("an")}
+    ctx["species_1"] = names.pop() if len(names) == 1 else "large"
     return ctx
 
 
@@ -126,7 +131,8 @@ def context_line(ctx):
     reps = "–".join(str(r) for r in (ctx["replicas"][:1] + ctx["replicas"][-1:]
                                       if len(ctx["replicas"]) > 1 else ctx["replicas"])) or "?"
     parts = [f"scene {ctx['scene']}", f"tier {ctx['tier']}",
-             (f"{ctx['particles']:,} particles ({ctx['large']} large)" if ctx["particles"]
+             (f"{ctx['particles']:,} particles ({ctx['large']} {ctx.get('species_1', 'large')})"
+              if ctx["particles"]
               else "particles: no snapshot"),
              f"R/d_large = {g(ctx['rd'], '{:.3g}')}",
              f"{g(ctx['iterations'])} protocol iteration(s) at {g(ctx['rpm'])} rpm",

@@ -7,7 +7,10 @@
   back, so that it never leaves the bounds;
 * welch_half_width / welch_test / cell_tests: the difference of two ensemble means, per value or
   per map cell, by Welch's t (unequal variances, ν by Welch–Satterthwaite);
-* bh_reject: Benjamini–Hochberg control of the false discovery rate over the cells of a map.
+* bh_reject: Benjamini–Hochberg control of the false discovery rate over the cells of a map;
+* welch_log_ratio: the ratio of two geometric means (a positive quantity such as the island
+  enrichment), Welch's t on the logarithms;
+* holm_adjust: Holm's step-down adjustment of a family of p-values (family-wise error).
 
 This module imports nothing from the rest of postproc, so scripts outside the package
 (jobs/accuracy/pattern_table.py) can load it on its own."""
@@ -240,3 +243,39 @@ def bh_reject(p, q=0.05):
         adj[order] = np.minimum(ranked, 1.0)
         rej[order] = adj[order] <= q
     return rej.reshape(p.shape), adj.reshape(p.shape)
+
+
+def welch_log_ratio(a, b, level=LEVEL):
+    """Ratio of the geometric means of a and b (finite values), with the `level` interval and
+    two-sided p-value of Welch's t on log a − log b: for a positive quantity whose replicas
+    scatter multiplicatively (an enrichment of 0.8-1.8), the comparison "a is r times b", with an
+    interval that cannot leave (0, ∞). None when a value is ≤ 0 (no logarithm: compare on the
+    natural scale instead, welch_test); ratio/interval/p NaN below 2 values each."""
+    a = np.asarray(a, float)
+    b = np.asarray(b, float)
+    a, b = a[np.isfinite(a)], b[np.isfinite(b)]
+    if (a <= 0).any() or (b <= 0).any():
+        return None
+    if len(a) == 0 or len(b) == 0:
+        return dict(ratio=math.nan, lower=math.nan, upper=math.nan, p=math.nan, na=len(a),
+                    nb=len(b))
+    w = welch_test(np.log(a), np.log(b), level)
+    return dict(ratio=math.exp(w["diff"]), lower=math.exp(w["diff"] - w["half"]),
+                upper=math.exp(w["diff"] + w["half"]), p=w["p"], na=w["na"], nb=w["nb"])
+
+
+def holm_adjust(p):
+    """Holm's step-down adjusted p-values of a family (NaN: not tested, not counted): the k-th
+    smallest of m becomes max over j ≤ k of min(1, (m − j + 1) p_(j)). Rejecting where the
+    adjusted value is below α keeps the chance of any false rejection in the family below α,
+    whatever the dependence between the tests (Holm 1979)."""
+    p = np.asarray(p, float)
+    flat = p.ravel()
+    idx = np.flatnonzero(np.isfinite(flat))
+    adj = np.full(flat.shape, np.nan)
+    m = len(idx)
+    if m:
+        order = idx[np.argsort(flat[idx], kind="stable")]
+        stepped = np.minimum(flat[order] * (m - np.arange(m)), 1.0)
+        adj[order] = np.maximum.accumulate(stepped)
+    return adj.reshape(p.shape)

@@ -324,7 +324,7 @@ for name in re.findall(r'<a href="([^"]+)">', page):
         fail(f"report links {name}, which was not written")
 for name in ("maps.csv", "series.csv", "case_scalars.csv", "scalar_summary.csv", "cases.csv",
              "convergence.csv", "provenance.csv", "points.csv", "findings.csv",
-             "difference_tests.csv", "mixing_random.csv"):
+             "difference_tests.csv", "mixing_random.csv", "scalar_differences.csv"):
     if not os.path.exists(os.path.join(rep, name)):
         fail(f"{name} missing")
 # Δψ over every lag the campaign collected (its collect text: ";k=0.0015,0.003;"): each lag has

@@ -1,7 +1,8 @@
 """The report's statistics (postproc/report_stats.py) against closed forms and hand-computed
 examples.
 
-  PYTHONPATH=SOURCE_ROOT /usr/bin/python3 report_stats_check.py [stats|bounded|fdr|cells|tilt]
+  PYTHONPATH=SOURCE_ROOT /usr/bin/python3 report_stats_check.py [stats|bounded|fdr|cells|tilt|
+                                                                  compare]
 
   stats    Student t quantiles (scipy) and Welch's half-width of a difference of two means;
   bounded  intervals of bounded quantities (logit / log scale): closed forms, never outside the
@@ -13,7 +14,11 @@ examples.
            replicas, and the cells excluded from testing (empty in both, < 2 replicas, no
            variance) neither significant nor counted in the number of tests;
   tilt     the Findings' warning when points were tilted to repose angles more than 0.3 deg
-           apart (postproc/report_findings.py), on constructed points.
+           apart (postproc/report_findings.py), on constructed points;
+  compare  section 6c (postproc/report_compare.py): Holm's adjustment (a hand-computed example,
+           NaN not counted, the family-wise error over 10 null tests), the ratio of geometric
+           means against scipy's Welch test on the logarithms, and the tests of constructed
+           points (a ratio, a difference where a replica is 0, a metric missing at a point).
 No argument: all groups. ctest runs each group as its own test (tests/analysis/CMakeLists.txt).
 """
 import math
@@ -23,8 +28,9 @@ import warnings
 import numpy as np
 from scipy import stats
 
-from postproc.report_stats import (bh_reject, bounded_interval, cell_tests, interval_bounds_text,
-                                   mean_ci, t_quantile, welch_half_width)
+from postproc.report_stats import (bh_reject, bounded_interval, cell_tests, holm_adjust,
+                                   interval_bounds_text, mean_ci, t_quantile, welch_half_width,
+                                   welch_log_ratio)
 
 
 def check(name, got, want, tol):
@@ -270,8 +276,68 @@ def group_tilt():
     return good
 
 
+def group_compare():
+    from postproc import report_compare as rc
+
+    good = []
+    # Hand-computed Holm: sorted 0.005 0.01 0.03 0.04 (m = 4) -> 4 x 0.005 = 0.02, 3 x 0.01 =
+    # 0.03, 2 x 0.03 = 0.06, 1 x 0.04 = 0.04 raised to 0.06 (adjusted values never decrease).
+    adj = holm_adjust([0.01, 0.04, 0.03, np.nan, 0.005])
+    good.append(truth("Holm example: 0.03 0.06 0.06 NaN 0.02",
+                      np.allclose(adj, [0.03, 0.06, 0.06, np.nan, 0.02], rtol=0, atol=1e-15,
+                                  equal_nan=True), str(adj)))
+    good.append(truth("Holm caps at 1", holm_adjust([0.6, 0.7])[1] == 1.0))
+    rng = np.random.default_rng(6)
+    trials = 4000
+    any_holm = sum((holm_adjust(rng.uniform(size=10)) < 0.05).any()
+                   for _ in range(trials)) / trials
+    any_raw = sum((rng.uniform(size=10) < 0.05).any() for _ in range(trials)) / trials
+    se = math.sqrt(0.05 * 0.95 / trials)
+    good.append(truth("10 null tests: P(any Holm rejection) <= 0.05 + 3 se, uncorrected ~0.40",
+                      any_holm <= 0.05 + 3 * se and abs(any_raw - (1 - 0.95 ** 10)) < 0.03,
+                      f"{any_holm:.4f}, uncorrected {any_raw:.3f}"))
+    a = np.array([1.22, 0.89, 1.45, 0.91, 1.51, 1.35])
+    b = np.array([1.35, 1.44, 0.76, 1.39, 0.95, 1.78, 1.56])
+    r = welch_log_ratio(a, b)
+    t = stats.ttest_ind(np.log(a), np.log(b), equal_var=False)
+    good.append(check("log ratio = exp(mean log a - mean log b)", r["ratio"],
+                      math.exp(np.log(a).mean() - np.log(b).mean()), 1e-12))
+    good.append(check("log ratio p = scipy's Welch on the logs", r["p"], float(t.pvalue), 1e-12))
+    sa, sb = np.log(a).var(ddof=1) / 6, np.log(b).var(ddof=1) / 7
+    nu = (sa + sb) ** 2 / (sa ** 2 / 5 + sb ** 2 / 6)
+    half = stats.t.ppf(0.975, nu) * math.sqrt(sa + sb)
+    good.append(check("log ratio interval: exp(log ratio + Welch half-width)", r["upper"],
+                      r["ratio"] * math.exp(half), 1e-12))
+    good.append(truth("a replica at 0: no log ratio", welch_log_ratio([0.0, 1.0], b) is None))
+
+    def pt(label, **metrics):
+        n = len(next(iter(metrics.values())))
+        return dict(label=label, short=label,
+                    scalars=[{k: v[j] for k, v in metrics.items()} for j in range(n)])
+
+    bounds = {"e": (0.0, np.inf), "beta": (0.0, 90.0)}
+    base = pt("A1", e=list(b), beta=[30.0, 30.2, 29.8, 30.1, 29.9, 30.0, 30.0])
+    same = pt("A2", e=list(a), beta=[30.0, 30.1, 29.9, 30.2, 29.8, 30.0])
+    zero = pt("A3", e=[0.0, 1.2, 1.1], beta=[np.nan] * 3)
+    rows = rc.scalar_tests([base, same, zero], 0, ["e", "beta"], bounds)
+    kinds = [(r["point"]["label"], r["metric"], r["kind"]) for r in rows]
+    good.append(truth("enrichment as a ratio, beta and a replica at 0 as differences, a metric "
+                      "missing at a point not tested",
+                      kinds == [("A2", "e", "ratio"), ("A2", "beta", "difference"),
+                                ("A3", "e", "difference")], str(kinds)))
+    good.append(check("the ratio row is welch_log_ratio", rows[0]["est"], r["ratio"], 1e-12))
+    w = stats.ttest_ind([0.0, 1.2, 1.1], b, equal_var=False)
+    good.append(check("the difference row's p is scipy's Welch", rows[2]["p"], float(w.pvalue),
+                      1e-12))
+    good.append(truth("Holm over the table's 3 tests",
+                      np.allclose([r["p_holm"] for r in rows],
+                                  holm_adjust([r["p"] for r in rows]), rtol=0, atol=0)
+                      and rows[0]["p_holm"] >= rows[0]["p"]))
+    return good
+
+
 GROUPS = dict(stats=group_stats, bounded=group_bounded, fdr=group_fdr, cells=group_cells,
-              tilt=group_tilt)
+              tilt=group_tilt, compare=group_compare)
 which = sys.argv[1:] or list(GROUPS)
 results = []
 for g in which:

@@ -1,0 +1,113 @@
+"""Report section 6c: every scalar metric of section 6 compared between each point and the
+baseline point, one family of tests with Holm's correction, so that "does point A give more of X
+than point B" has a single answer per metric that accounts for the number of questions asked.
+
+A positive quantity without an upper bound (the island enrichment, the shell ratio) is compared as
+a ratio of geometric means, Welch's t on the logarithms (its replicas scatter multiplicatively);
+every other metric as a difference of means, Welch's t on the values."""
+import html
+
+import numpy as np
+
+if __package__:
+    from .report_findings import ALPHA
+    from .report_stats import fmt_num, holm_adjust, welch_log_ratio, welch_test
+else:  # loaded by postproc/report.py run as a file
+    from report_findings import ALPHA
+    from report_stats import fmt_num, holm_adjust, welch_log_ratio, welch_test
+
+
+def _p(p):
+    return "–" if not np.isfinite(p) else (f"{p:.2g}" if p >= 1e-4 else "< 0.0001")
+
+
+def compare(a, b, lo, hi):
+    """One metric, point values a against baseline values b: dict(kind, est, lower, upper, p, na,
+    nb). kind "ratio" for a quantity in (0, ∞) with every value positive, else "difference"."""
+    if lo == 0.0 and hi is not None and not np.isfinite(hi):
+        r = welch_log_ratio(a, b)
+        if r is not None:
+            return dict(kind="ratio", est=r["ratio"], lower=r["lower"], upper=r["upper"],
+                        p=r["p"], na=r["na"], nb=r["nb"])
+    w = welch_test(a, b)
+    return dict(kind="difference", est=w["diff"], lower=w["diff"] - w["half"],
+                upper=w["diff"] + w["half"], p=w["p"], na=w["na"], nb=w["nb"])
+
+
+def scalar_tests(pts, baseline, scalars, bounds):
+    """Every (point, metric) test against the baseline, Holm-adjusted over all of them. Each
+    point's q["scalars"] (report.case_scalars) must be filled. Rows: dict(point, metric, kind,
+    est, lower, upper, p, p_holm, na, nb)."""
+    base = pts[baseline]
+    rows = []
+    for i, q in enumerate(pts):
+        if i == baseline:
+            continue
+        for k in scalars:
+            a = [s[k] for s in q["scalars"]]
+            b = [s[k] for s in base["scalars"]]
+            c = compare(a, b, *bounds[k])
+            if c["na"] == 0 or c["nb"] == 0:
+                continue  # the metric does not exist at one of the two points
+            rows.append(dict(point=q, metric=k, **c))
+    adj = holm_adjust([r["p"] for r in rows])
+    for r, pa in zip(rows, adj):
+        r["p_holm"] = float(pa)
+    return rows
+
+
+def estimate_text(r):
+    if not np.isfinite(r["est"]):
+        return "–"
+    s = (f"× {fmt_num(r['est'])}" if r["kind"] == "ratio" else f"{r['est']:+.3g}")
+    if np.isfinite(r["lower"]):
+        s += (f" [{fmt_num(r['lower'])}, {fmt_num(r['upper'])}]" if r["kind"] == "ratio" else
+              f" [{r['lower']:+.3g}, {r['upper']:+.3g}]")
+    return s
+
+
+def section_scalar_differences(R, pts, baseline, scalars, bounds, findings):
+    R.h("<h2>6c. Scalar metrics against the baseline point</h2>")
+    if len(pts) < 2:
+        R.h("<p>One parameter point only: nothing to compare.</p>")
+        return
+    btag = pts[baseline]["label"].split()[0]
+    rows = scalar_tests(pts, baseline, scalars, bounds)
+    m = int(np.sum(np.isfinite([r["p"] for r in rows])))
+    R.h(f"<p>Each metric of section 6 at each point against the baseline <b>{html.escape(btag)}"
+        "</b>. The island enrichment and other positive ratios: the ratio of the geometric "
+        "means (point ÷ baseline, 1 = no difference) with its 95% interval, Welch's t on the "
+        "logarithms of the replicas; a metric with a replica at 0 and all others: the "
+        "difference of the means (point − baseline, 0 = none), Welch's t. The p-values are "
+        f"then adjusted by <b>Holm's method over all {m} tests of this table</b>: a metric "
+        f"'differs' when its adjusted p is below {ALPHA:g}, which keeps the chance of any "
+        "false 'differs' in the table below 5%. A metric chosen before the run as the one "
+        "question to ask can be read at its unadjusted p; every other reading should use "
+        "Holm's.</p>")
+    trows = []
+    for r in rows:
+        verdict = ("differs" if np.isfinite(r["p_holm"]) and r["p_holm"] < ALPHA else
+                   "no difference shown" if np.isfinite(r["p_holm"]) else "not tested")
+        trows.append([r["point"]["label"], r["metric"], f"{r['kind']} vs {btag}",
+                      estimate_text(r), _p(r["p"]), _p(r["p_holm"]), f"{r['na']} / {r['nb']}",
+                      verdict])
+    R.table(["point", "metric", "compared as", "estimate [95%]", "p (Welch)", "p (Holm)",
+             "N point / baseline", "verdict"], trows)
+    R.csv("scalar_differences.csv",
+          ["point", "metric", "kind", "estimate", "ci95_lower", "ci95_upper", "p_welch",
+           "p_holm", "n_point", "n_baseline"],
+          [[r["point"]["label"], r["metric"], r["kind"], r["est"], r["lower"], r["upper"],
+            r["p"], r["p_holm"], r["na"], r["nb"]] for r in rows])
+    for q in pts:
+        mine = [r for r in rows if r["point"] is q]
+        if not mine:
+            continue
+        hits = [r for r in mine if np.isfinite(r["p_holm"]) and r["p_holm"] < ALPHA]
+        said = "; ".join(f"{html.escape(r['metric'])} {html.escape(estimate_text(r))} "
+                         f"(Holm p = {html.escape(_p(r['p_holm']))})" for r in hits)
+        findings.append(
+            f"Scalars, <b>{html.escape(q['short'])}</b> against {html.escape(btag)}: "
+            + (f"{len(hits)} of {len(mine)} metrics differ after Holm over the {m} tests of "
+               f"section 6c: {said}." if hits else
+               f"none of {len(mine)} metrics differs after Holm over the {m} tests of "
+               "section 6c."))
