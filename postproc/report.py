@@ -13,8 +13,6 @@ in the campaign file unless --baseline names one). The page opens with its Findi
 sentence per comparison, generated from the numbers (postproc/report_findings.py).
 """
 import argparse
-import base64
-import csv
 import datetime
 import html
 import os
@@ -31,18 +29,22 @@ if __package__:  # python3 -m postproc.report
     from . import report_figs as rf
     from . import report_findings as fi
     from . import report_islands as ri
-    from . import report_mixing as rm
-    from .report_stats import (bounded_interval, bh_reject, cell_tests, fmt, mean_ci,
-                               welch_half_width)
+    from .report_dpsi import displacement_groups, section_dpsi_contrast
+    from .report_fates import section_fates
+    from .report_page import CHECK_SCRIPT, CSS, Report
+    from .report_scalars import BOUNDS, SCALARS, section_convergence, section_scalars
+    from .report_stats import bounded_interval, bh_reject, cell_tests, welch_half_width
 else:  # /usr/bin/python3 postproc/report.py: the script's directory is sys.path[0]
     import report_compare as rc
     import report_data as rd
     import report_figs as rf
     import report_findings as fi
     import report_islands as ri
-    import report_mixing as rm
-    from report_stats import (bounded_interval, bh_reject, cell_tests, fmt, mean_ci,
-                              welch_half_width)
+    from report_dpsi import displacement_groups, section_dpsi_contrast
+    from report_fates import section_fates
+    from report_page import CHECK_SCRIPT, CSS, Report
+    from report_scalars import BOUNDS, SCALARS, section_convergence, section_scalars
+    from report_stats import bounded_interval, bh_reject, cell_tests, welch_half_width
 
 MAP_FIELDS = [  # (field, label, unit factor, colour map, physical bounds in the shown unit)
     ("concentration/c_L", "c_L (species 1: the large, or in a density bed the heavy particles)",
@@ -61,27 +63,6 @@ SERIES = [("series/shell_large_fraction", "large share of the shell 0.9 < r/R < 
           ("series/radial_segregation", "radial segregation (shell share − bed share)",
            (-1.0, 1.0)),
           ("series/mixing_index", "intensity of segregation of the shell map", (0.0, 1.0))]
-FATES = ["persistent", "switched", "captured", "dispersed", "other"]
-# Yu 2022 Fig. 8 (f = 0.15, N = 7 -> 34, 1980 large particles); "switched" is not one of its classes
-PAPER_FATES = {"persistent": 124, "captured": 429, "dispersed": 241, "other": 1186}
-PAPER_LARGE = 1980
-
-
-def displacement_groups(pts):
-    """The Δψ groups of the campaigns' fields (displacement, displacement_k6, ...) with their lag
-    in protocol periods, i.e. iterations (collect.displacement_periods), from the per-case collect
-    text (';k=1,6,18;'): [(group, iterations)]. Labels say "iterations": "periods" would read as
-    the islands' period (3 iterations for (57°, 57°)), which is the paper's unit."""
-    groups = {}
-    for q in pts:
-        for cf in q["members"]:
-            m = re.search(r"(?:^|;)k=([^;]+)", str(cf.get("collect", "")))
-            if not m:
-                continue
-            lags = m.group(1).split(",")
-            for i, k in enumerate(lags):
-                groups.setdefault("displacement" if i == 0 else f"displacement_k{k}", k)
-    return sorted(groups.items(), key=lambda gk: float(gk[1]))
 
 
 def map_fields(pts):
@@ -96,60 +77,6 @@ def map_fields(pts):
             out.append((field, f"Δψ {sp} over {k} iterations [deg]", 180 / np.pi, "magma",
                         (0.0, 180.0)))
     return out
-
-
-class Html(str):
-    """A table cell that is HTML already (e.g. an interval in its checkable span)."""
-
-
-def plain(cell):
-    """A cell as CSV text: the HTML's text."""
-    if isinstance(cell, Html):
-        return html.unescape(re.sub(r"<[^>]+>", "", cell))
-    return cell
-
-
-def cell_html(c):
-    return c if isinstance(c, Html) else html.escape(str(c))
-
-
-class Report:
-    html_cell = staticmethod(Html)  # for the sections in other modules
-
-    def __init__(self, out):
-        self.out = out
-        self.parts = []
-        self.figures = 0
-        self.csvs = []
-        os.makedirs(out, exist_ok=True)
-
-    def h(self, s):
-        self.parts.append(s)
-
-    def fig(self, name, caption):
-        """Embeds OUT/name (written already) as a data URI, so the page stands alone."""
-        with open(os.path.join(self.out, name), "rb") as fh:
-            data = base64.b64encode(fh.read()).decode()
-        self.figures += 1
-        self.h(f'<figure><img alt="{html.escape(name)}" src="data:image/png;base64,{data}">'
-               f'<figcaption>Fig. {self.figures}. {caption} <a href="{html.escape(name)}">'
-               f'{html.escape(name)}</a></figcaption></figure>')
-
-    def table(self, header, rows, csv_name=None):
-        self.h("<table><tr>" + "".join(f"<th>{html.escape(str(c))}</th>" for c in header) + "</tr>")
-        for r in rows:
-            self.h("<tr>" + "".join(f"<td>{cell_html(c)}</td>" for c in r) + "</tr>")
-        self.h("</table>")
-        if csv_name:
-            self.csv(csv_name, header, [[plain(c) for c in r] for r in rows])
-
-    def csv(self, name, header, rows):
-        with open(os.path.join(self.out, name), "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(header)
-            w.writerows(rows)
-        if name not in self.csvs:
-            self.csvs.append(name)
 
 
 def git_commit():
@@ -530,356 +457,6 @@ def section_series(R, pts):
                          "ci95_lower", "ci95_upper", "count"], rows)
 
 
-def case_scalars(q):
-    """Scalar metrics of every member case of a point, by replica."""
-    an = q["an"]
-    by_case = {}
-    if an is not None:
-        for j, cid in enumerate(an["cases"]):
-            by_case[cid] = j
-    out = []
-    for cf in q["members"]:
-        d = cf["data"]
-        s = dict(case=cf["case_id"], replica=int(cf.get("replica", 0)))
-        vl, vs = d.get("concentration/volume_large"), d.get("concentration/volume_small")
-        s["shell c_L"] = float(np.nansum(vl) / np.nansum(vl + vs)) if vl is not None else np.nan
-        for f in ("large", "small"):
-            m, c = d.get(f"displacement/dpsi_{f}"), d.get(f"displacement/count_{f}")
-            ok = np.isfinite(m) & (c > 0) if m is not None else None
-            s[f"mean Δψ {f} [deg]"] = (float(np.sum(m[ok] * c[ok]) / np.sum(c[ok])) * 180 / np.pi
-                                      if ok is not None and ok.any() else np.nan)
-        for key, name in (("series/mixing_index", "final mixing index"),
-                          ("series/radial_segregation", "final radial segregation")):
-            v = d.get(key)
-            s[name] = float(v[-1]) if v is not None and len(v) else np.nan
-        j = by_case.get(cf["case_id"])
-        s["enrichment (map)"] = float(an["enrichment_map"][j]) if j is not None else np.nan
-        s["enrichment (last snapshot)"] = float(an["enrichment_snap"][j]) if j is not None else np.nan
-        ew = an.get("enrichment_window") if an is not None else None
-        s["enrichment (window snapshots)"] = (float(ew[j]) if j is not None and ew is not None
-                                              else np.nan)
-        sm, so = (an.get("shell_share_mapped"), an.get("shell_share_other")) if an else (None,
-                                                                                        None)
-        s[SHELL_RATIO] = (float(sm[j] / so[j]) if j is not None and sm is not None and so[j] > 0
-                          else np.nan)
-        for f in FATES:
-            v = an["fates"][f][j] if j is not None else -1
-            s[f] = float(v) if v >= 0 else np.nan
-        s["repose tilt β [deg]"] = fi.case_repose(cf)
-        out.append(s)
-    return out
-
-
-# The mapped species' share in the collection shell over the other species' (analysis.h5
-# shell_share_*: the light over the heavy in a density bed, the large over the small otherwise;
-# window snapshots): radial segregation as in Yu 2022 Fig. 13, 1 = none.
-SHELL_RATIO = "shell share ratio, mapped / other species (window snapshots)"
-SCALARS = ["enrichment (map)", "enrichment (last snapshot)", "enrichment (window snapshots)",
-           SHELL_RATIO, "shell c_L", "mean Δψ large [deg]", "mean Δψ small [deg]", "final mixing index",
-           "final radial segregation", "repose tilt β [deg]"]
-BOUNDS = {"enrichment (map)": (0.0, np.inf), "enrichment (last snapshot)": (0.0, np.inf),
-          "enrichment (window snapshots)": (0.0, np.inf), SHELL_RATIO: (0.0, np.inf),
-          "shell c_L": (0.0, 1.0), "mean Δψ large [deg]": (0.0, 180.0),
-          "mean Δψ small [deg]": (0.0, 180.0), "final mixing index": (0.0, 1.0),
-          "final radial segregation": (-1.0, 1.0), "repose tilt β [deg]": (0.0, 90.0)}
-
-
-def shell_inner(cf):
-    """Inner radius r/R of the shell a case's c_L maps collect (0.9 unless its collect plan
-    says otherwise, e.g. 0.97 for the density beds of Fig. 13)."""
-    m = re.search(r"(?:^|;)shell=([0-9.eE+-]+)", str(cf.get("collect", "")))
-    return float(m.group(1)) if m else 0.9
-
-
-def mixing_baseline(q):
-    """Per case: the mixing index of its last snapshot, and of the same particles shuffled
-    (report_mixing.random_bed_index); lab-frame maps only."""
-    out = dict(observed=[], random=[], random_sd=[], excess=[], series=[])
-    for cf in q["members"]:
-        snaps = cf.get("snapshots") or []
-        if not snaps or str(cf.get("frame", "lab")) != "lab":
-            continue
-        shell = shell_inner(cf)
-        obs, rnd, sd = rm.random_bed_index(snaps[-1], q["p"]["grid_n"], shell,
-                                           seed=int(np.ravel(cf.get("seed", [0]))[0]) % 2**32)
-        series = cf["data"].get("series/mixing_index")
-        out["observed"].append(obs)
-        out["random"].append(rnd)
-        out["random_sd"].append(sd)
-        out["excess"].append(obs - rnd)
-        out["series"].append(float(series[-1]) if series is not None and len(series) else np.nan)
-    return out
-
-
-def section_scalars(R, pts, findings):
-    shells = sorted({shell_inner(cf) for q in pts for cf in q["members"]}) or [0.9]
-    shell_text = " or ".join(f"{r:g} &lt; r/R &lt; 1" for r in shells)
-    R.h("<h2>6. Scalar metrics</h2><p>Mean [95% confidence interval] (N replicas). Every "
-        "interval is computed on a scale on which the quantity is unbounded and mapped back, "
-        "so it stays within the physical bounds: log for the enrichment (&gt; 0), logit for "
-        "shares and indices in [0, 1], for Δψ in [0°, 180°] and for the radial segregation in "
-        "[−1, 1]. Island enrichment = share of the large particles (the light ones in a "
-        "density-bidisperse point) inside the CM islands ÷ the "
-        "islands' share of the view from below: 1 = no preference, &gt; 1 = the segregation "
-        "pattern of Yu 2022 Fig. 4; undefined (–) for a protocol without islands, e.g. "
-        "(68°,68°). 'map': from the case's time-averaged c_L window (" + shell_text + "); "
-        "'last snapshot': from the particles of its last snapshot; 'window snapshots': the "
-        "particles of every stroboscopic snapshot of the collection window pooled (a map "
-        "sampled within the iteration averages islands that move during it). The shell share "
-        "ratio: the share of the mapped species' particles (light, or large) whose centres lie "
-        "in the collection shell over the other species' share, over the window snapshots "
-        "(Yu 2022 Fig. 13's radial segregation; 1 = none). The mixing index (intensity "
-        "of segregation of the shell map, 0 = even, 1 = segregated) is compared with its value "
-        "for a <b>randomly mixed bed of the same particles</b> (species shuffled among the "
-        "positions of the last snapshot's shell, 200 shuffles; postproc/report_mixing.py): "
-        "with a few particles per cell a random bed is far from 0. The repose tilt β is the "
-        "one each case's bed was tilted to (measured on the bed unless the campaign set it); "
-        "the Findings warn when points differ in it by more than "
-        f"{fi.TILT_TOL_DEG:g}°.</p>")
-    per_case, rows = [], []
-    for q in pts:
-        sc = case_scalars(q)
-        q["scalars"] = sc
-        q["mixing"] = mixing_baseline(q)
-        for s in sc:
-            per_case.append([q["label"], s["case"], s["replica"]] + [s[k] for k in SCALARS + FATES])
-        row = [q["label"]]
-        for k in SCALARS:
-            lo, hi = BOUNDS[k]
-            row.append(Html(fi.ci_span(bounded_interval([s[k] for s in sc], lo, hi))))
-        mx = q["mixing"]
-        if mx["random"]:
-            row.append(f"{np.mean(mx['random']):.3g} (SD {np.mean(mx['random_sd']):.2g})")
-            row.append(fmt(*mean_ci(mx["excess"])))
-        else:
-            row += ["–", "–"]
-        row.append(f"{q['an']['attrs'].get('island_area_fraction', np.nan):.3f}"
-                   if q["an"] else "–")
-        rows.append(row)
-        sent = fi.mixing_sentence(q)
-        if sent:
-            findings.append(sent)
-    R.table(["point"] + SCALARS + ["mixing index of a random bed, same particles",
-                                   "mixing index − random (last snapshot)",
-                                   "islands' area share"], rows, "scalar_table.csv")
-    R.csv("case_scalars.csv", ["point", "case", "replica"] + SCALARS + FATES, per_case)
-    summ = []
-    for q in pts:
-        for k in SCALARS + FATES:
-            m, ci, n = mean_ci([s[k] for s in q["scalars"]])
-            lo, hi = BOUNDS.get(k, (0.0, fate_bound(q)))
-            b = bounded_interval([s[k] for s in q["scalars"]], lo, hi,
-                                 eps=0.5 if k in FATES else None)
-            summ.append([q["label"], k, m, ci, b["lower"], b["upper"], n])
-    R.csv("scalar_summary.csv", ["point", "metric", "mean", "ci95_student", "ci95_lower",
-                                 "ci95_upper", "n"], summ)
-    mrows = []
-    for q in pts:
-        mx = q["mixing"]
-        for j in range(len(mx["observed"])):
-            mrows.append([q["label"], j, mx["observed"][j], mx["series"][j], mx["random"][j],
-                          mx["random_sd"][j], mx["excess"][j]])
-    R.csv("mixing_random.csv", ["point", "member", "index_last_snapshot",
-                                "index_series_last_sample", "random_bed_mean", "random_bed_sd",
-                                "excess"], mrows)
-
-
-def fate_bound(q):
-    """The most large particles a Fig. 8 class can hold in a case of q (the four classes sum
-    to the large particles present at both times)."""
-    an = q["an"]
-    if an is None:
-        return np.inf
-    tot = sum(np.asarray(an["fates"][f], float) for f in FATES)
-    tot = tot[tot >= 0]
-    return float(tot.max()) if tot.size else np.inf
-
-
-def section_convergence(R, pts):
-    R.h("<h2>7. Convergence with the number of replicas</h2>")
-    panels, rows = [], []
-    for metric in ("enrichment (map)", "final mixing index"):
-        curves = []
-        for q in pts:
-            v = [s[metric] for s in q["scalars"]]
-            ks, ms, los, his = [], [], [], []
-            for k in range(1, len(v) + 1):
-                b = bounded_interval(v[:k], *BOUNDS[metric])
-                ks.append(k), ms.append(b["mean"]), los.append(b["lower"]), his.append(b["upper"])
-                rows.append([q["label"], metric, k, b["mean"], b["lower"], b["upper"], b["n"]])
-            if np.isfinite(ms).any():
-                curves.append((q["label"], np.array(ks), np.array(ms), np.array(los),
-                               np.array(his)))
-        if curves:
-            panels.append((metric, metric, curves))
-    curves = []
-    for q in pts:
-        maps = [cf["data"].get("concentration/c_L") for cf in q["members"]]
-        maps = [np.asarray(m, float).ravel() for m in maps if m is not None]
-        if len(maps) < 1:
-            continue
-        full = np.nanmean(np.array(maps), axis=0)
-        ks, rms = [], []
-        for k in range(1, len(maps) + 1):
-            part = np.nanmean(np.array(maps[:k]), axis=0)
-            r = float(np.sqrt(np.nanmean((part - full) ** 2)))
-            ks.append(k), rms.append(r)
-            rows.append([q["label"], "rms(c_L mean_k - mean_all)", k, r, np.nan, np.nan, k])
-        nan = np.full(len(ks), np.nan)
-        curves.append((q["label"], np.array(ks), np.array(rms), nan, nan))
-    if curves:
-        panels.append(("c_L map: RMS(mean of k − mean of all)", "RMS over cells", curves))
-    kmax = max((len(q["members"]) for q in pts), default=0)
-    if kmax < 3:
-        R.h(f"<p>Not shown: with at most {kmax} replica(s) per point the curves would have "
-            f"{kmax} point(s), the last of which is the all-replica mean by definition, and no "
-            "interval before k = 2: they say nothing about convergence. Run 3 or more replicas "
-            "per point to see it (the numbers are in convergence.csv).</p>")
-    elif panels:
-        R.h("<p>Mean over the first k replicas (in replica order) with its 95% CI (bounded as "
-            "in Sec. 6), and the RMS over cells of the difference between the k-replica mean "
-            "c_L map and the all-replica mean: where the curves flatten, more replicas change "
-            "little.</p>")
-        rf.convergence_fig(panels, os.path.join(R.out, "convergence.png"))
-        R.fig("convergence.png", "Convergence of the ensemble mean with the number of replicas.")
-    R.csv("convergence.csv", ["point", "metric", "k", "mean", "ci95_lower", "ci95_upper", "n"],
-          rows)
-
-
-def section_fates(R, pts):
-    R.h("<h2>8. Fig. 8 counts: persistent / captured / dispersed / other</h2>")
-    have = [q for q in pts if q["an"] is not None and any(
-        np.asarray(q["an"]["fates"]["persistent"]) >= 0)]
-    if not have:
-        R.h("<p>No case kept particle snapshots at two iterations (campaign.snapshots = true), "
-            "or <code>tumble analyze campaign</code> has not run: no Fig. 8 counts.</p>")
-        return
-    R.h("<p>Large particles, classified by whether the Lambert image of their direction lies in "
-        "a CM island (r = 0.95) at the start and at the end of the interval (lab frame): "
-        "<b>persistent</b> in the <i>same</i> island at both times (the paper's definition), "
-        "<b>switched</b> in an island at both times but not the same one (not a class of the "
-        "paper's figure), <b>captured</b> outside → inside, <b>dispersed</b> inside → outside, "
-        "<b>other</b> outside at both. Mean [95% interval, on the logit scale of 0 … the large "
-        "particles of a case, a count on a bound moved half a particle inside it] (N), and the "
-        "share of the large particles. <b>Chance</b>: the expected count if each particle's end "
-        "position were that of a particle drawn at random (the islands' occupancy at both "
-        "times kept, the link between a particle's start and end broken); <b>excess</b> = "
-        "observed − chance, per replica, mean ± Student 95% half-width: a persistent excess "
-        "above 0 is memory of the island, beyond what the end pattern alone gives. Yu 2022 "
-        "(f = 0.15, N = 7 → 34, 1980 large): persistent 124 (6.3%), captured 429 (21.7%), "
-        "dispersed 241 (12.2%), other 1186 (59.9%).</p>")
-    rows, panels, warn = [], [], []
-    for q in have:
-        a = q["an"]
-        frm, to = a["fates_from"], a["fates_to"]
-        period = a.get("island_period", 0)
-        span = np.nanmax(to) - np.nanmin(frm)
-        if period and abs(span - period * round(span / period)) > 1e-3:  # snapshots: ± 1 step
-            warn.append(f"{q['label']}: the window {np.nanmin(frm):.3g} → {np.nanmax(to):.3g} "
-                        f"is not a whole number of the islands' period ({period} iterations); "
-                        "islands trade places within a period, so 'persistent' and 'switched' "
-                        "are mixed up")
-        top = fate_bound(q)
-        tot = sum(np.asarray(a["fates"][f], float) for f in FATES)
-        tot = np.where(tot > 0, tot, np.nan)
-        chance = a.get("fates_by_chance")
-        for f in FATES:
-            obs = np.array([v if v >= 0 else np.nan for v in a["fates"][f]], float)
-            b = bounded_interval(obs, 0.0, top, eps=0.5)
-            share = obs / tot
-            row = [q["label"], f"{np.nanmin(frm):.3g} → {np.nanmax(to):.3g}", f,
-                   Html(fi.ci_span(b)), f"{100 * np.nanmean(share):.1f}%"]
-            if chance is not None and f in chance:
-                c = np.asarray(chance[f], float)
-                ex = obs - c
-                m, h, n = mean_ci(ex[np.isfinite(ex)])
-                row += [f"{np.nanmean(c):.1f}", f"{100 * np.nanmean(c / tot):.1f}%",
-                        f"{m:+.1f} ± {h:.1f} ({n})"]
-            else:
-                row += ["", "", ""]
-            pf = PAPER_FATES.get(f)
-            row.append(f"{pf} ({100 * pf / PAPER_LARGE:.1f}%)" if pf is not None else "—")
-            rows.append(row)
-        ex = a.get("fate_example")
-        if ex is not None:
-            panels.append((f"{q['label']}, case {ex['case'][:8]}, N = {ex['frm']:.3g} → "
-                           f"{ex['to']:.3g}", q["islands"], ex["fate"], ex["x_start"], ex["x_end"]))
-    for w in warn:
-        R.h(f"<p class='warn'>{html.escape(w)}</p>")
-    R.table(["point", "iterations", "class", "count", "share", "chance", "chance share",
-             "excess (observed − chance)", "Yu 2022"], rows, "fates.csv")
-    if panels:
-        rf.fates_fig(panels, os.path.join(R.out, "fates.png"))
-        R.fig("fates.png", "Large particles at the start (left) and end (right) of the interval, "
-                           "coloured by fate, with the CM islands (black), one case per point.")
-
-
-def dpsi_cell(values):
-    """'m ± h (N)' of the finite per-replica values [deg], '—' without any (tables 3c)."""
-    m, h, n = mean_ci(np.asarray(values, float))
-    return f"{m:.2f} ± {h:.2f} ({n})" if n else "—"
-
-
-def section_dpsi_contrast(R, pts):
-    """Yu 2022 Figs. 6-7: particles caught in period-p islands come back after p iterations, so
-    their Δψ over whole periods is small; the contrast outside − inside says how much. The
-    numbers are `tumble analyze campaign`'s (analysis.h5 dpsi_fields, from each case's
-    collected Δψ maps), the weighting defined once there (dpsi_snapshots.hpp)."""
-    have = [q for q in pts if q["an"] is not None and len(q["islands"]) > 0]
-    if not displacement_groups(pts) or not have:
-        return
-    R.h("<h2>3c. Δψ inside and outside the CM islands, per lag</h2><p>Mean angular "
-        "displacement over each collected lag of the particles that started inside the CM "
-        "islands and of those that started outside (0.8 ≤ r/R ≤ 1, cells weighted by their "
-        "particle count and the share of their area inside or outside the islands), per "
-        "replica; <b>contrast</b> = outside − inside, mean ± Student 95% half-width (N). A "
-        "positive contrast over a whole number of island periods is the paper's Figs. 6-7: "
-        "particles in period-3 islands return after 3, 6, 18 iterations, the chaotic ones do "
-        "not. Over a lag that is not a whole number of periods the islands' particles are "
-        "elsewhere and the contrast says little.</p>")
-    rows, stale = [], []
-    for q in have:
-        if "dpsi_fields" not in q["an"]:
-            stale.append(q["label"])
-            continue
-        for d in q["an"]["dpsi_fields"]:
-            for sp in ("large", "small"):
-                rows.append([q["label"], f"{d['lag']:g}", sp]
-                            + [dpsi_cell(d[f"{w}_{sp}"]) for w in ("inside", "outside", "contrast")])
-    if stale:
-        R.h("<p class='warn'>No contrast for " + html.escape(", ".join(stale)) + ": the "
-            "campaign's analysis.h5 predates it; run <code>tumble analyze campaign DIR</code> again.</p>")
-    R.table(["point", "lag [iterations]", "species", "Δψ inside [deg]", "Δψ outside [deg]",
-             "contrast outside − inside [deg]"], rows, "dpsi_contrast.csv")
-    section_dpsi_snapshots(R, have)
-
-
-def section_dpsi_snapshots(R, pts):
-    """The same contrast from the snapshots (`tumble analyze campaign --dpsi-lags`): any lag,
-    every start of the Fig. 8 window, including starts past the fields' window."""
-    rows = []
-    for q in pts:
-        for d in q["an"].get("dpsi_snapshots", []):
-            ok = np.asarray(d["starts"]) > 0
-            if not ok.any():
-                continue
-            starts = np.asarray(d["starts"])[ok]
-            first, last = np.nanmin(d["first"]), np.nanmax(d["last"])
-            for sp in ("large", "small"):
-                cells = [dpsi_cell(np.asarray(d[f"{w}_{sp}"], float)[ok])
-                         for w in ("inside", "outside", "contrast")]
-                rows.append([q["label"], f"{d['lag']:g}", f"{starts.min()}-{starts.max()}",
-                             f"{first:.3g}-{last:.3g}", sp] + cells)
-    if not rows:
-        return
-    R.h("<p>From the snapshots (<code>tumble analyze campaign --dpsi-lags</code>): the same "
-        "contrast for the lags asked for, summed over every start N of the Fig. 8 window with a "
-        "snapshot at N + lag in it, per replica; mean ± Student 95% half-width (N).</p>")
-    R.table(["point", "lag [iterations]", "starts per case", "start iterations", "species",
-             "Δψ inside [deg]", "Δψ outside [deg]", "contrast outside − inside [deg]"], rows,
-            "dpsi_snapshots.csv")
-
-
 def section_renders(R, pts):
     if __package__:
         from . import render_bottom as rb
@@ -903,31 +480,6 @@ def section_renders(R, pts):
             name = f"bottom_{k}_{w}.png"
             rb.render(f, os.path.join(R.out, name), "lab", "ortho", 420)
             R.fig(name, f"{html.escape(q['label'])}, case {cf['case_id'][:8]}, {w} snapshot.")
-
-
-CSS = """body{font-family:sans-serif;max-width:1200px;margin:1em auto;padding:0 1em;color:#222}
-table{border-collapse:collapse;margin:0.5em 0;font-size:0.85em}
-td,th{border:1px solid #bbb;padding:2px 6px;text-align:left;vertical-align:top}
-th{background:#eee} figure{margin:1em 0} img{max-width:100%} figcaption{font-size:0.85em}
-#findings{border:2px solid #4a6fa5;background:#f4f8ff;padding:0.3em 1em;margin:1em 0}
-#findings li{margin:0.35em 0} .context{font-size:0.9em;color:#333}
-.warn{border-left:5px solid #d68910;background:#fef5e7;padding:0.4em 0.8em;margin:0.6em 0}
-pre{background:#f6f6f6;padding:0.5em;font-size:0.8em;overflow-x:auto}"""
-
-# Sets data attributes on <body> once everything has loaded: how many images the page holds and
-# how many decoded (naturalWidth > 0). tests/analysis/check_report_chromium.py reads them back from
-# headless Chromium's DOM.
-CHECK_SCRIPT = """<script>
-window.addEventListener('load', function () {
-  var imgs = document.images, ok = 0, bad = [];
-  for (var i = 0; i < imgs.length; i++) {
-    if (imgs[i].complete && imgs[i].naturalWidth > 0) ok++; else bad.push(imgs[i].alt);
-  }
-  document.body.setAttribute('data-images-total', String(imgs.length));
-  document.body.setAttribute('data-images-ok', String(ok));
-  document.body.setAttribute('data-images-broken', bad.join('|'));
-});
-</script>"""
 
 
 def section_findings(camps, pts, findings):

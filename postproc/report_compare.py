@@ -36,7 +36,7 @@ def compare(a, b, lo, hi):
 
 def scalar_tests(pts, baseline, scalars, bounds):
     """Every (point, metric) test against the baseline, Holm-adjusted over all of them. Each
-    point's q["scalars"] (report.case_scalars) must be filled. Rows: dict(point, metric, kind,
+    point's q["scalars"] (report_scalars.case_scalars) must be filled. Rows: dict(point, metric, kind,
     est, lower, upper, p, p_holm, na, nb)."""
     base = pts[baseline]
     rows = []

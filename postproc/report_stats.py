@@ -15,6 +15,7 @@
 This module imports nothing from the rest of postproc, so scripts outside the package
 (jobs/accuracy/pattern_table.py) can load it on its own."""
 import math
+import warnings
 
 import numpy as np
 from scipy import stats
@@ -194,7 +195,11 @@ def welch_test(a, b, level=LEVEL):
         return dict(diff=d, half=math.nan, p=math.nan, na=len(a), nb=len(b))
     half = float(welch_half_width([a.var(ddof=1)], [len(a)], [b.var(ddof=1)], [len(b)],
                                   level)[0])
-    p = float(stats.ttest_ind(a, b, equal_var=False).pvalue) if half > 0 else math.nan
+    with warnings.catch_warnings():  # one side's replicas all equal (e.g. a tilt set by hand):
+        # scipy warns of "precision loss" in a variance that is 0; the test is still Welch's
+        # with that side exact (ν = n_other − 1), as welch_half_width computes it.
+        warnings.simplefilter("ignore", RuntimeWarning)
+        p = float(stats.ttest_ind(a, b, equal_var=False).pvalue) if half > 0 else math.nan
     return dict(diff=d, half=half, p=p, na=len(a), nb=len(b))
 
 
