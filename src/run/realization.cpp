@@ -91,7 +91,7 @@ struct Started {
 
 // The engine at the checkpoint's state, with the series and the snapshot list it had.
 Started restart_from(const std::string& path, const Scene& scene,
-                     const geometry::Protocol& protocol, std::int64_t snap_every, MPI_Comm comm,
+                     const geometry::Protocol& protocol, double snap_steps, MPI_Comm comm,
                      std::ostream* log) {
   io::CheckpointData c = io::read_checkpoint(path, comm);
   check_restart_compatible(scene, c.scene_text);
@@ -113,7 +113,8 @@ Started restart_from(const std::string& path, const Scene& scene,
   for (std::int64_t k = 0; k < c.snapshots_written; ++k) {
     char name[64];
     std::snprintf(name, sizeof name, "snap_%06lld.h5", static_cast<long long>(k));
-    st.state->snapshots.push_back({name, static_cast<double>(k * snap_every) * dt, n});
+    st.state->snapshots.push_back(
+        {name, static_cast<double>(snapshot_step(k, snap_steps)) * dt, n});
   }
   return st;
 }
@@ -224,9 +225,10 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
   const geometry::Protocol protocol = protocol_of(scene);
   const double dt = scene.time_step();
   const double period = protocol.periodic() ? protocol.period() : 1.0;
-  const std::int64_t snap_every = steps_for(scene.snapshot_interval, dt, period);
+  // Snapshots: the interval in steps, not rounded (snapshot_observer.hpp, snapshot_step).
+  const double snap_steps = (scene.snapshot_interval > 0 ? scene.snapshot_interval : period) / dt;
   Started st = restart.empty() ? fresh_start(scene, protocol, comm, log, &res.reused_bed)
-                               : restart_from(restart, scene, protocol, snap_every, comm, log);
+                               : restart_from(restart, scene, protocol, snap_steps, comm, log);
   Simulation* sim = st.sim.get();
   RunState& s = *st.state;
   s.particles = res.particles = sim->global_count();
@@ -247,7 +249,7 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
   for (Observer* o : opt.observers) observers.push_back(o);
   if (scene.drift_grid == OnOff::on) add(std::make_unique<DriftObserver>(scene));
   add(std::make_unique<HealthObserver>());
-  if (opt.write_snapshots) add(std::make_unique<SnapshotObserver>(snap_every));
+  if (opt.write_snapshots) add(std::make_unique<SnapshotObserver>(snap_steps));
   add(std::make_unique<CheckpointObserver>(
       ckpt_path, steps_for(scene.checkpoint_interval, dt, period), scene.checkpoint_wall));
   add(std::make_unique<ProgressObserver>());

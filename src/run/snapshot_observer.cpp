@@ -8,7 +8,8 @@ namespace tumble {
 
 void SnapshotObserver::after_step(RunState& s) {
   const std::int64_t step = s.sim.step_count();
-  if (step % every_ == 0 || step == s.total_steps) write(s);
+  const auto k = static_cast<std::int64_t>(s.snapshots.size());  // step 0's is snapshot 0
+  if (step == snapshot_step(k, interval_steps_) || step == s.total_steps) write(s);
 }
 
 void SnapshotObserver::write(RunState& s) {
