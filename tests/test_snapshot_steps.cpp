@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -31,6 +32,35 @@ std::vector<std::int64_t> snapshot_steps(const std::string& dir) {
   for (const auto& f : files)
     steps.push_back(io::H5File(f, io::H5File::Mode::Read).attr_int64("/", "step"));
   return steps;
+}
+
+// The simulated time of every snap_*.h5 in dir (its "time" attribute), in file order.
+std::vector<double> snapshot_times(const std::string& dir) {
+  std::vector<double> times;
+  for (std::int64_t k = 0;; ++k) {
+    char name[64];
+    std::snprintf(name, sizeof name, "/snap_%06lld.h5", static_cast<long long>(k));
+    if (!std::filesystem::exists(dir + name)) return times;
+    times.push_back(io::H5File(dir + name, io::H5File::Mode::Read).attr_double("/", "time"));
+  }
+}
+
+// The <Time Value="..."/> entries of dir/snapshots.xdmf, in order.
+std::vector<double> xdmf_times(const std::string& dir) {
+  std::ifstream in(dir + "/snapshots.xdmf");
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  std::vector<double> out;
+  const std::string tag = "<Time Value=\"";
+  for (auto at = text.find(tag); at != std::string::npos; at = text.find(tag, at + 1))
+    out.push_back(std::stod(text.substr(at + tag.size())));
+  return out;
+}
+
+void expect_xdmf_matches_files(const std::string& dir) {
+  const std::vector<double> files = snapshot_times(dir), index = xdmf_times(dir);
+  ASSERT_EQ(files.size(), index.size()) << dir;
+  for (std::size_t k = 0; k < files.size(); ++k)  // the index prints 6 significant digits
+    EXPECT_NEAR(index[k], files[k], 1e-5 * std::max(files[k], 1e-3)) << dir << ", snapshot " << k;
 }
 
 std::string text_of(const std::string& path) {
@@ -91,4 +121,49 @@ TEST(SnapshotSteps, TheEndIsWrittenOnceAndAResumedRunWritesTheSameList) {
               b = text_of(base + "/split/snapshots.xdmf");
   EXPECT_FALSE(a.empty());
   EXPECT_EQ(a, b);
+}
+
+// A run resumed with another snapshot interval keeps to the new interval's grid from where it
+// resumed (the first rule counted the snapshots written and waited for a step already passed);
+// one continued past its end (more iterations) goes on on its grid, and the XDMF index rebuilt
+// from the checkpoint gives every file its own time.
+TEST(SnapshotSteps, AResumeWithAnotherIntervalOrMoreIterationsKeepsToTheGrid) {
+  const std::string base = test_dir("snapshot_steps_resume");
+  std::filesystem::remove_all(base);
+  auto scene = [&](const std::string& out, const std::string& interval, const char* iterations) {
+    return tiny_scene({"protocol.mode=biaxial", "protocol.repose=27",
+                       std::string("protocol.iterations=") + iterations,
+                       "scene.output_dir=" + base + "/" + out, "output.checkpoint_interval=0.006",
+                       "output.snapshot_interval=" + interval});
+  };
+  // 0.00613 s = 306.5 steps; then 0.00307 s = 153.5 steps from step 500 on.
+  const Scene coarse = scene("changed", "0.00613", "0.002");
+  const double dt = coarse.time_step();
+  RunOptions first;
+  first.max_steps = 500;
+  run_realization(coarse, first);
+  RunOptions rest;
+  rest.resume = true;
+  const Scene fine = scene("changed", "0.00307", "0.002");
+  run_realization(fine, rest);
+  const std::int64_t total = std::llround(fine.run_time() / dt);
+  std::vector<std::int64_t> want = {0, snapshot_step(1, 0.00613 / dt)};
+  for (std::int64_t k = 1; snapshot_step(k, 0.00307 / dt) < total; ++k)
+    if (snapshot_step(k, 0.00307 / dt) > 500) want.push_back(snapshot_step(k, 0.00307 / dt));
+  want.push_back(total);
+  EXPECT_EQ(snapshot_steps(base + "/changed"), want);
+  expect_xdmf_matches_files(base + "/changed");
+
+  // To the end of 0.002 iterations (1233 steps: the end between two snapshots, written), then on
+  // to 0.004: the snapshots after the first end are those of an uninterrupted 0.004 run.
+  run_realization(scene("extended", "0.00613", "0.002"), RunOptions{});
+  run_realization(scene("extended", "0.00613", "0.004"), rest);
+  run_realization(scene("straight", "0.00613", "0.004"), RunOptions{});
+  std::vector<std::int64_t> ext = snapshot_steps(base + "/extended"),
+                            straight = snapshot_steps(base + "/straight");
+  const std::int64_t first_end = std::llround(coarse.run_time() / dt);
+  ASSERT_EQ(std::count(ext.begin(), ext.end(), first_end), 1);
+  ext.erase(std::find(ext.begin(), ext.end(), first_end));
+  EXPECT_EQ(ext, straight) << "the extended run's grid differs from the uninterrupted run's";
+  expect_xdmf_matches_files(base + "/extended");
 }

@@ -123,6 +123,13 @@ std::vector<int> check_contents(const CheckpointData& c, std::int64_t n, std::in
   if (c.snapshots_written < 0 || c.snapshots_written > c.step + 1)
     corrupt(path, "snapshots_written = " + std::to_string(c.snapshots_written) + " at step " +
                       std::to_string(c.step));
+  if (!c.snapshot_times.empty() &&
+      static_cast<std::int64_t>(c.snapshot_times.size()) != c.snapshots_written)
+    corrupt(path, "snapshots/time holds " + std::to_string(c.snapshot_times.size()) +
+                      " times for snapshots_written = " + std::to_string(c.snapshots_written));
+  for (std::size_t k = 0; k < c.snapshot_times.size(); ++k)
+    if (!finite(c.snapshot_times[k]) || (k > 0 && c.snapshot_times[k] < c.snapshot_times[k - 1]))
+      corrupt(path, "snapshots/time is not a list of increasing times");
   const auto len = c.series.time.size();
   for (const auto* v : {&c.series.iteration, &c.series.shell_large_fraction,
                         &c.series.bed_large_fraction, &c.series.kinetic_energy})
@@ -156,7 +163,7 @@ void agree(MPI_Comm comm, const std::string& local_error, bool corrupt_kind) {
 }  // namespace
 
 void write_checkpoint(const std::string& path, const Simulation& sim, const Scene& scene,
-                      const analysis::Series& series, std::int64_t snapshots_written,
+                      const analysis::Series& series, const std::vector<double>& snapshot_times,
                       const cm::DriftStatistics& drift) {
   // Owned particles only (ghosts are rebuilt on restart), in memory order.
   const Particles& p = sim.particles();
@@ -197,7 +204,8 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   }
   f.set_attr("/", "time", sim.time());
   f.set_attr("/", "step", static_cast<std::int64_t>(sim.step_count()));
-  f.set_attr("/", "snapshots_written", snapshots_written);
+  f.set_attr("/", "snapshots_written", static_cast<std::int64_t>(snapshot_times.size()));
+  if (!snapshot_times.empty()) f.write("snapshots/time", snapshot_times);
   f.set_attr("/", "kind", std::string("tumble checkpoint"));
   write_provenance(f, scene);
   out.commit();
@@ -282,6 +290,7 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
     c.time = f.attr_double("/", "time");
     c.step = f.attr_int64("/", "step");
     c.snapshots_written = f.attr_int64("/", "snapshots_written");
+    if (f.exists("snapshots/time")) c.snapshot_times = f.read_double("snapshots/time");
     c.scene_text = f.attr_string("/", "scene");
     seen = check_contents(c, n, static_cast<std::int64_t>(b0), path);
   } catch (const CorruptInputError& e) {

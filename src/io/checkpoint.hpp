@@ -30,10 +30,13 @@ struct CheckpointData {
   cm::DriftStatistics drift;  // empty unless the run measured the drift grid
   std::string scene_text;     // the scene that wrote it
   std::int64_t snapshots_written = 0;
+  // Each snapshot's simulated time, for the resumed run's list (snapshots.xdmf); empty in files
+  // written before 2026-11-28, whose times are rebuilt from the snapshot interval.
+  std::vector<double> snapshot_times;
 };
 
 void write_checkpoint(const std::string& path, const Simulation& sim, const Scene& scene,
-                      const analysis::Series& series, std::int64_t snapshots_written,
+                      const analysis::Series& series, const std::vector<double>& snapshot_times,
                       const cm::DriftStatistics& drift = {});
 // Whole checkpoint (serial), or with `comm` of more than one rank this rank's block of the
 // particle rows and of the contact records (collective).

@@ -64,8 +64,10 @@ void CheckpointObserver::after_step(RunState& s) {
 
 void CheckpointObserver::write(RunState& s) {
   s.sim.check_health();
-  io::write_checkpoint(path_, s.sim, s.scene, s.series,
-                       static_cast<std::int64_t>(s.snapshots.size()), s.drift);
+  std::vector<double> times;  // the snapshot list a resumed run rebuilds
+  times.reserve(s.snapshots.size());
+  for (const auto& e : s.snapshots) times.push_back(e.time);
+  io::write_checkpoint(path_, s.sim, s.scene, s.series, times, s.drift);
   last_ = Clock::now();
 }
 

@@ -113,8 +113,14 @@ Started restart_from(const std::string& path, const Scene& scene,
   for (std::int64_t k = 0; k < c.snapshots_written; ++k) {
     char name[64];
     std::snprintf(name, sizeof name, "snap_%06lld.h5", static_cast<long long>(k));
-    st.state->snapshots.push_back(
-        {name, static_cast<double>(snapshot_step(k, snap_steps)) * dt, n});
+    // The times the checkpoint recorded; an older checkpoint's from the interval (exact unless
+    // the interval changed or a run's end was written between two snapshots).
+    const auto i = static_cast<std::size_t>(k);
+    st.state->snapshots.push_back({name,
+                                   i < c.snapshot_times.size()
+                                       ? c.snapshot_times[i]
+                                       : static_cast<double>(snapshot_step(k, snap_steps)) * dt,
+                                   n});
   }
   return st;
 }

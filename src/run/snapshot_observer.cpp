@@ -1,5 +1,7 @@
 #include "run/snapshot_observer.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "run/run_state.hpp"
@@ -8,7 +10,10 @@ namespace tumble {
 
 void SnapshotObserver::after_step(RunState& s) {
   const std::int64_t step = s.sim.step_count();
-  const auto k = static_cast<std::int64_t>(s.snapshots.size());  // step 0's is snapshot 0
+  // Whether this step is a snapshot step, from the step alone (not from how many were written:
+  // a run resumed with another interval, or continued past an end that was written between two
+  // snapshots, keeps to its own grid).
+  const std::int64_t k = std::llround(static_cast<double>(step) / std::max(1.0, interval_steps_));
   if (step == snapshot_step(k, interval_steps_) || step == s.total_steps) write(s);
 }
 

@@ -121,7 +121,7 @@ TEST(ExtraField, FollowsItsParticleThroughMigrationAndRestart) {
 
   // The collective checkpoint holds the field (dataset particles/dummy, one row per particle).
   const std::string ckpt = dir + "/ckpt.h5";
-  io::write_checkpoint(ckpt, sim, s, {}, 0);
+  io::write_checkpoint(ckpt, sim, s, {}, {});
   if (rank_of(MPI_COMM_WORLD) == 0) {
     const io::CheckpointData whole = io::read_checkpoint(ckpt);
     EXPECT_EQ(static_cast<std::int64_t>(whole.particles.size()), n);

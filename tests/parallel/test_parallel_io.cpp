@@ -51,7 +51,7 @@ std::unique_ptr<Simulation> continue_run(const Scene& s, MPI_Comm comm, const st
     if (k == steps - 1) sim->request_rebuild();  // checkpoints follow a rebuild (as the run loop)
     sim->step();
   }
-  if (!to.empty()) io::write_checkpoint(to, *sim, s, {}, 0);
+  if (!to.empty()) io::write_checkpoint(to, *sim, s, {}, {});
   return sim;
 }
 
@@ -159,7 +159,7 @@ TEST(ParallelIO, RanksWithoutParticlesTakePart) {
   for (int k = 0; k < 10; ++k) sim.step();
   sim.request_rebuild();
   sim.step();
-  io::write_checkpoint(d + "/ckpt.h5", sim, s, {}, 0);
+  io::write_checkpoint(d + "/ckpt.h5", sim, s, {}, {});
   io::write_snapshot(d + "/snap.h5", sim, s);
   io::H5File f(d + "/snap.h5", io::H5File::Mode::Read);
   ASSERT_EQ(f.read_int64("id").size(), 1u);
