@@ -60,7 +60,7 @@ def estimate_text(r):
     if not np.isfinite(r["est"]):
         return "–"
     s = (f"× {fmt_num(r['est'])}" if r["kind"] == "ratio" else f"{r['est']:+.3g}")
-    if np.isfinite(r["lower"]):
+    if np.isfinite(r["lower"]) and np.isfinite(r["p"]):  # no interval where nothing varies
         s += (f" [{fmt_num(r['lower'])}, {fmt_num(r['upper'])}]" if r["kind"] == "ratio" else
               f" [{r['lower']:+.3g}, {r['upper']:+.3g}]")
     return s
@@ -81,7 +81,7 @@ def section_scalar_differences(R, pts, baseline, scalars, bounds, findings):
         "difference of the means (point − baseline, 0 = none), Welch's t. The p-values are "
         f"then adjusted by <b>Holm's method over all {m} tests of this table</b>: a metric "
         f"'differs' when its adjusted p is below {ALPHA:g}, which keeps the chance of any "
-        "false 'differs' in the table below 5%. A metric chosen before the run as the one "
+        f"false 'differs' in the table below {ALPHA:.0%}. A metric chosen before the run as the one "
         "question to ask can be read at its unadjusted p; every other reading should use "
         "Holm's.</p>")
     trows = []
@@ -99,7 +99,7 @@ def section_scalar_differences(R, pts, baseline, scalars, bounds, findings):
           [[r["point"]["label"], r["metric"], r["kind"], r["est"], r["lower"], r["upper"],
             r["p"], r["p_holm"], r["na"], r["nb"]] for r in rows])
     for q in pts:
-        mine = [r for r in rows if r["point"] is q]
+        mine = [r for r in rows if r["point"] is q and np.isfinite(r["p"])]  # tested ones
         if not mine:
             continue
         hits = [r for r in mine if np.isfinite(r["p_holm"]) and r["p_holm"] < ALPHA]
@@ -107,7 +107,7 @@ def section_scalar_differences(R, pts, baseline, scalars, bounds, findings):
                          f"(Holm p = {html.escape(_p(r['p_holm']))})" for r in hits)
         findings.append(
             f"Scalars, <b>{html.escape(q['short'])}</b> against {html.escape(btag)}: "
-            + (f"{len(hits)} of {len(mine)} metrics differ after Holm over the {m} tests of "
-               f"section 6c: {said}." if hits else
-               f"none of {len(mine)} metrics differs after Holm over the {m} tests of "
-               "section 6c."))
+            + (f"{len(hits)} of the {len(mine)} metrics tested differ after Holm over the {m} "
+               f"tests of section 6c: {said}." if hits else
+               f"none of the {len(mine)} metrics tested differs after Holm over the {m} tests "
+               "of section 6c."))

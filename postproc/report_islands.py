@@ -9,10 +9,12 @@ import numpy as np
 if __package__:
     from . import report_figs as rf
     from .report_findings import ci_span
+    from .report_page import Html
     from .report_stats import bounded_interval, welch_test
 else:  # loaded by postproc/report.py run as a file
     import report_figs as rf
     from report_findings import ci_span
+    from report_page import Html
     from report_stats import bounded_interval, welch_test
 
 
@@ -50,7 +52,7 @@ def section_cross_enrichment(R, pts):
                     delta, half = difference(e["values"], own[pid]["values"])
                     if np.isfinite(delta):
                         cell += html.escape(f"; Δ vs {label} {delta:+.3g} ± {half:.2g}")
-                cell = R.html_cell(cell)
+                cell = Html(cell)
                 csv_rows.append([q["label"], label, e["mean"], e["ci95"], e["n"], delta, half]
                                 + [float(v) for v in e["values"]])
             row.append(cell)

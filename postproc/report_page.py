@@ -24,7 +24,6 @@ def cell_html(c):
 
 
 class Report:
-    html_cell = staticmethod(Html)  # for the sections in other modules
 
     def __init__(self, out):
         self.out = out

@@ -20,6 +20,7 @@ deviation of each enrichment with the replicas per point that a two-sided 5% tes
 import argparse
 import math
 import os
+import re
 import sys
 
 import h5py
@@ -52,14 +53,22 @@ def load(path):
             p["other"] = text(g.attrs.get(f"species_{1 - m}", "other"))
             for k in need:
                 p[k] = np.asarray(g[k][:], float)
-            p["shell_ratio"] = p["shell_share_mapped"] / p["shell_share_other"]
+            with np.errstate(divide="ignore", invalid="ignore"):  # no other species there: NaN
+                p["shell_ratio"] = np.where(p["shell_share_other"] > 0, p["shell_share_mapped"]
+                                            / p["shell_share_other"], np.nan)
             pts.append(p)
     # Label each point by the parameters in which the points differ.
     keys = sorted({k for p in pts for k in p["params"]})
     varying = [k for k in keys if len({p["params"].get(k) for p in pts}) > 1]
     for p in pts:
         p["label"] = ";".join(f"{k}={p['params'].get(k)}" for k in varying) or p["pid"]
-    return sorted(pts, key=lambda p: p["label"])
+    return sorted(pts, key=lambda p: natural_key(p["label"]))
+
+
+def natural_key(label):
+    """Numbers compared as numbers: R_rho=3 before R_rho=10."""
+    return [(0, float(t), "") if re.fullmatch(r"\d+(\.\d*)?", t) else (1, 0.0, t)
+            for t in re.split(r"(\d+(?:\.\d*)?)", label) if t]
 
 
 def geo(v):
@@ -145,8 +154,12 @@ def main():
         for k in ("enrichment_window", "enrichment_map"):
             allv = np.concatenate([p[k] for p in pts])
             g, lo, hi, pv, n = geo(allv)
-            sd = math.sqrt(np.mean([np.log(p[k]).var(ddof=1) for p in pts]))
-            need = 2 * (z * sd / math.log(1.1)) ** 2
+            # Pooled within-point variance of the log enrichment, weighted by n - 1.
+            logs = [np.log(p[k][np.isfinite(p[k])]) for p in pts]
+            dof = sum(max(len(l) - 1, 0) for l in logs)
+            sd = (math.sqrt(sum(((l - l.mean()) ** 2).sum() for l in logs if len(l) > 1) / dof)
+                  if dof > 0 else math.nan)
+            need = 2 * (z * sd / math.log(1.1)) ** 2 if np.isfinite(sd) else math.nan
             print(f"  {k:<20s} pooled {g:.3f} [{lo:.3f}, {hi:.3f}] p {pfmt(pv)} (N = {n}); "
                   f"log SD {sd:.3f}: {need:.0f} replicas per point")
 

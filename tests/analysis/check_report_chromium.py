@@ -14,7 +14,7 @@ On the DOM Chromium dumps after the load event:
   * --expect-warning: the findings warn about fewer than 3 replicas ("N = 1" or "N = 2");
   * --expect-pipeline-check: the findings call the run a pipeline check (R/d_large < 8).
 
-The page's own script (postproc/report.py, CHECK_SCRIPT) writes data-images-total / -ok /
+The page's own script (postproc/report_page.py, CHECK_SCRIPT) writes data-images-total / -ok /
 -broken on <body> at the load event; --dump-dom prints the DOM after it ran. The image count is
 also taken from the HTML text, so a page whose script did not run, or that lost images, fails.
 A missing Chromium is a failure: jobs/install_deps.sh installs the Debian package `chromium`.

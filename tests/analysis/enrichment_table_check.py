@@ -3,8 +3,9 @@
   /usr/bin/python3 enrichment_table_check.py SCRATCH_DIR
 
 Two density points with known per-replica arrays: the printed geometric means, intervals,
-one-sample p-values and their Holm adjustment, the shell ratio, the point-against-point ratio of
-geometric means and its Welch p, and the replicas a 10% difference needs, each recomputed here
+one-sample p-values and their Holm adjustment, the shell ratio, the point-against-point rows (the
+shell ratio's difference and Welch p, the ratio of geometric means and its Welch p on the logs,
+Holm over the rows), and the replicas a 10% difference needs (pooled log SD weighted by n - 1), each recomputed here
 with scipy and compared at the printed precision; --reference by a part of the label; an
 enrichment of 0 and a missing dataset refused with the reason."""
 import math
@@ -104,11 +105,30 @@ check("R_rho=3 against R_rho=8: map ratio of geometric means and Welch p on the 
       m is not None and abs(float(m.group(1)) - want_r) < 6e-3
       and abs(float(m.group(4)) - want_p) <= 0.051 * want_p,
       f"{m.groups() if m else None} vs {want_r:.3g}, p {want_p:.2g}")
-sd = math.sqrt((np.log(A["enrichment_map"]).var(ddof=1) + np.log(B["enrichment_map"]).var(ddof=1)) / 2)
+sd = math.sqrt((7 * np.log(A["enrichment_map"]).var(ddof=1) + 6 * np.log(B["enrichment_map"]).var(ddof=1))
+               / 13)  # pooled over 8 + 7 replicas, weighted by n - 1
 need = 2 * ((stats.norm.ppf(0.975) + stats.norm.ppf(0.8)) * sd / math.log(1.1)) ** 2
 m = re.search(r"enrichment_map +pooled .*log SD (\S+): (\d+) replicas", out)
 check("replicas for a 10% difference", m is not None and int(m.group(2)) == round(need),
       f"{m.groups() if m else None} vs {need:.1f}")
+
+# The comparison rows: the shell ratio by Welch on the values, and Holm over the three rows.
+rb = B["shell_share_mapped"] / B["shell_share_other"]
+w = stats.ttest_ind(ratio, rb, equal_var=False)
+m = re.search(r"R_rho=3: shell ratio, difference\s+(\S+) \[\S+, \S+\]\s+p (\S+)\s+Holm (\S+)", out)
+check("shell ratio row: difference and Welch p", m is not None
+      and abs(float(m.group(1)) - (ratio.mean() - rb.mean())) < 6e-3
+      and abs(float(m.group(2)) - w.pvalue) <= 0.051 * w.pvalue, f"{m.groups() if m else None}")
+pc = [w.pvalue] + [stats.ttest_ind(np.log(A[k]), np.log(B[k]), equal_var=False).pvalue
+                   for k in ("enrichment_window", "enrichment_map")]
+order = np.argsort(pc)
+hand, run_max = [0.0] * 3, 0.0
+for i, j in enumerate(order):
+    run_max = max(run_max, min(1.0, (3 - i) * pc[j]))
+    hand[j] = run_max
+got = [float(x) for x in re.findall(r"R_rho=3: \S.*?Holm (\S+)", out)]
+check("Holm over the three comparison rows", len(got) == 3 and all(
+    abs(g - h) <= 0.051 * h for g, h in zip(got, hand)), f"{got} vs {np.round(hand, 4)}")
 
 rc, out2 = run(d, "--reference", "R_rho=5")
 check("--reference naming no point refused", rc != 0 and "names 0 points" in out2, out2.strip())

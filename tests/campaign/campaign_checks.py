@@ -194,9 +194,10 @@ def compare_ensembles(a, b, tol):
     return worst
 
 
-def running_within_groups(out, text, groups):
+def running_within_groups(out, text, groups, expect_held=False):
     """Every progress line counts at most one running case per group (a group's next case, held
-    while it finishes the last, is "next"), and the counts add up to the total."""
+    while it finishes the last, is "next"), and the counts add up to the total; every held case
+    gets its own "start" line later (expect_held: and there is at least one)."""
     seen = 0
     for m in re.finditer(r"\[campaign\] done (\d+) \| running (\d+)(?: \| next (\d+))? \| "
                          r"failed (\d+) \| left (\d+) of (\d+)", text):
@@ -209,6 +210,8 @@ def running_within_groups(out, text, groups):
     # A case held as a group's "next" gets its own "start" line when the group's case ends.
     held = re.findall(r"\[campaign\] next (\w+) ", text)
     started = set(re.findall(r"\[campaign\] start (\w+) .*held until now", text))
+    if expect_held and not held:
+        fail("%s: no case was held as a group's next (expected with more cases than groups)" % out)
     if sorted(set(held) - started):
         fail("%s: held cases without a start line: %s" % (out, sorted(set(held) - started)))
 

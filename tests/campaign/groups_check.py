@@ -26,8 +26,6 @@ import os
 import shutil
 import subprocess
 
-import numpy as np
-
 import campaign_checks as cc
 
 ap = argparse.ArgumentParser()
