@@ -21,6 +21,11 @@ def _p(p):
     return "–" if not np.isfinite(p) else (f"{p:.2g}" if p >= 1e-4 else "< 0.0001")
 
 
+def _p_relation(p):
+    """'= 0.012' or '< 0.0001', to follow 'p' in a sentence."""
+    return "< 0.0001" if np.isfinite(p) and p < 1e-4 else f"= {_p(p)}"
+
+
 def compare(a, b, lo, hi):
     """One metric, point values a against baseline values b: dict(kind, est, lower, upper, p, na,
     nb). kind "ratio" for a quantity in (0, ∞) with every value positive, else "difference"."""
@@ -104,7 +109,7 @@ def section_scalar_differences(R, pts, baseline, scalars, bounds, findings):
             continue
         hits = [r for r in mine if np.isfinite(r["p_holm"]) and r["p_holm"] < ALPHA]
         said = "; ".join(f"{html.escape(r['metric'])} {html.escape(estimate_text(r))} "
-                         f"(Holm p = {html.escape(_p(r['p_holm']))})" for r in hits)
+                         f"(Holm p {html.escape(_p_relation(r['p_holm']))})" for r in hits)
         findings.append(
             f"Scalars, <b>{html.escape(q['short'])}</b> against {html.escape(btag)}: "
             + (f"{len(hits)} of the {len(mine)} metrics tested differ after Holm over the {m} "
