@@ -10,20 +10,15 @@ import html
 import numpy as np
 
 if __package__:
-    from .report_findings import ALPHA
+    from .report_findings import ALPHA, p_text
     from .report_stats import fmt_num, holm_adjust, welch_log_ratio, welch_test
 else:  # loaded by postproc/report.py run as a file
-    from report_findings import ALPHA
+    from report_findings import ALPHA, p_text
     from report_stats import fmt_num, holm_adjust, welch_log_ratio, welch_test
 
 
-def _p(p):
+def _p(p):  # a table cell: the number alone
     return "–" if not np.isfinite(p) else (f"{p:.2g}" if p >= 1e-4 else "< 0.0001")
-
-
-def _p_relation(p):
-    """'= 0.012' or '< 0.0001', to follow 'p' in a sentence."""
-    return "< 0.0001" if np.isfinite(p) and p < 1e-4 else f"= {_p(p)}"
 
 
 def compare(a, b, lo, hi):
@@ -109,7 +104,7 @@ def section_scalar_differences(R, pts, baseline, scalars, bounds, findings):
             continue
         hits = [r for r in mine if np.isfinite(r["p_holm"]) and r["p_holm"] < ALPHA]
         said = "; ".join(f"{html.escape(r['metric'])} {html.escape(estimate_text(r))} "
-                         f"(Holm p {html.escape(_p_relation(r['p_holm']))})" for r in hits)
+                         f"(Holm {html.escape(p_text(r['p_holm']))})" for r in hits)
         findings.append(
             f"Scalars, <b>{html.escape(q['short'])}</b> against {html.escape(btag)}: "
             + (f"{len(hits)} of the {len(mine)} metrics tested differ after Holm over the {m} "

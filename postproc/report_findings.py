@@ -155,7 +155,8 @@ def ci_span(b, digits=3, n=True):
     return f'<span class="ci" data-lo="{lo}" data-hi="{hi}">{text}</span>'
 
 
-def _p(p):
+def p_text(p):
+    """'p = 0.012' or 'p < 0.001' ('p = –' untested), for a sentence."""
     return "p = –" if not np.isfinite(p) else (f"p = {p:.2g}" if p >= 1e-3 else "p < 0.001")
 
 
@@ -200,7 +201,7 @@ def enrichment_sentences(pts):
             n_min = min(w["na"], w["nb"])
             if sig:
                 verdict = (f"significantly {'more' if w['diff'] > 0 else 'less'} "
-                           f"(Welch, {_p(w['p'])})")
+                           f"(Welch, {p_text(w['p'])})")
             else:
                 why = []
                 if n_min < 3:
@@ -212,7 +213,7 @@ def enrichment_sentences(pts):
                 if pe["n"] >= 2 and pe["lower"] <= 1 <= pe["upper"]:
                     why.append(f"{pname}'s own interval includes 1")
                 verdict = "inconclusive: " + ", ".join(why)
-            diff = (f"difference {w['diff']:+.3g} ± {w['half']:.2g} (Welch 95%, {_p(w['p'])})"
+            diff = (f"difference {w['diff']:+.3g} ± {w['half']:.2g} (Welch 95%, {p_text(w['p'])})"
                     if np.isfinite(w["half"]) else f"difference {w['diff']:+.3g}")
             out.append(f"<b>{pname}</b> concentrates {mapped_name(P)} particles in its CM islands "
                        f"{ci_span(pe)} times the islands' share of the view, "

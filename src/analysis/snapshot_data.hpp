@@ -33,9 +33,9 @@ SnapshotData read_snapshot(const std::string& path);
 // The snap_NNNNNN.h5 files of a directory, in order (empty if none).
 std::vector<std::string> list_snapshots(const std::string& dir);
 
-// A snapshot "at iteration N" lies near N, not on it (35.0000014 or 34.99994 for N = 35: the
-// protocol's segments are whole steps; ~1e-4 after 35 iterations), so whole iterations are
-// compared with this slack.
+// A snapshot "at iteration N" lies near N, not on it: within half a time step (run/
+// snapshot_observer.hpp: snapshot_step), or, in runs written before 2026-11-28, drifting by
+// ~1e-4 after 35 iterations (35.0000014, 34.99994); whole iterations are compared with this slack.
 inline constexpr double kIterationSlack = 1e-3;
 
 // Whether a snapshot at iteration n belongs to the window first <= N <= last (both ends in).
@@ -44,7 +44,8 @@ inline bool in_iteration_window(double n, double first, double last) {
 }
 
 // Per snapshot (iterations ascending): whether it repeats its predecessor's configuration. A run
-// that ends a few steps after a periodic snapshot writes its end as well (34.99994 and 35.0); a
+// that ends a few steps after a periodic snapshot writes its end as well (34.99994 and 35.0 in
+// older runs; now only when the run's length is not a whole number of intervals); a
 // snapshot closer to the one before than 1% of the list's median spacing is such a repeat, so
 // stroboscopic analyses count each configuration once (the first).
 std::vector<bool> repeated_snapshots(const std::vector<double>& iterations);
