@@ -509,7 +509,8 @@ def section_findings(camps, pts, findings):
                  "campaign DIR</code>) and there is one point only."]
     out.append("<ul>" + "".join(f"<li>{s}</li>" for s in items) + "</ul>")
     out.append("<p class='context'>Intervals are 95%; 'significant' means Welch's two-sided "
-               "p &lt; 0.05 with the difference's 95% interval excluding 0; map cells are "
+               "p &lt; 0.05 with the 95% interval excluding no difference (1 for a ratio of "
+               "geometric means, 0 for a difference); map cells are "
                f"tested at a false discovery rate of {FDR_Q:.0%} (Benjamini–Hochberg). How "
                "each number is computed: the sections below and docs/report.md.</p></section>")
     return "\n".join(out), csv_rows
@@ -559,7 +560,8 @@ def main():
     R.parts.insert(findings_at, text)
     R.csv("findings.csv", ["islands_of", "compared", "enrichment_own", "own_lower", "own_upper",
                            "enrichment_other_same_mask", "other_lower", "other_upper",
-                           "difference", "welch_ci95", "welch_p", "verdict"], rows)
+                           "compared_as", "estimate", "ci95_lower", "ci95_upper", "welch_p",
+                           "verdict"], rows)
     R.csv("maps.csv", ["point", "field", "stat", "cell", "i", "j", "value"], map_csv)
     elapsed = time.time() - started
     R.h("<h2>Files</h2><p>" + ", ".join(f'<a href="{c}">{c}</a>' for c in R.csvs)

@@ -11,27 +11,14 @@ import numpy as np
 
 if __package__:
     from .report_findings import ALPHA, p_text
-    from .report_stats import fmt_num, holm_adjust, welch_log_ratio, welch_test
+    from .report_stats import comparison_text, compare_values, holm_adjust
 else:  # loaded by postproc/report.py run as a file
     from report_findings import ALPHA, p_text
-    from report_stats import fmt_num, holm_adjust, welch_log_ratio, welch_test
+    from report_stats import comparison_text, compare_values, holm_adjust
 
 
 def _p(p):  # a table cell: the number alone
     return "–" if not np.isfinite(p) else (f"{p:.2g}" if p >= 1e-4 else "< 0.0001")
-
-
-def compare(a, b, lo, hi):
-    """One metric, point values a against baseline values b: dict(kind, est, lower, upper, p, na,
-    nb). kind "ratio" for a quantity in (0, ∞) with every value positive, else "difference"."""
-    if lo == 0.0 and hi is not None and not np.isfinite(hi):
-        r = welch_log_ratio(a, b)
-        if r is not None:
-            return dict(kind="ratio", est=r["ratio"], lower=r["lower"], upper=r["upper"],
-                        p=r["p"], na=r["na"], nb=r["nb"])
-    w = welch_test(a, b)
-    return dict(kind="difference", est=w["diff"], lower=w["diff"] - w["half"],
-                upper=w["diff"] + w["half"], p=w["p"], na=w["na"], nb=w["nb"])
 
 
 def scalar_tests(pts, baseline, scalars, bounds):
@@ -46,7 +33,7 @@ def scalar_tests(pts, baseline, scalars, bounds):
         for k in scalars:
             a = [s[k] for s in q["scalars"]]
             b = [s[k] for s in base["scalars"]]
-            c = compare(a, b, *bounds[k])
+            c = compare_values(a, b, *bounds[k])
             if c["na"] == 0 or c["nb"] == 0:
                 continue  # the metric does not exist at one of the two points
             rows.append(dict(point=q, metric=k, **c))
@@ -54,16 +41,6 @@ def scalar_tests(pts, baseline, scalars, bounds):
     for r, pa in zip(rows, adj):
         r["p_holm"] = float(pa)
     return rows
-
-
-def estimate_text(r):
-    if not np.isfinite(r["est"]):
-        return "–"
-    s = (f"× {fmt_num(r['est'])}" if r["kind"] == "ratio" else f"{r['est']:+.3g}")
-    if np.isfinite(r["lower"]) and np.isfinite(r["p"]):  # no interval where nothing varies
-        s += (f" [{fmt_num(r['lower'])}, {fmt_num(r['upper'])}]" if r["kind"] == "ratio" else
-              f" [{r['lower']:+.3g}, {r['upper']:+.3g}]")
-    return s
 
 
 def section_scalar_differences(R, pts, baseline, scalars, bounds, findings):
@@ -89,7 +66,7 @@ def section_scalar_differences(R, pts, baseline, scalars, bounds, findings):
         verdict = ("differs" if np.isfinite(r["p_holm"]) and r["p_holm"] < ALPHA else
                    "no difference shown" if np.isfinite(r["p_holm"]) else "not tested")
         trows.append([r["point"]["label"], r["metric"], f"{r['kind']} vs {btag}",
-                      estimate_text(r), _p(r["p"]), _p(r["p_holm"]), f"{r['na']} / {r['nb']}",
+                      comparison_text(r), _p(r["p"]), _p(r["p_holm"]), f"{r['na']} / {r['nb']}",
                       verdict])
     R.table(["point", "metric", "compared as", "estimate [95%]", "p (Welch)", "p (Holm)",
              "N point / baseline", "verdict"], trows)
@@ -103,7 +80,7 @@ def section_scalar_differences(R, pts, baseline, scalars, bounds, findings):
         if not mine:
             continue
         hits = [r for r in mine if np.isfinite(r["p_holm"]) and r["p_holm"] < ALPHA]
-        said = "; ".join(f"{html.escape(r['metric'])} {html.escape(estimate_text(r))} "
+        said = "; ".join(f"{html.escape(r['metric'])} {html.escape(comparison_text(r))} "
                          f"(Holm {html.escape(p_text(r['p_holm']))})" for r in hits)
         findings.append(
             f"Scalars, <b>{html.escape(q['short'])}</b> against {html.escape(btag)}: "

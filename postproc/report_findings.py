@@ -2,8 +2,10 @@
 the numbers the later sections print (docs/report.md, "Findings"), with the run's context.
 
 Rules the sentences follow:
-* a comparison is "significant" only when Welch's two-sided p < 0.05 *and* the difference's
-  95% interval excludes 0; otherwise it is "inconclusive", with the reason (N, the interval);
+* a comparison is "significant" only when Welch's two-sided p < 0.05 *and* its 95% interval
+  excludes "no difference" (1 for the ratio of geometric means an enrichment is compared by, as
+  in section 6c; 0 for a difference); otherwise it is "inconclusive", with the reason (N, the
+  interval);
 * fewer than 3 replicas on a side is stated as a warning before anything else;
 * a tumbler with R/d_large < PATTERN_MIN_RD, or fewer than PATTERN_MIN_ITERATIONS protocol
   iterations, is called a pipeline check: no island pattern is expected there (Yu 2022 sees
@@ -21,9 +23,11 @@ import tomllib
 import numpy as np
 
 if __package__:
-    from .report_stats import bounded_interval, fmt_interval, welch_test, t_quantile
+    from .report_stats import (bounded_interval, compare_values, comparison_text,
+                               excludes_none, fmt_interval, t_quantile)
 else:  # run from postproc/report.py as a file: its directory is on sys.path
-    from report_stats import bounded_interval, fmt_interval, welch_test, t_quantile
+    from report_stats import (bounded_interval, compare_values, comparison_text, excludes_none,
+                              fmt_interval, t_quantile)
 
 PATTERN_MIN_RD = 8.0
 PATTERN_MIN_ITERATIONS = 3
@@ -195,33 +199,37 @@ def enrichment_sentences(pts):
         for Q in others:
             qv = Q["an"]["enrichment_vs"][P["pid"]]["values"]
             qe = bounded_interval(qv, 0.0, np.inf)
-            w = welch_test(own["values"], qv)
-            sig = (np.isfinite(w["p"]) and w["p"] < ALPHA and np.isfinite(w["half"])
-                   and abs(w["diff"]) > w["half"])
-            n_min = min(w["na"], w["nb"])
+            # The ratio of geometric means, as section 6c compares every enrichment: one test
+            # per question in the whole report (a replica at 0: the difference of the means).
+            c = compare_values(own["values"], qv, 0.0, np.inf)
+            sig = np.isfinite(c["p"]) and c["p"] < ALPHA and excludes_none(c)
+            n_min = min(c["na"], c["nb"])
             if sig:
-                verdict = (f"significantly {'more' if w['diff'] > 0 else 'less'} "
-                           f"(Welch, {p_text(w['p'])})")
+                more = c["est"] > (1.0 if c["kind"] == "ratio" else 0.0)
+                verdict = f"significantly {'more' if more else 'less'}"
             else:
                 why = []
                 if n_min < 3:
                     why.append(f"N = {n_min}")
-                if np.isfinite(w["half"]):
-                    why.append("the interval of the difference includes 0")
+                if np.isfinite(c["lower"]):
+                    why.append(f"the interval of the {c['kind']} includes "
+                               f"{'1' if c['kind'] == 'ratio' else '0'}")
                 else:
                     why.append("no interval (fewer than 2 replicas)")
                 if pe["n"] >= 2 and pe["lower"] <= 1 <= pe["upper"]:
                     why.append(f"{pname}'s own interval includes 1")
                 verdict = "inconclusive: " + ", ".join(why)
-            diff = (f"difference {w['diff']:+.3g} ± {w['half']:.2g} (Welch 95%, {p_text(w['p'])})"
-                    if np.isfinite(w["half"]) else f"difference {w['diff']:+.3g}")
+            how = ("ratio of the geometric means" if c["kind"] == "ratio" else "difference")
+            test = (f"Welch 95% on the logarithms, {p_text(c['p'])}" if c["kind"] == "ratio" else
+                    f"Welch 95%, {p_text(c['p'])}")
+            cmp_text = f"{how} {comparison_text(c)}" + (f" ({test})" if np.isfinite(c["p"]) else "")
             out.append(f"<b>{pname}</b> concentrates {mapped_name(P)} particles in its CM islands "
                        f"{ci_span(pe)} times the islands' share of the view, "
                        f"<b>{html.escape(Q['short'])}</b> {ci_span(qe)} on the same mask; "
-                       f"{html.escape(diff)}: <b>{html.escape(verdict)}</b>.")
+                       f"{html.escape(cmp_text)}: <b>{html.escape(verdict)}</b>.")
             rows.append([P["label"], Q["label"], pe["mean"], pe["lower"], pe["upper"],
-                         qe["mean"], qe["lower"], qe["upper"], w["diff"], w["half"], w["p"],
-                         "significant" if sig else "inconclusive"])
+                         qe["mean"], qe["lower"], qe["upper"], c["kind"], c["est"], c["lower"],
+                         c["upper"], c["p"], "significant" if sig else "inconclusive"])
     return out, rows
 
 

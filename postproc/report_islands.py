@@ -10,12 +10,12 @@ if __package__:
     from . import report_figs as rf
     from .report_findings import ci_span
     from .report_page import Html
-    from .report_stats import bounded_interval, welch_test
+    from .report_stats import bounded_interval, compare_values, comparison_text
 else:  # loaded by postproc/report.py run as a file
     import report_figs as rf
     from report_findings import ci_span
     from report_page import Html
-    from report_stats import bounded_interval, welch_test
+    from report_stats import bounded_interval, compare_values, comparison_text
 
 
 def section_cross_enrichment(R, pts):
@@ -34,9 +34,10 @@ def section_cross_enrichment(R, pts):
         "protocol without islands, e.g. (68°,68°), has no diagonal entry. 1 is not the null: "
         "large particles gather at the wall unevenly under any protocol (radial segregation, "
         "the free surface), so a mask can collect more than its share without a pattern. The "
-        "test of a pattern is the difference from the islands' own point on the same mask, "
-        "Δ ± Welch's 95% half-width: a protocol without that pattern has Δ &lt; 0 beyond its "
-        "CI. Mean [95% interval on the log scale] (N replicas).</p>")
+        "test of a pattern is the comparison with the islands' own point on the same mask, the "
+        "ratio of the geometric means (× r [95%], Welch's t on the logarithms, as in section "
+        "6c): a protocol without that pattern has a ratio below 1 beyond its interval. Mean "
+        "[95% interval on the log scale] (N replicas).</p>")
     own = {pid: (q["an"] or {}).get("enrichment_vs", {}).get(pid) for q in pts
            for _, pid, _ in cols if q["pid"] == pid}
     rows, csv_rows = [], []
@@ -45,29 +46,25 @@ def section_cross_enrichment(R, pts):
         row = [q["label"]]
         for camp, pid, label in cols:
             e = vs.get(pid) if camp == id(q["camp"]) else None
-            cell, delta, half = "–", np.nan, np.nan
+            cell, c = "–", dict(kind="", est=np.nan, lower=np.nan, upper=np.nan)
             if e:
                 cell = ci_span(bounded_interval(e["values"], 0.0, np.inf))
                 if q["pid"] != pid and own.get(pid):
-                    delta, half = difference(e["values"], own[pid]["values"])
-                    if np.isfinite(delta):
-                        cell += html.escape(f"; Δ vs {label} {delta:+.3g} ± {half:.2g}")
+                    c = compare_values(e["values"], own[pid]["values"], 0.0, np.inf)
+                    if np.isfinite(c["est"]):
+                        cell += html.escape(f"; vs {label} {comparison_text(c)}")
                 cell = Html(cell)
-                csv_rows.append([q["label"], label, e["mean"], e["ci95"], e["n"], delta, half]
+                csv_rows.append([q["label"], label, e["mean"], e["ci95"], e["n"], c["kind"],
+                                 c["est"], c["lower"], c["upper"]]
                                 + [float(v) for v in e["values"]])
             row.append(cell)
         rows.append(row)
     R.table(["point"] + [f"against the islands of {c[2]}" for c in cols], rows)
-    width = max((len(r) for r in csv_rows), default=7) - 7
+    width = max((len(r) for r in csv_rows), default=9) - 9
     R.csv("cross_enrichment.csv", ["point", "islands_of", "mean", "ci95", "n",
-                                   "diff_vs_islands_point", "diff_welch_ci95"]
+                                   "vs_islands_point_as", "vs_islands_point",
+                                   "vs_islands_point_lower", "vs_islands_point_upper"]
           + [f"replica_{k}" for k in range(width)], csv_rows)
-
-
-def difference(a, b):
-    """mean(a) − mean(b) of the finite values and Welch's 95% half-width (NaN below 2 each)."""
-    w = welch_test(a, b)
-    return w["diff"], w["half"]
 
 
 def section_cross_sections(R, pts):

@@ -10,6 +10,9 @@
 * bh_reject: Benjamini–Hochberg control of the false discovery rate over the cells of a map;
 * welch_log_ratio: the ratio of two geometric means (a positive quantity such as the island
   enrichment), Welch's t on the logarithms;
+* compare_values / comparison_text: one comparison of two points' replicas, as a ratio of
+  geometric means for a positive unbounded quantity, else as a difference of means, and its
+  printed form;
 * holm_adjust: Holm's step-down adjustment of a family of p-values (family-wise error).
 
 This module imports nothing from the rest of postproc, so scripts outside the package
@@ -267,6 +270,43 @@ def welch_log_ratio(a, b, level=LEVEL):
     w = welch_test(np.log(a), np.log(b), level)
     return dict(ratio=math.exp(w["diff"]), lower=math.exp(w["diff"] - w["half"]),
                 upper=math.exp(w["diff"] + w["half"]), p=w["p"], na=w["na"], nb=w["nb"])
+
+
+def compare_values(a, b, lo, hi, level=LEVEL):
+    """Replicas a against b of one metric with physical bounds [lo, hi]: dict(kind, est, lower,
+    upper, p, na, nb). A quantity in (0, ∞) with every value positive (the island enrichment, a
+    ratio of shares) is compared as the ratio of geometric means (kind "ratio", Welch's t on the
+    logarithms: its replicas scatter multiplicatively and the interval stays in (0, ∞), 1 = no
+    difference); anything else, or such a quantity with a replica at 0, as the difference of the
+    means (kind "difference", Welch's t, 0 = no difference)."""
+    if lo == 0.0 and hi is not None and not np.isfinite(hi):
+        r = welch_log_ratio(a, b, level)
+        if r is not None:
+            return dict(kind="ratio", est=r["ratio"], lower=r["lower"], upper=r["upper"],
+                        p=r["p"], na=r["na"], nb=r["nb"])
+    w = welch_test(a, b, level)
+    return dict(kind="difference", est=w["diff"], lower=w["diff"] - w["half"],
+                upper=w["diff"] + w["half"], p=w["p"], na=w["na"], nb=w["nb"])
+
+
+def excludes_none(c):
+    """Whether the interval of a compare_values result excludes "no difference" (1 for a ratio,
+    0 for a difference); False where there is no interval."""
+    none = 1.0 if c["kind"] == "ratio" else 0.0
+    return bool(np.isfinite(c["lower"]) and np.isfinite(c["upper"])
+                and (c["lower"] > none or c["upper"] < none))
+
+
+def comparison_text(c):
+    """A compare_values result as "× 1.23 [1.01, 1.49]" (ratio) or "+0.28 [+0.03, +0.53]"
+    (difference); the interval left out where there is none (N < 2, or nothing varies)."""
+    if not np.isfinite(c["est"]):
+        return "–"
+    s = f"× {fmt_num(c['est'])}" if c["kind"] == "ratio" else f"{c['est']:+.3g}"
+    if np.isfinite(c["lower"]) and np.isfinite(c["p"]):
+        s += (f" [{fmt_num(c['lower'])}, {fmt_num(c['upper'])}]" if c["kind"] == "ratio" else
+              f" [{c['lower']:+.3g}, {c['upper']:+.3g}]")
+    return s
 
 
 def holm_adjust(p):

@@ -2,7 +2,7 @@
 examples.
 
   PYTHONPATH=SOURCE_ROOT /usr/bin/python3 report_stats_check.py [stats|bounded|fdr|cells|tilt|
-                                                                  compare]
+                                                                  compare|enrichment]
 
   stats    Student t quantiles (scipy) and Welch's half-width of a difference of two means;
   bounded  intervals of bounded quantities (logit / log scale): closed forms, never outside the
@@ -18,7 +18,11 @@ examples.
   compare  section 6c (postproc/report_compare.py): Holm's adjustment (a hand-computed example,
            NaN not counted, the family-wise error over 10 null tests), the ratio of geometric
            means against scipy's Welch test on the logarithms, and the tests of constructed
-           points (a ratio, a difference where a replica is 0, a metric missing at a point).
+           points (a ratio, a difference where a replica is 0, a metric missing at a point);
+  enrichment  the Findings' enrichment sentences (postproc/report_findings.py) on constructed
+           points: the same ratio of geometric means and p as section 6c (scipy's Welch on the
+           logarithms), the verdict from that test (a pair the arithmetic Welch test would call
+           inconclusive), a replica at 0 compared as a difference, N = 2 called inconclusive.
 No argument: all groups. ctest runs each group as its own test (tests/analysis/CMakeLists.txt).
 """
 import math
@@ -336,8 +340,58 @@ def group_compare():
     return good
 
 
+def group_enrichment():
+    """report_findings.enrichment_sentences: P's enrichment on its own islands against Q's on the
+    same mask, compared as section 6c compares every enrichment."""
+    from postproc import report_findings as fi
+
+    camp = object()
+
+    def point(pid, label, own_values, on_mask_of=None):
+        vs = {(on_mask_of or pid): dict(values=np.asarray(own_values, float))}
+        return dict(pid=pid, label=label, short=label.split()[0], camp=camp,
+                    islands=on_mask_of is None, an=dict(enrichment_vs=vs, attrs={}))
+
+    good = []
+    # Log-scale Welch p = 0.033, arithmetic Welch p = 0.072 on these replicas.
+    a, b = [1.36, 1.88, 1.08], [0.65, 0.59, 0.61]
+    P, Q = point("p1", "A1 (57,57)", a), point("q1", "A2 (68,68)", b, on_mask_of="p1")
+    sentences, rows = fi.enrichment_sentences([P, Q])
+    t_log = stats.ttest_ind(np.log(a), np.log(b), equal_var=False)
+    t_lin = stats.ttest_ind(a, b, equal_var=False)
+    good.append(truth("one sentence and one row for the pair", len(sentences) == 1
+                      and len(rows) == 1, f"{len(sentences)} sentences, {len(rows)} rows"))
+    row = rows[0]
+    good.append(truth("compared as a ratio", row[8] == "ratio", str(row[8])))
+    good.append(check("the ratio = the ratio of the geometric means", row[9],
+                      math.exp(np.log(a).mean() - np.log(b).mean()), 1e-12))
+    good.append(check("its p = scipy's Welch on the logarithms", row[12], float(t_log.pvalue),
+                      1e-12))
+    good.append(truth("significant by the log test (p = 0.033) where the arithmetic one says "
+                      f"p = {t_lin.pvalue:.3f}",
+                      row[13] == "significant" and t_lin.pvalue > 0.05 and row[10] > 1,
+                      f"{row[13]}, lower {row[10]}"))
+    good.append(truth("the sentence names the ratio and the verdict",
+                      "ratio of the geometric means × " in sentences[0]
+                      and "significantly more" in sentences[0], sentences[0]))
+    # A replica at 0: no logarithm, the difference of the means.
+    Z = point("q2", "A3 (45,45)", [0.0, 0.7, 0.6], on_mask_of="p1")
+    _, rows = fi.enrichment_sentences([P, Z])
+    t0 = stats.ttest_ind(a, [0.0, 0.7, 0.6], equal_var=False)
+    good.append(truth("a replica at 0: compared as a difference, scipy's Welch p",
+                      rows[0][8] == "difference" and abs(rows[0][12] - t0.pvalue) < 1e-12,
+                      f"{rows[0][8]}, p {rows[0][12]} vs {t0.pvalue}"))
+    # Two replicas of Q: whatever the numbers, the verdict says N = 2 when not significant.
+    S = point("q3", "A4 (30,30)", [1.3, 1.1], on_mask_of="p1")
+    sentences, rows = fi.enrichment_sentences([P, S])
+    good.append(truth("N = 2 and an interval including 1: inconclusive, with both reasons",
+                      rows[0][13] == "inconclusive" and "N = 2" in sentences[0]
+                      and "the interval of the ratio includes 1" in sentences[0], sentences[0]))
+    return good
+
+
 GROUPS = dict(stats=group_stats, bounded=group_bounded, fdr=group_fdr, cells=group_cells,
-              tilt=group_tilt, compare=group_compare)
+              tilt=group_tilt, compare=group_compare, enrichment=group_enrichment)
 which = sys.argv[1:] or list(GROUPS)
 results = []
 for g in which:
