@@ -61,11 +61,17 @@ def section_scalar_differences(R, pts, baseline, scalars, bounds, findings):
         f"false 'differs' in the table below {ALPHA:.0%}. A metric chosen before the run as the one "
         "question to ask can be read at its unadjusted p; every other reading should use "
         "Holm's.</p>")
+    # The table names each point by its tag (A2): a full label (every parameter and the
+    # campaign's note) repeated on each metric's row made the table wider than the page.
+    named = [q for q in pts if any(r["point"] is q for r in rows)] + [pts[baseline]]
+    R.h("<p>" + "; ".join(f"<b>{html.escape(q['label'].split()[0])}</b> = "
+                          f"{html.escape(q['label'].split(' ', 1)[1] if ' ' in q['label'] else '')}"
+                          for q in named) + ".</p>")
     trows = []
     for r in rows:
         verdict = ("differs" if np.isfinite(r["p_holm"]) and r["p_holm"] < ALPHA else
                    "no difference shown" if np.isfinite(r["p_holm"]) else "not tested")
-        trows.append([r["point"]["label"], r["metric"], f"{r['kind']} vs {btag}",
+        trows.append([r["point"]["label"].split()[0], r["metric"], f"{r['kind']} vs {btag}",
                       comparison_text(r), _p(r["p"]), _p(r["p_holm"]), f"{r['na']} / {r['nb']}",
                       verdict])
     R.table(["point", "metric", "compared as", "estimate [95%]", "p (Welch)", "p (Holm)",
