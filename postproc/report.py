@@ -34,6 +34,7 @@ if __package__:  # python3 -m postproc.report
     from .report_page import CHECK_SCRIPT, CSS, Report
     from .report_scalars import BOUNDS, SCALARS, section_convergence, section_scalars
     from .report_stats import bounded_interval, bh_reject, cell_tests, welch_half_width
+    from .report_species import named, species_names, SIZE_NAMES
 else:  # /usr/bin/python3 postproc/report.py: the script's directory is sys.path[0]
     import report_compare as rc
     import report_data as rd
@@ -45,6 +46,7 @@ else:  # /usr/bin/python3 postproc/report.py: the script's directory is sys.path
     from report_page import CHECK_SCRIPT, CSS, Report
     from report_scalars import BOUNDS, SCALARS, section_convergence, section_scalars
     from report_stats import bounded_interval, bh_reject, cell_tests, welch_half_width
+    from report_species import named, species_names, SIZE_NAMES
 
 MAP_FIELDS = [  # (field, label, unit factor, colour map, physical bounds in the shown unit)
     ("concentration/c_L", "c_L (species 1: the large, or in a density bed the heavy particles)",
@@ -66,16 +68,20 @@ SERIES = [("series/shell_large_fraction", "large share of the shell 0.9 < r/R < 
 
 
 def map_fields(pts):
-    """MAP_FIELDS with a Δψ pair for every further lag the campaigns collected."""
-    out = list(MAP_FIELDS)
+    """MAP_FIELDS with a Δψ pair for every further lag the campaigns collected, each labelled
+    with the species' names (report_species)."""
+    names = species_names(pts)
+    out = [(f, named(label, names), k, cmap, b) for f, label, k, cmap, b in MAP_FIELDS]
+    if tuple(names) != SIZE_NAMES:  # the names are known and not small / large
+        out[0] = (out[0][0], f"c_L (species 1, the {names[1]} particles' share)") + out[0][2:]
     for g, k in displacement_groups(pts):
         if g == "displacement":
             continue
         for sp in ("large", "small"):
             field = f"{g}/dpsi_{sp}"
             EMPTY_COUNT[field] = f"{g}/count_{sp}"
-            out.append((field, f"Δψ {sp} over {k} iterations [deg]", 180 / np.pi, "magma",
-                        (0.0, 180.0)))
+            out.append((field, named(f"Δψ {sp} over {k} iterations [deg]", names), 180 / np.pi,
+                        "magma", (0.0, 180.0)))
     return out
 
 
@@ -262,8 +268,9 @@ def section_maps(R, pts, map_csv, fields):
         "species). Right: the width (upper − lower) of each cell's 95% confidence interval, "
         "computed on the logit scale of the quantity's physical range (c_L in [0, 1], Δψ in "
         "[0°, 180°]) so that it stays inside it; a width equal to the range says the replicas "
-        "do not constrain the cell at all, a width of 0 that they agree exactly (e.g. no large "
-        "particle in any replica): with N = 2 that is not certainty.</p>")
+        "do not constrain the cell at all, a width of 0 that they agree exactly (e.g. no "
+        f"{html.escape(species_names(pts)[1])} particle in any replica): with N = 2 that is "
+        "not certainty.</p>")
     for field, label, k, cmap, (lo, hi) in fields:
         have = [q for q in pts if field in q["p"]["fields"]]
         if not have:
@@ -305,7 +312,7 @@ def empty_cells(q, field):
     return ~(np.nansum(c, axis=0) > 0)
 
 
-def section_differences(R, pts, baseline, map_csv, findings):
+def section_differences(R, pts, baseline, map_csv, findings, fields):
     R.h("<h2>4. Differences from the baseline point</h2>")
     if len(pts) < 2:
         R.h("<p>One parameter point only: nothing to compare.</p>")
@@ -322,12 +329,13 @@ def section_differences(R, pts, baseline, map_csv, findings):
         "visited it (ensemble.h5 variance and count), and the cells are then rejected by the "
         "BH step-up rule, so that on average at most 5% of the flagged cells are false. Light "
         "grey: tested, not significant; dark grey: <b>not tested</b>, because the cell was "
-        "empty in both points (no particle of the field's species, large for c_L, in any "
+        f"empty in both points (no particle of the field's species, {species_names(pts)[1]} "
+        "for c_L, in any "
         "replica of either), had fewer than 2 replicas on a side, or had no variance on "
         "either side (the test is undefined there, so such a cell is neither significant nor "
         "counted among the tests).</p>")
     summary = []
-    for field, label, k, _, _ in MAP_FIELDS[:2]:
+    for field, label, k, _, _ in fields[:2]:
         if field not in base["p"]["fields"]:
             continue
         others = [q for i, q in enumerate(pts) if i != baseline and field in q["p"]["fields"]
@@ -428,7 +436,9 @@ def section_series(R, pts):
         "replicas, computed on the logit scale of each quantity's range (so that the band stays "
         "inside it).</p>")
     rows = []
+    names = species_names(pts)
     for k, (field, label, (lo, hi)) in enumerate(SERIES):
+        label = named(label, names)
         curves = []
         for q in pts:
             st = q["p"]["fields"].get(field)
@@ -472,8 +482,10 @@ def section_renders(R, pts):
                 break
     if not panels:
         return
-    R.h("<h2>9. Bottom views</h2><p>The tumbler wall seen from below (Yu 2022 Fig. 2): large "
-        "particles blue, small red; first and last snapshot of one case per point "
+    n0, n1 = species_names(pts)
+    R.h("<h2>9. Bottom views</h2><p>The tumbler wall seen from below (Yu 2022 Fig. 2): "
+        f"{html.escape(n1)} particles (species 1) blue, {html.escape(n0)} red; first and last "
+        "snapshot of one case per point "
         "(postproc/render_bottom.py).</p>")
     for k, (q, cf, files) in enumerate(panels):
         for w, f in zip(("first", "last"), files):
@@ -544,10 +556,11 @@ def main():
     map_csv = []
     section_provenance(R, camps, pts)
     section_cases(R, camps)
-    section_maps(R, pts, map_csv, map_fields(pts))
+    fields = map_fields(pts)
+    section_maps(R, pts, map_csv, fields)
     section_dpsi_contrast(R, pts)
     section_light(R, pts, map_csv)
-    section_differences(R, pts, baseline, map_csv, findings)
+    section_differences(R, pts, baseline, map_csv, findings, fields)
     section_series(R, pts)
     section_scalars(R, pts, findings)
     ri.section_cross_enrichment(R, pts)

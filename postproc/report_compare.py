@@ -11,9 +11,11 @@ import numpy as np
 
 if __package__:
     from .report_findings import ALPHA, p_text
+    from .report_species import named, species_names
     from .report_stats import comparison_text, compare_values, holm_adjust
 else:  # loaded by postproc/report.py run as a file
     from report_findings import ALPHA, p_text
+    from report_species import named, species_names
     from report_stats import comparison_text, compare_values, holm_adjust
 
 
@@ -49,6 +51,7 @@ def section_scalar_differences(R, pts, baseline, scalars, bounds, findings):
         R.h("<p>One parameter point only: nothing to compare.</p>")
         return
     btag = pts[baseline]["label"].split()[0]
+    names = species_names(pts)
     rows = scalar_tests(pts, baseline, scalars, bounds)
     m = int(np.sum(np.isfinite([r["p"] for r in rows])))
     R.h(f"<p>Each metric of section 6 at each point against the baseline <b>{html.escape(btag)}"
@@ -63,15 +66,15 @@ def section_scalar_differences(R, pts, baseline, scalars, bounds, findings):
         "Holm's.</p>")
     # The table names each point by its tag (A2): a full label (every parameter and the
     # campaign's note) repeated on each metric's row made the table wider than the page.
-    named = [q for q in pts if any(r["point"] is q for r in rows)] + [pts[baseline]]
+    listed = [q for q in pts if any(r["point"] is q for r in rows)] + [pts[baseline]]
     R.h("<p>" + "; ".join(f"<b>{html.escape(q['label'].split()[0])}</b> = "
                           f"{html.escape(q['label'].split(' ', 1)[1] if ' ' in q['label'] else '')}"
-                          for q in named) + ".</p>")
+                          for q in listed) + ".</p>")
     trows = []
     for r in rows:
         verdict = ("differs" if np.isfinite(r["p_holm"]) and r["p_holm"] < ALPHA else
                    "no difference shown" if np.isfinite(r["p_holm"]) else "not tested")
-        trows.append([r["point"]["label"].split()[0], r["metric"], f"{r['kind']} vs {btag}",
+        trows.append([r["point"]["label"].split()[0], named(r["metric"], names), f"{r['kind']} vs {btag}",
                       comparison_text(r), _p(r["p"]), _p(r["p_holm"]), f"{r['na']} / {r['nb']}",
                       verdict])
     R.table(["point", "metric", "compared as", "estimate [95%]", "p (Welch)", "p (Holm)",
@@ -79,14 +82,14 @@ def section_scalar_differences(R, pts, baseline, scalars, bounds, findings):
     R.csv("scalar_differences.csv",
           ["point", "metric", "kind", "estimate", "ci95_lower", "ci95_upper", "p_welch",
            "p_holm", "n_point", "n_baseline"],
-          [[r["point"]["label"], r["metric"], r["kind"], r["est"], r["lower"], r["upper"],
+          [[r["point"]["label"], named(r["metric"], names), r["kind"], r["est"], r["lower"], r["upper"],
             r["p"], r["p_holm"], r["na"], r["nb"]] for r in rows])
     for q in pts:
         mine = [r for r in rows if r["point"] is q and np.isfinite(r["p"])]  # tested ones
         if not mine:
             continue
         hits = [r for r in mine if np.isfinite(r["p_holm"]) and r["p_holm"] < ALPHA]
-        said = "; ".join(f"{html.escape(r['metric'])} {html.escape(comparison_text(r))} "
+        said = "; ".join(f"{html.escape(named(r['metric'], names))} {html.escape(comparison_text(r))} "
                          f"(Holm {html.escape(p_text(r['p_holm']))})" for r in hits)
         findings.append(
             f"Scalars, <b>{html.escape(q['short'])}</b> against {html.escape(btag)}: "

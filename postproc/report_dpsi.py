@@ -7,8 +7,10 @@ import re
 import numpy as np
 
 if __package__:
+    from .report_species import named, species_names
     from .report_stats import mean_ci
 else:  # loaded by postproc/report.py run as a file
+    from report_species import named, species_names
     from report_stats import mean_ci
 
 
@@ -54,12 +56,13 @@ def section_dpsi_contrast(R, pts):
         "elsewhere and the contrast says little.</p>")
     rows, stale = [], []
     for q in have:
+        names = species_names([q])  # per row: a report may hold size and density beds
         if "dpsi_fields" not in q["an"]:
             stale.append(q["label"])
             continue
         for d in q["an"]["dpsi_fields"]:
             for sp in ("large", "small"):
-                rows.append([q["label"], f"{d['lag']:g}", sp]
+                rows.append([q["label"], f"{d['lag']:g}", named(sp, names)]
                             + [dpsi_cell(d[f"{w}_{sp}"]) for w in ("inside", "outside", "contrast")])
     if stale:
         R.h("<p class='warn'>No contrast for " + html.escape(", ".join(stale)) + ": the "
@@ -74,6 +77,7 @@ def section_dpsi_snapshots(R, pts):
     every start of the Fig. 8 window, including starts past the fields' window."""
     rows = []
     for q in pts:
+        names = species_names([q])
         for d in q["an"].get("dpsi_snapshots", []):
             ok = np.asarray(d["starts"]) > 0
             if not ok.any():
@@ -84,7 +88,7 @@ def section_dpsi_snapshots(R, pts):
                 cells = [dpsi_cell(np.asarray(d[f"{w}_{sp}"], float)[ok])
                          for w in ("inside", "outside", "contrast")]
                 rows.append([q["label"], f"{d['lag']:g}", f"{starts.min()}-{starts.max()}",
-                             f"{first:.3g}-{last:.3g}", sp] + cells)
+                             f"{first:.3g}-{last:.3g}", named(sp, names)] + cells)
     if not rows:
         return
     R.h("<p>From the snapshots (<code>tumble analyze campaign --dpsi-lags</code>): the same "

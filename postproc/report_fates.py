@@ -46,14 +46,15 @@ def section_fates(R, pts):
         R.h("<p>No case kept particle snapshots at two iterations (campaign.snapshots = true), "
             "or <code>tumble analyze campaign</code> has not run: no Fig. 8 counts.</p>")
         return
-    R.h("<p>Large particles, classified by whether the Lambert image of their direction lies in "
-        "a CM island (r = 0.95) at the start and at the end of the interval (lab frame): "
+    m = html.escape(fi.mapped_name(have[0]))  # the species the maps show: large, or light
+    R.h(f"<p>{m.capitalize()} particles, classified by whether the Lambert image of their "
+        "direction lies in a CM island (r = 0.95) at the start and at the end of the interval (lab frame): "
         "<b>persistent</b> in the <i>same</i> island at both times (the paper's definition), "
         "<b>switched</b> in an island at both times but not the same one (not a class of the "
         "paper's figure), <b>captured</b> outside → inside, <b>dispersed</b> inside → outside, "
-        "<b>other</b> outside at both. Mean [95% interval, on the logit scale of 0 … the large "
-        "particles of a case, a count on a bound moved half a particle inside it] (N), and the "
-        "share of the large particles. <b>Chance</b>: the expected count if each particle's end "
+        "<b>other</b> outside at both. Mean [95% interval, on the logit scale of 0 … the "
+        f"{m} particles of a case, a count on a bound moved half a particle inside it] (N), and "
+        f"the share of the {m} particles. <b>Chance</b>: the expected count if each particle's end "
         "position were that of a particle drawn at random (the islands' occupancy at both "
         "times kept, the link between a particle's start and end broken); <b>excess</b> = "
         "observed − chance, per replica, mean ± Student 95% half-width: a persistent excess "

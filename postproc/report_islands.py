@@ -8,11 +8,13 @@ import numpy as np
 
 if __package__:
     from . import report_figs as rf
+    from . import report_findings as fi
     from .report_findings import ci_span
     from .report_page import Html
     from .report_stats import bounded_interval, compare_values, comparison_text
 else:  # loaded by postproc/report.py run as a file
     import report_figs as rf
+    import report_findings as fi
     from report_findings import ci_span
     from report_page import Html
     from report_stats import bounded_interval, compare_values, comparison_text
@@ -28,11 +30,12 @@ def section_cross_enrichment(R, pts):
         R.h("<p>No point has CM islands (or <code>tumble analyze campaign</code> has not run): "
             "nothing to measure against.</p>")
         return
-    R.h("<p>Each row: the point's time-averaged large-particle maps, each column: the islands of "
+    m = html.escape(fi.mapped_name(next(q for q in pts if q["an"] is not None and q["islands"])))
+    R.h(f"<p>Each row: the point's time-averaged {m}-particle maps, each column: the islands of "
         "a point of the same campaign (its label). Same definition as the enrichment above "
         "(1 = no preference for the islands). The diagonal is each point's own enrichment; a "
         "protocol without islands, e.g. (68°,68°), has no diagonal entry. 1 is not the null: "
-        "large particles gather at the wall unevenly under any protocol (radial segregation, "
+        f"{m} particles gather at the wall unevenly under any protocol (radial segregation, "
         "the free surface), so a mask can collect more than its share without a pattern. The "
         "test of a pattern is the comparison with the islands' own point on the same mask, the "
         "ratio of the geometric means (× r [95%], Welch's t on the logarithms, as in section "

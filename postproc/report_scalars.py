@@ -13,6 +13,7 @@ if __package__:
     from . import report_mixing as rm
     from .report_fates import FATES, fate_bound
     from .report_page import Html
+    from .report_species import named, species_names
     from .report_stats import bounded_interval, fmt, mean_ci
 else:  # loaded by postproc/report.py run as a file
     import report_figs as rf
@@ -20,6 +21,7 @@ else:  # loaded by postproc/report.py run as a file
     import report_mixing as rm
     from report_fates import FATES, fate_bound
     from report_page import Html
+    from report_species import named, species_names
     from report_stats import bounded_interval, fmt, mean_ci
 
 
@@ -133,6 +135,9 @@ def section_scalars(R, pts, findings):
         "one each case's bed was tilted to (measured on the bed unless the campaign set it); "
         "the Findings warn when points differ in it by more than "
         f"{fi.TILT_TOL_DEG:g}°.</p>")
+    # The metrics are keyed by their size-bed names; shown with the species' own names.
+    names = species_names(pts)
+    shown = [named(k, names) for k in SCALARS]
     per_case, rows = [], []
     for q in pts:
         sc = case_scalars(q)
@@ -156,10 +161,10 @@ def section_scalars(R, pts, findings):
         sent = fi.mixing_sentence(q)
         if sent:
             findings.append(sent)
-    R.table(["point"] + SCALARS + ["mixing index of a random bed, same particles",
+    R.table(["point"] + shown + ["mixing index of a random bed, same particles",
                                    "mixing index − random (last snapshot)",
                                    "islands' area share"], rows, "scalar_table.csv")
-    R.csv("case_scalars.csv", ["point", "case", "replica"] + SCALARS + FATES, per_case)
+    R.csv("case_scalars.csv", ["point", "case", "replica"] + shown + FATES, per_case)
     summ = []
     for q in pts:
         for k in SCALARS + FATES:
@@ -167,7 +172,7 @@ def section_scalars(R, pts, findings):
             lo, hi = BOUNDS.get(k, (0.0, fate_bound(q)))
             b = bounded_interval([s[k] for s in q["scalars"]], lo, hi,
                                  eps=0.5 if k in FATES else None)
-            summ.append([q["label"], k, m, ci, b["lower"], b["upper"], n])
+            summ.append([q["label"], named(k, names), m, ci, b["lower"], b["upper"], n])
     R.csv("scalar_summary.csv", ["point", "metric", "mean", "ci95_student", "ci95_lower",
                                  "ci95_upper", "n"], summ)
     mrows = []

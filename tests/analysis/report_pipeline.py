@@ -366,7 +366,7 @@ with h5py.File(os.path.join(d, "analysis.h5"), "r") as h:
                              f"recomputed {vals[-1]}")
             rows = [r for r in csv.DictReader(open(os.path.join(rep, "dpsi_contrast.csv")))
                     if r["point"].startswith("A") and r["lag [iterations]"] == lag
-                    and r["species"] == "large"]
+                    and r["species"] in ("large", "heavy")]  # species 1, named per point
             if vals:
                 got = [float(r["contrast outside − inside [deg]"].split()[0]) for r in rows]
                 if not any(abs(x - np.mean(vals)) <= 0.0051 for x in got):

@@ -2,7 +2,7 @@
 examples.
 
   PYTHONPATH=SOURCE_ROOT /usr/bin/python3 report_stats_check.py [stats|bounded|fdr|cells|tilt|
-                                                                  compare|enrichment]
+                                                                  compare|enrichment|species]
 
   stats    Student t quantiles (scipy) and Welch's half-width of a difference of two means;
   bounded  intervals of bounded quantities (logit / log scale): closed forms, never outside the
@@ -22,7 +22,9 @@ examples.
   enrichment  the Findings' enrichment sentences (postproc/report_findings.py) on constructed
            points: the same ratio of geometric means and p as section 6c (scipy's Welch on the
            logarithms), the verdict from that test (a pair the arithmetic Welch test would call
-           inconclusive), a replica at 0 compared as a difference, N = 2 called inconclusive.
+           inconclusive), a replica at 0 compared as a difference, N = 2 called inconclusive;
+  species  the species' names in the report's labels (postproc/report_species.py): from the
+           files' attributes, "large" relabelled only where the bed is not a size mixture.
 No argument: all groups. ctest runs each group as its own test (tests/analysis/CMakeLists.txt).
 """
 import math
@@ -390,8 +392,39 @@ def group_enrichment():
     return good
 
 
+def group_species():
+    """report_species: the names every point's files agree on, and the labels they give."""
+    from postproc.report_species import named, species_names
+
+    def point(names=None, in_analysis=True):
+        a = dict(species_0=names[0], species_1=names[1]) if names else {}
+        return dict(an=dict(attrs=a) if in_analysis else None,
+                    members=[] if in_analysis else [dict(a)])
+
+    good = []
+    dens = ("light", "heavy")
+    good.append(truth("a density bed: its names, from analysis.h5 or from the fields",
+                      species_names([point(dens), point(dens, in_analysis=False)]) == dens))
+    good.append(truth("files without names: small / large",
+                      species_names([point(), point(None, False)]) == ("small", "large")))
+    good.append(truth("a size and a density bed in one report: species 0 / species 1",
+                      species_names([point(dens), point(("small", "large"))])
+                      == ("species 0", "species 1")))
+    good.append(truth("labels: species 1 (\"large\") and species 0 (\"small\") renamed",
+                      named("mean Δψ large [deg]", dens) == "mean Δψ heavy [deg]"
+                      and named("Δψ small over 3 iterations [deg]", dens)
+                      == "Δψ light over 3 iterations [deg]"
+                      and named("large share of the shell", ("species 0", "species 1"))
+                      == "species 1 share of the shell"))
+    good.append(truth("a size bed's labels and words inside others are left alone",
+                      named("mean Δψ large [deg]", ("small", "large")) == "mean Δψ large [deg]"
+                      and named("enlarged smallest", dens) == "enlarged smallest"))
+    return good
+
+
 GROUPS = dict(stats=group_stats, bounded=group_bounded, fdr=group_fdr, cells=group_cells,
-              tilt=group_tilt, compare=group_compare, enrichment=group_enrichment)
+              tilt=group_tilt, compare=group_compare, enrichment=group_enrichment,
+              species=group_species)
 which = sys.argv[1:] or list(GROUPS)
 results = []
 for g in which:
