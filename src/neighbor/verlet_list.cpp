@@ -96,14 +96,26 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
   // particles: a row that neither wraps nor lists ghosts (which come cell by cell) filters the
   // column's three cells of each layer as one range. The same candidates in the same order: the
   // same list, with a third of the filter calls and of their one-at-a-time remainders.
-  if (!with_ghosts && c_lo >= 0 && c_hi < grid_.nz()) {
+  // A border row does the same, and takes the column's ghosts as one range too when they lie in
+  // cell order (then each layer's candidates, and the ghosts, come column by column rather than
+  // cell by cell: the same pairs in another order within the row). On 16 ranks of the R35 bed,
+  // where most rows are border rows, the cell-by-cell scan made a border row cost 2.6 times a
+  // serial one.
+  const bool ghost_columns = with_ghosts && ghosts_in_cell_order_ && !frozen_row;
+  if ((!with_ghosts || ghost_columns) && c_lo >= 0 && c_hi < grid_.nz()) {
     for (int a = std::max(ci - 1, 0); a <= std::min(ci + 1, grid_.nx() - 1); ++a)
-      for (int b = std::max(cj - 1, 0); b <= std::min(cj + 1, grid_.ny() - 1); ++b)
+      for (int b = std::max(cj - 1, 0); b <= std::min(cj + 1, grid_.ny() - 1); ++b) {
         for (int s = 0; s < scan_count; ++s) {
           const std::uint32_t lo = cell_start_[scans[s].first_cell + grid_.index(a, b, c_lo)];
           const std::uint32_t hi = cell_start_[scans[s].first_cell + grid_.index(a, b, c_hi) + 1];
           filter(scans[s].all ? lo : std::max<std::uint32_t>(lo, i + 1), hi);
         }
+        if (ghost_columns) {
+          const std::uint32_t g0 = ghost_start_[grid_.index(a, b, c_lo)];
+          const std::uint32_t g1 = ghost_start_[grid_.index(a, b, c_hi) + 1];
+          if (g0 < g1) filter(ghost_of_cell_[g0], ghost_of_cell_[g0] + (g1 - g0));
+        }
+      }
     return count;
   }
   for (int a = std::max(ci - 1, 0); a <= std::min(ci + 1, grid_.nx() - 1); ++a)

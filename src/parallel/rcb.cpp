@@ -5,15 +5,6 @@
 
 namespace tumble::parallel {
 
-double distance2(const Box& b, const Vec3& p) {
-  double d2 = 0;
-  for (int d = 0; d < 3; ++d) {
-    const double e = std::max({b.lo[d] - p[d], 0.0, p[d] - b.hi[d]});
-    d2 += e * e;
-  }
-  return d2;
-}
-
 RcbTree RcbTree::build(MPI_Comm comm, const Box& root, const std::vector<Vec3>& x,
                        std::size_t count, const double* weight) {
   const auto w = [weight](std::size_t i) { return weight ? weight[i] : 1.0; };
@@ -132,6 +123,17 @@ void RcbTree::collect_boxes() {
   boxes_.assign(n, root_);
   for (const Node& nd : nodes_)
     if (nd.dim < 0) boxes_[nd.r0] = nd.box;
+  for (int closed_z = 0; closed_z < 2; ++closed_z) {
+    open_[closed_z].clear();
+    for (const Node& nd : nodes_) {
+      Box b = nd.box;
+      for (int d = 0; d < (closed_z ? 2 : 3); ++d) {
+        if (b.lo[d] <= root_.lo[d]) b.lo[d] = -1e300;
+        if (b.hi[d] >= root_.hi[d]) b.hi[d] = 1e300;
+      }
+      open_[closed_z].push_back(b);
+    }
+  }
 }
 
 int RcbTree::owner(const Vec3& p) const {
@@ -140,33 +142,34 @@ int RcbTree::owner(const Vec3& p) const {
   return nodes_[k].r0;
 }
 
-void RcbTree::near(int k, const Vec3& p, double reach2, bool closed_z,
-                   std::vector<int>& out) const {
-  const Node& nd = nodes_[k];
-  // The root's outer faces are open (strays belong to the nearest leaf), so only inner cuts
-  // bound a node: test the distance to the node's box with the root's faces pushed to infinity
-  // (except the ends of a periodic z: images are tested explicitly).
-  Box b = nd.box;
-  for (int d = 0; d < (closed_z ? 2 : 3); ++d) {
-    if (b.lo[d] <= root_.lo[d]) b.lo[d] = -1e300;
-    if (b.hi[d] >= root_.hi[d]) b.hi[d] = 1e300;
+void RcbTree::near(const Vec3& p, double reach2, bool closed_z, std::vector<int>& out) const {
+  // Depth first, the low child before the high one (the order the ranks are appended in is the
+  // order ghosts are sent in, so it is kept). Each pop pushes at most two nodes and the tree is
+  // ceil(log2 P) deep, so the stack never holds more than depth + 1 < 64 entries.
+  const std::vector<Box>& open = open_[closed_z ? 1 : 0];
+  int stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const int k = stack[--top];
+    if (distance2(open[k], p) > reach2) continue;
+    const Node& nd = nodes_[k];
+    if (nd.dim < 0) {
+      if (std::find(out.begin(), out.end(), nd.r0) == out.end()) out.push_back(nd.r0);
+      continue;
+    }
+    stack[top++] = nd.hi;
+    stack[top++] = nd.lo;
   }
-  if (distance2(b, p) > reach2) return;
-  if (nd.dim < 0) {
-    if (std::find(out.begin(), out.end(), nd.r0) == out.end()) out.push_back(nd.r0);
-    return;
-  }
-  near(nd.lo, p, reach2, closed_z, out);
-  near(nd.hi, p, reach2, closed_z, out);
 }
 
 void RcbTree::ranks_near(const Vec3& p, double reach, double period_z,
                          std::vector<int>& out) const {
   const bool periodic = period_z > 0;
-  near(0, p, reach * reach, periodic, out);
+  near(p, reach * reach, periodic, out);
   if (periodic) {  // images across the periodic ends
-    near(0, p + Vec3{0, 0, period_z}, reach * reach, true, out);
-    near(0, p - Vec3{0, 0, period_z}, reach * reach, true, out);
+    near(p + Vec3{0, 0, period_z}, reach * reach, true, out);
+    near(p - Vec3{0, 0, period_z}, reach * reach, true, out);
   }
 }
 
