@@ -20,6 +20,19 @@ import sys
 from collections import defaultdict
 
 
+def compressed_name(line, table):
+    """The name of an `ob=`, `cob=`, `fn=` or `cfn=` line: "(id) name" defines id in `table`,
+    "(id)" reuses it. ob= and cob= share one table (a name may be defined in a cob= line, a call
+    into that object, and then be used as ob=(id)); fn= and cfn= share another."""
+    value = line.split("=", 1)[1]
+    m = re.match(r"\((\d+)\)(?: (.*))?$", value)
+    if not m:
+        return value
+    if m.group(2) is not None:
+        table[m.group(1)] = m.group(2)
+    return table.get(m.group(1), m.group(1))
+
+
 def object_costs(path, by_function=False):
     """{object name: exclusive Ir} of one callgrind.out file (by_function: {(object, function):
     exclusive Ir}), and the file's totals."""
@@ -46,24 +59,12 @@ def object_costs(path, by_function=False):
                 if len(ev) > ir_col:
                     costs[(ob, fn) if by_function else ob] += int(ev[ir_col])
                 continue
-            if line.startswith("ob=") or line.startswith("cob="):
-                # ob= and cob= share one table of compressed names: a name may be defined in a
-                # cob= line (a call into that object) and then used as ob=(id).
-                m = re.match(r"c?ob=\((\d+)\)(?: (.*))?$", line)
-                name = line.split("=", 1)[1]
-                if m:
-                    if m.group(2) is not None:
-                        names[m.group(1)] = m.group(2)
-                    name = names.get(m.group(1), m.group(1))
+            if line.startswith(("ob=", "cob=")):
+                name = compressed_name(line, names)
                 if line.startswith("ob="):
                     ob = name
-            elif line.startswith("fn=") or line.startswith("cfn="):  # the same sharing
-                m = re.match(r"c?fn=\((\d+)\)(?: (.*))?$", line)
-                name = line.split("=", 1)[1]
-                if m:
-                    if m.group(2) is not None:
-                        fn_names[m.group(1)] = m.group(2)
-                    name = fn_names.get(m.group(1), m.group(1))
+            elif line.startswith(("fn=", "cfn=")):
+                name = compressed_name(line, fn_names)
                 if line.startswith("fn="):
                     fn = name
             elif line.startswith("calls="):
