@@ -34,7 +34,7 @@ if __package__:  # python3 -m postproc.report
     from .report_page import CHECK_SCRIPT, CSS, Report
     from .report_scalars import BOUNDS, SCALARS, section_convergence, section_scalars
     from .report_stats import bounded_interval, bh_reject, cell_tests, welch_half_width
-    from .report_species import named, species_names, SIZE_NAMES
+    from .report_species import named, species_names
 else:  # /usr/bin/python3 postproc/report.py: the script's directory is sys.path[0]
     import report_compare as rc
     import report_data as rd
@@ -46,11 +46,10 @@ else:  # /usr/bin/python3 postproc/report.py: the script's directory is sys.path
     from report_page import CHECK_SCRIPT, CSS, Report
     from report_scalars import BOUNDS, SCALARS, section_convergence, section_scalars
     from report_stats import bounded_interval, bh_reject, cell_tests, welch_half_width
-    from report_species import named, species_names, SIZE_NAMES
+    from report_species import named, species_names
 
 MAP_FIELDS = [  # (field, label, unit factor, colour map, physical bounds in the shown unit)
-    ("concentration/c_L", "c_L (species 1: the large, or in a density bed the heavy particles)",
-     1.0, "viridis", (0.0, 1.0)),
+    ("concentration/c_L", "c_L (species 1, the large particles' share)", 1.0, "viridis", (0.0, 1.0)),
     ("displacement/dpsi_large", "Δψ large [deg]", 180 / np.pi, "magma", (0.0, 180.0)),
     ("displacement/dpsi_small", "Δψ small [deg]", 180 / np.pi, "magma", (0.0, 180.0)),
 ]
@@ -72,8 +71,6 @@ def map_fields(pts):
     with the species' names (report_species)."""
     names = species_names(pts)
     out = [(f, named(label, names), k, cmap, b) for f, label, k, cmap, b in MAP_FIELDS]
-    if tuple(names) != SIZE_NAMES:  # the names are known and not small / large
-        out[0] = (out[0][0], f"c_L (species 1, the {names[1]} particles' share)") + out[0][2:]
     for g, k in displacement_groups(pts):
         if g == "displacement":
             continue

@@ -23,9 +23,11 @@ import tomllib
 import numpy as np
 
 if __package__:
+    from .report_species import species_names
     from .report_stats import (bounded_interval, compare_values, comparison_text,
                                excludes_none, fmt_interval, t_quantile)
 else:  # run from postproc/report.py as a file: its directory is on sys.path
+    from report_species import species_names
     from report_stats import (bounded_interval, compare_values, comparison_text, excludes_none,
                               fmt_interval, t_quantile)
 
@@ -121,11 +123,8 @@ def campaign_context(c, pts):
         with h5py.File(snaps[0], "r") as f:
             sp = f["species"][:]
         ctx["particles"], ctx["large"] = int(len(sp)), int(np.sum(sp == 1))
-    # Species 1 by the name analysis.h5 gives it ("heavy" in a density bed of equal sizes), when
-    # every point of the campaign agrees; "large" otherwise (or before the analysis has run).
-    names = {str(q["an"]["attrs"].get("species_1", "large")) for q in pts
-             if q["camp"] is c and q.get("an")}
-    ctx["species_1"] = names.pop() if len(names) == 1 else "large"
+    # Species 1 by the name the campaign's files give it ("heavy" in a density bed of equal sizes).
+    ctx["species_1"] = species_names([q for q in pts if q["camp"] is c])[1]
     return ctx
 
 

@@ -93,14 +93,13 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
   const int c_lo = period_z_ > 0 ? ck - 1 : std::max(ck - 1, 0);
   const int c_hi = period_z_ > 0 ? ck + 1 : std::min(ck + 1, grid_.nz() - 1);
   // z is the grid's fastest index, so the cells (a, b, c_lo..c_hi) of one layer hold consecutive
-  // particles: a row that neither wraps nor lists ghosts (which come cell by cell) filters the
-  // column's three cells of each layer as one range. The same candidates in the same order: the
-  // same list, with a third of the filter calls and of their one-at-a-time remainders.
-  // A border row does the same, and takes the column's ghosts as one range too when they lie in
-  // cell order (then each layer's candidates, and the ghosts, come column by column rather than
-  // cell by cell: the same pairs in another order within the row). On 16 ranks of the R35 bed,
-  // where most rows are border rows, the cell-by-cell scan made a border row cost 2.6 times a
-  // serial one.
+  // particles, and ghosts placed in cell order too: a row that does not wrap filters the column's
+  // three cells of each layer, and of the ghosts, as one range each (a third of the filter calls
+  // and of their one-at-a-time remainders). A border row's pairs then come column by column, not
+  // cell by cell (the same pairs in another order); on 16 ranks of the R35 bed, where most rows
+  // are border rows, the cell-by-cell scan made a border row cost 2.6 times a serial one. The
+  // cell-by-cell path below is left to rows that wrap, frozen border rows and ghosts not in cell
+  // order.
   const bool ghost_columns = with_ghosts && ghosts_in_cell_order_ && !frozen_row;
   if ((!with_ghosts || ghost_columns) && c_lo >= 0 && c_hi < grid_.nz()) {
     for (int a = std::max(ci - 1, 0); a <= std::min(ci + 1, grid_.nx() - 1); ++a)
