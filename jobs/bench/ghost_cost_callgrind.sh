@@ -8,8 +8,9 @@
 # both to these counts and says whether one straight line holds from few ghosts per particle to
 # as many as a 1,024-rank domain of a 10M-particle bed holds (0.4-0.7).
 #
-# usage: [SCENE=jobs/bench/bst_R35_bench.toml] [WARM=dir] [TUMBLE=build/tumble]
+# usage: [SCENE=jobs/bench/bst_R35_bench.toml] [WARM=dir] [TUMBLE=build/tumble] [SET="key=value ..."]
 #        jobs/bench/ghost_cost_callgrind.sh [RANKS="1 2 4 8"] [STEPS=1000] [BASE=100] [OUT=dir]
+# SET: scene keys for every run (e.g. SET="parallel.newton=off": border pairs on both sides).
 # Each P runs BASE and BASE + STEPS steps from the warm state; the difference is STEPS steps
 # without the start-up (reading, first bisection, first list). The warm state is made like
 # bench_ab.sh's (200,000 steps of the R35 bed: flowing) if WARM has no checkpoint.h5.
@@ -24,12 +25,14 @@ SCENE=${SCENE:-jobs/bench/bst_R35_bench.toml}
 WARM=$(realpath -m "${WARM:-results/bench/$(basename "$SCENE" .toml)_warm200000}")
 command -v valgrind > /dev/null || { echo "valgrind is not installed (apt-get install valgrind)" >&2; exit 1; }
 mkdir -p "$OUT"
+extra=()
+for kv in ${SET:-}; do extra+=(--set "$kv"); done
 if [ ! -f "$WARM/checkpoint.h5" ]; then
   echo "# making the warm state: 200,000 steps into $WARM"
   "$BIN" run "$SCENE" --max-steps 200000 --set scene.output_dir="$WARM" > "$OUT/warm.log" 2>&1
 fi
 bench_header
-echo "# $SCENE from $WARM, $STEPS steps counted (runs of $BASE and $((BASE + STEPS)) steps), ranks: $RANKS"
+echo "# $SCENE from $WARM, $STEPS steps counted (runs of $BASE and $((BASE + STEPS)) steps), ranks: $RANKS${SET:+, set: $SET}"
 TSV="$OUT/counts.tsv"
 printf "ranks\tparticles\tghosts\tsteps\tengine_ir\tall_ir\tlist_pairs_max_over_mean\n" > "$TSV"
 for p in $RANKS; do
@@ -41,7 +44,7 @@ for p in $RANKS; do
     OMPI_MCA_mpi_yield_when_idle=1 ${MPIRUN:-mpirun} -n "$p" --oversubscribe --bind-to none \
       valgrind --tool=callgrind --callgrind-out-file="$dir/cg.%p" \
       "$BIN" run "$SCENE" --restart "$WARM/checkpoint.h5" --max-steps "$s" \
-      --set scene.output_dir="$dir/run" > "$dir/log" 2>&1 ||
+      --set scene.output_dir="$dir/run" "${extra[@]}" > "$dir/log" 2>&1 ||
       { echo "P = $p, $s steps failed: $dir/log" >&2; exit 1; }
   done
   a="$OUT/p$p.s$BASE" b="$OUT/p$p.s$((BASE + STEPS))"

@@ -61,9 +61,11 @@ def main():
           f"c_g = {cg:.3f} c_p ({cg_ir:.0f} instructions per ghost-step)")
     print("residuals, instructions per particle-step: "
           + ", ".join(f"P = {p}: {(e - f) / n:+.2f}" for p, e, f in zip(ps, extra, fit)))
-    print("\nthe halo model with these constants (the rates of the 16-core node, docs/performance.md):")
+    print("\nthe halo model with these constants (the rates of the 16-core node, docs/performance.md;"
+          " 2,000,000 sampled points: fewer read the largest domain's ghosts high; add --newton"
+          " where the runs had parallel.newton = on, the default):")
     print("/usr/bin/python3 jobs/bench/halo_model.py --rate1 1.174e7 --rate2 1.983e7 --ghosts2 7917 "
-          f"--imbalance2 1.004 --ranks 64 1024 --overlap --reach 1.1 --cg {cg:.2f} "
+          f"--imbalance2 1.004 --ranks 64 1024 --overlap --reach 1.1 --sample 2000000 --cg {cg:.2f} "
           f"--overhead {max(o, 0.0):.3f}")
 
 

@@ -16,9 +16,10 @@ Per step, the slowest rank of P costs
          all of the second rank's extra work charged per ghost, as calibrated): the per-step
          synchronisation and the decomposed rebuild's spring and id bookkeeping, which instruction
          counts of 1 and 2 ranks separate from the per-ghost work (docs/performance.md)
-  c_g    seconds per ghost per step: the border pairs computed twice (Newton off), the refresh
-         packing/unpacking and the amortised rebuild exchange; calibrated from the 2-rank run:
-         c_g = (T_2 - c_p n(2) - lat(2)) / G(2)
+  c_g    seconds per ghost per step: the border pairs computed twice (Newton off; once with
+         Newton across borders, which adds the packing and adding of the ghosts' force sums), the
+         refresh packing/unpacking and the amortised rebuild exchange; calibrated from the 2-rank
+         run: c_g = (T_2 - c_p n(2) - lat(2)) / G(2), or counted (ghost_cost_fit.py)
   lat(P) per-step latency: one message to each neighbour domain + one allreduce (the rebuild test)
   bytes  72 bytes per ghost per step (x, v, w), over a network of B_net bytes/s
 
@@ -29,6 +30,15 @@ of the busiest rank that may pair with a ghost (taken equal to its ghost count: 
 symmetric); the allreduce of the rebuild test is not hidden:
 
     T(P) = c_p n + c_g G + lat_allreduce + max(0, lat_messages + bytes / B_net - c_p (n - G))
+
+With --newton (Newton across borders, parallel.newton = on) the ghosts' force sums travel back
+after the border rows, one more message per neighbour and 48 bytes per ghost; the engine splits
+the interior rows in halves, the first behind the refresh and the second behind the sums:
+
+    T(P) = c_p n + c_g G + lat_allreduce + max(0, lat_messages + bytes / B_net - c_p (n - G) / 2)
+                                         + max(0, lat_messages + bytes_back / B_net - c_p (n - G) / 2)
+
+(without --overlap both rounds of messages are added whole).
 
 Efficiency E(P) = c_p N / P / T(P). Run with the measured numbers (defaults: bst_paper, this
 machine, 2026-11-22) to reproduce the table in docs/performance.md.
@@ -115,6 +125,8 @@ def add_model_arguments(ap, rate1=6.765e6, rate2=1.219e7, imbalance2=1.0):
                     help="large particles' share by number (f = 0.15, size ratio 2: 0.0216); "
                          "0 with --reach 2.1: the uniform halo before the thin one")
     ap.add_argument("--sample", type=int, default=400000, help="points sampled for ghost counts")
+    ap.add_argument("--newton", action="store_true",
+                    help="Newton across borders: the ghosts' force sums go back each step")
     ap.add_argument("--overhead", type=float, default=0.0,
                     help="per-particle work of a decomposed rank, whatever its ghosts, in units of "
                          "c_p (0: all extra work per ghost)")
@@ -139,10 +151,15 @@ def step_parts(a, c_p, c_g, n_total, p, gmax, measured_two=False, overlap=False)
     messages = min(a.neighbours, p - 1) * a.alpha
     allreduce = np.log2(p) * a.alpha_allreduce
     net = 72 * gmax / a.bandwidth
+    newton = getattr(a, "newton", False)
+    back = 48 * gmax / a.bandwidth if newton else 0.0  # the ghosts' force and torque
     if not overlap:
-        return c_p * n, c_g * gmax, messages + allreduce, net
+        return c_p * n, c_g * gmax, messages * (2 if newton else 1) + allreduce, net + back
     interior = c_p * max(0.0, n / (1 + a.overhead) - gmax)
-    return c_p * n, c_g * gmax, allreduce + max(0.0, messages + net - interior), 0.0
+    if not newton:
+        return c_p * n, c_g * gmax, allreduce + max(0.0, messages + net - interior), 0.0
+    hidden = max(0.0, messages + net - interior / 2) + max(0.0, messages + back - interior / 2)
+    return c_p * n, c_g * gmax, allreduce + hidden, 0.0
 
 
 def main():

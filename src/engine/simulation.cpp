@@ -158,6 +158,10 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     int thin_ok = thin < rmax && !(full != nullptr && std::string(full) == "1") ? 1 : 0;
     MPI_Allreduce(MPI_IN_PLACE, &thin_ok, 1, MPI_INT, MPI_MIN, comm);  // every rank alike
     if (thin_ok) dom_->thin_halo(thin, skin);
+    // The rigid bulk keeps Newton off: its frozen ghosts are left out of the refresh and its
+    // dormant springs travel by id on both sides of a border.
+    newton_ = s.newton == OnOff::on && !rigid_;
+    list_.set_newton(newton_);
   }
 }
 
@@ -221,6 +225,15 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
   neighbor::ContactHistory h(list_.history_layout());
   h.set_records(std::move(records));
   list_.build_with_ghosts(p_, n_local_, h, rigid_ ? &bulk_.dormant : nullptr);
+  if (!rigid_) {
+    // Only the ghosts in a pair of the list are refreshed until the next rebuild: the halo's
+    // reach is an upper bound, and with Newton across borders the other rank computes about
+    // half of a ghost's pairs.
+    std::vector<std::uint8_t> used(p_.size() - n_local_, 0);
+    for (const std::uint32_t j : list_.nbr)
+      if (j >= n_local_) used[j - n_local_] = 1;
+    dom_->keep_used_ghosts(used);
+  }
 }
 
 template <class Law, bool kFriction, bool kPeriodic>
@@ -303,7 +316,12 @@ void Simulation::compute_forces() {
   bulk_.segment = protocol_.segment_count(time_);
   for (std::size_t i = 0; i < p_.size(); ++i) p_.f[i] = p_.t[i] = Vec3{};
   (this->*pair_kernel_)(0, static_cast<std::uint32_t>(n_local_));
+  send_ghost_forces();
   (this->*wall_kernel_)();
+}
+
+void Simulation::send_ghost_forces() {
+  if (newton_) dom_->reverse_forces(p_, n_local_);
 }
 
 void Simulation::restore(const neighbor::ContactHistory& history) {
@@ -375,7 +393,8 @@ double Simulation::kick_drift_rows(Rows rows, double kick) {
   const double* __restrict ii = p_.inv_inertia.data();
   const Vec3* __restrict x_ref = list_.reference_positions().data();
   const bool have_ref = list_.reference_positions().size() == n;
-  // Ghost accumulators collect the partner halves of border pairs; they are thrown away.
+  // Ghost accumulators collect the partner halves of border pairs (sent to their owners with
+  // Newton across borders, else thrown away): cleared before the step's pairs.
   for (std::size_t g = n; g < p_.size(); ++g) f[g] = t[g] = Vec3{};
   double max_d2 = have_ref ? 0.0 : 1e300;
   for (const std::uint32_t i : rows) {
@@ -486,7 +505,10 @@ void Simulation::step() {
     // The rigid bulk's pass reads the ghosts' positions: they are refreshed first.
     if (dom_) dom_->end_refresh(p_, n_local_);
     rebuild_now();  // may permute particles
+    // (The new ghosts arrive with their owners' state; their accumulators start empty.)
+    for (std::size_t g = n_local_; g < p_.size(); ++g) p_.f[g] = p_.t[g] = Vec3{};
     (this->*pair_kernel_)(0, static_cast<std::uint32_t>(n_local_));
+    send_ghost_forces();
   } else {
     pair_forces_with_refresh();
   }
@@ -502,20 +524,33 @@ void Simulation::pair_forces_with_refresh() {
     return;
   }
   const auto interior = static_cast<std::uint32_t>(list_.interior_rows());
-  // (step() has begun the refresh.) Owned partners only: no ghost is read. In four pieces, with
-  // a look at the messages between them (ranks on other nodes): MPI moves a message larger than
-  // its eager limit (a few kB; a rank's refresh is tens to hundreds of kB) only inside its calls,
-  // so without them the transfer would wait for end_refresh. (Consecutive ranges: the same sums
-  // in the same order as one.)
-  constexpr std::uint32_t kPieces = 4;
-  for (std::uint32_t q = 0; q < kPieces; ++q) {
-    const auto first = static_cast<std::uint32_t>(std::uint64_t{interior} * q / kPieces);
-    const auto last = static_cast<std::uint32_t>(std::uint64_t{interior} * (q + 1) / kPieces);
-    (this->*pair_kernel_)(first, last);
-    if (q + 1 < kPieces) dom_->progress_refresh();
-  }
+  // (step() has begun the refresh.) The interior rows read and write no ghost and no border
+  // particle: they run while the messages travel, in four pieces with a look at the messages
+  // between them (ranks on other nodes): MPI moves a message larger than its eager limit (a few
+  // kB; a rank's refresh is tens to hundreds of kB) only inside its calls, so without them the
+  // transfer would wait for the wait. (Consecutive ranges: the same sums in the same order as
+  // one.) With Newton across borders the ghosts' sums travel back after the border rows: the
+  // first half of the interior rows hides the refresh, the second half the sums.
+  auto interior_rows = [&](std::uint32_t begin, std::uint32_t end,
+                           void (parallel::Domain::*look)()) {
+    constexpr std::uint32_t kPieces = 4;
+    for (std::uint32_t q = 0; q < kPieces; ++q) {
+      const auto first =
+          static_cast<std::uint32_t>(begin + std::uint64_t{end - begin} * q / kPieces);
+      const auto last =
+          static_cast<std::uint32_t>(begin + std::uint64_t{end - begin} * (q + 1) / kPieces);
+      (this->*pair_kernel_)(first, last);
+      if (q + 1 < kPieces) (dom_.get()->*look)();
+    }
+  };
+  const std::uint32_t during_refresh = newton_ ? interior / 2 : interior;
+  interior_rows(0, during_refresh, &parallel::Domain::progress_refresh);
   dom_->end_refresh(p_, n_local_);
   (this->*pair_kernel_)(interior, n);
+  if (!newton_) return;
+  dom_->begin_reverse(p_, n_local_);
+  interior_rows(during_refresh, interior, &parallel::Domain::progress_reverse);
+  dom_->end_reverse(p_);
 }
 
 template <class Law, bool kFriction, bool kPeriodic, bool kOneSpecies>
@@ -721,8 +756,9 @@ double Simulation::elastic_energy() const {
       const std::uint32_t j = list_.nbr[k];
       const Vec3 d = cylinder_.nearest_image(p_.x[i] - p_.x[j]);
       const double ovp = p_.radius[i] + p_.radius[j] - norm(d);
-      // A pair across a rank border is held by both ranks: half from each.
-      const double share = j >= n_local_ ? 0.5 : 1.0;
+      // A pair across a rank border is held by both ranks (half from each), or with Newton
+      // across borders by one.
+      const double share = j >= n_local_ && !newton_ ? 0.5 : 1.0;
       if (ovp > 0)
         e += share *
              Law::elastic_energy(tab.pair[p_.species[i]][p_.species[j]], ovp,

@@ -224,6 +224,11 @@ class Simulation {
   // particle of a size mixture only where it may pair with one: Domain::thin_halo).
   double halo_reach_ = 0, ghost_reach_ = 0;
   std::vector<std::uint8_t> border_;  // rebuild scratch: owned particles that may pair with ghosts
+  // Newton across borders (parallel.newton; never with the rigid bulk): a border pair is computed
+  // on one of its ranks, the ghosts' force and torque sent to their owners after the pairs.
+  bool newton_ = false;
+  // After every evaluation of the pair forces: the ghosts' halves to their owners (newton_).
+  void send_ghost_forces();
   geometry::Protocol protocol_;
   geometry::SphereWall wall_;
   geometry::CylinderWall cylinder_;

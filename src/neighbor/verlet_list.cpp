@@ -282,6 +282,14 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
     // An interior row's particle is farther than r_i + r_max + skin from every other rank's
     // domain (Domain::mark_border), so no ghost is within its cutoff r_i + r_j + skin.
     count = add_row(p, i, i >= interior_rows_, count);
+    if (newton_ && i >= interior_rows_) {  // the ghosts whose pair the other rank computes go
+      std::size_t kept = start[i];
+      for (std::size_t k = start[i]; k < count; ++k) {
+        const std::uint32_t j = nbr[k];
+        if (j < n_local || computes_border_pair(p.id[i], p.id[j])) nbr[kept++] = j;
+      }
+      count = kept;
+    }
   }
   nbr.resize(count);
   start[n_local] = static_cast<std::uint32_t>(count);
@@ -296,7 +304,11 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
     // Each particle's row before the migration (IdIndex::kAbsent: it was not on this rank). The
     // old list held every pair with an owned particle, so a pair with a particle owned before
     // has its spring there (in the row of either) or had none; a pair of two particles new to
-    // this rank (one of them arrived) finds it among the records that came with them.
+    // this rank (one of them arrived) finds it among the records that came with them. With
+    // Newton across borders the old list held a border pair only where its rank computed it
+    // (the owner of the pair's deciding particle, computes_border_pair): a pair whose deciding
+    // particle arrived looks among the records too (its old rank sent the spring, as that
+    // particle left it), whichever rank held its other particle.
     const std::uint32_t owned_before = static_cast<std::uint32_t>(kept_owned_);
     const std::uint32_t absent = IdIndex::kAbsent;
     std::vector<std::uint32_t> before(p.size());
@@ -307,7 +319,9 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
       for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
         const std::uint32_t b = before[nbr[k]];
         double* to = history.data() + w * k;
-        if (a < owned_before || b < owned_before) {
+        const bool deciding_arrived =
+            newton_ && (computes_border_pair(p.id[i], p.id[nbr[k]]) ? a : b) >= owned_before;
+        if ((a < owned_before || b < owned_before) && !deciding_arrived) {
           if (a < owned_before && b != absent && carry_spring(a, b, false, to)) continue;
           if (b < owned_before && a != absent) carry_spring(b, a, true, to);
         } else if (arrived) {

@@ -15,6 +15,16 @@
 
 namespace tumble::neighbor {
 
+// Which of the two ranks of a border pair computes it (Newton across borders): the owner of the
+// particle with id a when this is true, that of b when it is false (for b, a it is the opposite,
+// so both ranks agree without a word). The ids alone decide, so the choice changes only when a
+// particle changes rank, where its springs travel anyway; the parity of a + b alternates it, so
+// that each side of a border computes about half of its pairs even where ids follow position
+// (as a filled bed's do). The rule of LAMMPS' half lists with newton on for an atom and a ghost.
+inline bool computes_border_pair(std::int64_t a, std::int64_t b) {
+  return (a < b) != (((a + b) & 1) != 0);
+}
+
 class VerletList {
  public:
   VerletList() = default;
@@ -68,6 +78,12 @@ class VerletList {
   // Not with the rigid bulk (its dormant springs travel by id: build_with_ghosts with `dormant`
   // ignores what was kept).
   void keep_springs(const Particles& p, std::size_t n_local);
+  // Newton's third law across rank borders (set once per scene, the same on every rank): a
+  // border pair of owned particle i and ghost j is listed on i's rank only if
+  // computes_border_pair(id_i, id_j), so exactly one of the two ranks lists it, holds its spring
+  // and sends the ghost's half of the force to j's owner (Domain::reverse_forces).
+  void set_newton(bool on) { newton_ = on; }
+  bool newton() const { return newton_; }
   std::vector<SavedSpring> springs_leaving(const Particles& p, std::size_t n_local) const;
   // Makes z periodic with this period (the cell grid must span exactly one period in z).
   void set_period_z(double period);
@@ -122,6 +138,7 @@ class VerletList {
   int per_class_ = 1;
   int layers_ = 1;
   std::size_t interior_rows_ = 0;
+  bool newton_ = false;                                     // set_newton()
   std::vector<std::uint32_t> ghost_start_, ghost_of_cell_;  // ghosts binned by cell (not moved)
   bool ghosts_in_cell_order_ = false;  // ... and they lie in cell order (ghost_order())
   // The previous list's live springs (rows, partners, springs) while a rebuild carries them over.

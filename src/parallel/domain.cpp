@@ -261,7 +261,7 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach, st
   p.resize(n_local);
   unpack_state(in.data(), in.size() / kStateDoubles, p);
   for (int r = 0; r < size_; ++r) recv_rows_[r] = from[r] / kStateDoubles;
-  ghost_count_ = static_cast<std::int64_t>(p.size() - n_local);
+  ghost_count_ = refreshed_count_ = static_cast<std::int64_t>(p.size() - n_local);
   ghost_slot_.clear();
   place_shared_rows();
   rebuild_seconds_ += MPI_Wtime() - t0;
@@ -299,6 +299,39 @@ void Domain::place_ghosts(Particles& p, std::size_t n_local,
   ghost_slot_.resize(order.size());
   for (std::size_t k = 0; k < order.size(); ++k)
     ghost_slot_[order[k]] = static_cast<std::uint32_t>(k);
+  rebuild_seconds_ += MPI_Wtime() - t0;
+}
+
+void Domain::keep_used_ghosts(const std::vector<std::uint8_t>& used) {
+  const double t0 = MPI_Wtime();
+  // To each source rank, the places in its send list of the ghosts this rank keeps (in the
+  // order they arrived); the kept ghosts' slots in that order become the arrival order.
+  const bool placed = !ghost_slot_.empty();
+  std::vector<std::vector<double>> keep(size_);
+  std::vector<std::uint32_t> slots;
+  slots.reserve(used.size());
+  std::size_t a = 0;
+  for (int r = 0; r < size_; ++r) {
+    for (int k = 0; k < recv_rows_[r]; ++k, ++a) {
+      const std::uint32_t slot = placed ? ghost_slot_[a] : static_cast<std::uint32_t>(a);
+      if (!used[slot]) continue;
+      keep[r].push_back(k);
+      slots.push_back(slot);
+    }
+    recv_rows_[r] = static_cast<int>(keep[r].size());
+  }
+  ghost_slot_ = std::move(slots);
+  refreshed_count_ = static_cast<std::int64_t>(ghost_slot_.size());
+  std::vector<int> from;
+  const std::vector<double> in = exchange(comm_, keep, from);
+  const double* at = in.data();
+  for (int r = 0; r < size_; ++r) {
+    std::vector<std::uint32_t>& out = send_[r];
+    for (int q = 0; q < from[r]; ++q) out[q] = out[static_cast<std::size_t>(at[q])];  // (in order)
+    out.resize(static_cast<std::size_t>(from[r]));
+    at += from[r];
+  }
+  place_shared_rows();  // the rows for the node's ranks laid out again, fewer
   rebuild_seconds_ += MPI_Wtime() - t0;
 }
 
@@ -442,6 +475,74 @@ void Domain::end_refresh(Particles& p, std::size_t n_local) {
 }
 
 namespace {
+constexpr std::size_t kReverseDoubles = 6;  // force, torque
+}
+
+void Domain::begin_reverse(const Particles& p, std::size_t n_local) {
+  const double t0 = MPI_Wtime();
+  std::size_t rows_in = 0;
+  for (int r = 0; r < size_; ++r) rows_in += send_[r].size();
+  reverse_out_.resize((p.size() - n_local) * kReverseDoubles);
+  reverse_in_.resize(rows_in * kReverseDoubles);
+  reverse_requests_.clear();
+  std::size_t at = 0;
+  for (int r = 0; r < size_; ++r) {  // the sums of the particles this rank sent to r
+    if (send_[r].empty()) continue;
+    reverse_requests_.emplace_back();
+    MPI_Irecv(reverse_in_.data() + at, static_cast<int>(send_[r].size() * kReverseDoubles),
+              MPI_DOUBLE, r, 8, comm_, &reverse_requests_.back());
+    at += send_[r].size() * kReverseDoubles;
+  }
+  // Each ghost's sums back to where it came from, in the order it arrived (that rank's send_
+  // order).
+  const bool placed = !ghost_slot_.empty();
+  const Vec3* f = p.f.data();
+  const Vec3* t = p.t.data();
+  double* o = reverse_out_.data();
+  std::size_t a = 0;
+  for (int r = 0; r < size_; ++r) {
+    if (recv_rows_[r] == 0) continue;
+    double* begin = o;
+    for (const std::size_t end = a + static_cast<std::size_t>(recv_rows_[r]); a < end; ++a) {
+      const std::size_t q = n_local + (placed ? ghost_slot_[a] : a);
+      o[0] = f[q].x, o[1] = f[q].y, o[2] = f[q].z;
+      o[3] = t[q].x, o[4] = t[q].y, o[5] = t[q].z;
+      o += kReverseDoubles;
+    }
+    reverse_requests_.emplace_back();
+    MPI_Isend(begin, static_cast<int>(o - begin), MPI_DOUBLE, r, 8, comm_,
+              &reverse_requests_.back());
+  }
+  refresh_seconds_ += MPI_Wtime() - t0;
+}
+
+void Domain::progress_reverse() {
+  if (reverse_requests_.empty()) return;
+  const double t0 = MPI_Wtime();
+  int done = 0;
+  MPI_Testall(static_cast<int>(reverse_requests_.size()), reverse_requests_.data(), &done,
+              MPI_STATUSES_IGNORE);
+  refresh_seconds_ += MPI_Wtime() - t0;
+}
+
+void Domain::end_reverse(Particles& p) {
+  const double t0 = MPI_Wtime();
+  MPI_Waitall(static_cast<int>(reverse_requests_.size()), reverse_requests_.data(),
+              MPI_STATUSES_IGNORE);
+  reverse_requests_.clear();
+  Vec3* f = p.f.data();
+  Vec3* t = p.t.data();
+  const double* in = reverse_in_.data();
+  for (int r = 0; r < size_; ++r)
+    for (const std::uint32_t i : send_[r]) {
+      f[i] += Vec3{in[0], in[1], in[2]};
+      t[i] += Vec3{in[3], in[4], in[5]};
+      in += kReverseDoubles;
+    }
+  refresh_seconds_ += MPI_Wtime() - t0;
+}
+
+namespace {
 Particles sorted_by_id(const std::vector<double>& rows) {
   Particles all;
   unpack_state(rows.data(), rows.size() / kStateDoubles, all);
@@ -485,10 +586,11 @@ Particles Domain::id_block(const Particles& p, std::size_t n_local, std::int64_t
 }
 
 std::size_t Domain::memory_bytes() const {
-  std::size_t bytes =
-      weight_.capacity() * sizeof(double) + recv_rows_.capacity() * sizeof(int) +
-      (buf_out_.capacity() + buf_in_.capacity() + segment_doubles_) * sizeof(double) +
-      ghost_slot_.capacity() * sizeof(std::uint32_t);
+  std::size_t bytes = weight_.capacity() * sizeof(double) + recv_rows_.capacity() * sizeof(int) +
+                      (buf_out_.capacity() + buf_in_.capacity() + reverse_out_.capacity() +
+                       reverse_in_.capacity() + segment_doubles_) *
+                          sizeof(double) +
+                      ghost_slot_.capacity() * sizeof(std::uint32_t);
   for (const auto& s : send_) bytes += s.capacity() * sizeof(std::uint32_t);
   return bytes;
 }

@@ -69,6 +69,15 @@ class Domain {
     thin_radius_ = thin_radius;
     skin_ = skin;
   }
+  // Collective, after the list is built from the ghosts of exchange_ghosts() (and place_ghosts):
+  // only the ghosts with `used[g]` set (g: the row's index from n_local; the ghosts in a pair of
+  // this rank's list) are refreshed and, with Newton across borders, send sums back until the
+  // next exchange. Their owners learn which, and send only those rows; the others keep their rows
+  // where they are, with the state of the exchange (nothing reads them: they are in no pair).
+  // Not with the rigid bulk (its pass reads ghosts beyond the list's pairs).
+  void keep_used_ghosts(const std::vector<std::uint8_t>& used);
+  // The ghosts refreshed every step (this rank's; keep_used_ghosts()), and all it holds.
+  std::int64_t refreshed_ghosts() const { return refreshed_count_; }
   // Puts the ghosts of the last exchange_ghosts() in another order: ghost slot k (row n_local + k)
   // takes the ghost that arrived k-th in `order` (VerletList::ghost_order). The refreshes until
   // the next exchange write each ghost where it now is. Not collective.
@@ -100,6 +109,21 @@ class Domain {
   // node. TUMBLE_REFRESH_MESSAGES=1 in the environment sends messages to every rank instead.
   void begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen = false);
   void end_refresh(Particles& p, std::size_t n_local);
+  // Collective, every step with Newton across borders (VerletList::set_newton): the force and
+  // torque each ghost collected from this rank's pairs go to its owner, which adds them to its
+  // particle's (in the order of the ranks, so a run repeats itself). By messages, in two halves
+  // like the refresh: begin_reverse() sends the ghosts' sums (every pair with a ghost computed)
+  // and posts the receives; end_reverse() waits and adds. Work that neither writes a ghost's
+  // accumulators nor reads or writes a border particle's force (the interior rows' pairs) may
+  // run in between. Not with the rigid bulk.
+  void reverse_forces(Particles& p, std::size_t n_local) {
+    begin_reverse(p, n_local);
+    end_reverse(p);
+  }
+  void begin_reverse(const Particles& p, std::size_t n_local);
+  void end_reverse(Particles& p);
+  // Lets MPI move the messages of the reverse in flight along (returns at once).
+  void progress_reverse();
   // Lets MPI move the messages of the refresh in flight along (a test of their requests; returns
   // at once).
   void progress_refresh();
@@ -120,8 +144,9 @@ class Domain {
   double imbalance() const { return imbalance_; }
   std::int64_t bisections() const { return bisections_; }
   std::int64_t ghosts() const { return ghost_count_; }
-  // Wall seconds this rank spent in the halo: refreshing ghosts every step (including waiting for
-  // its neighbours), and in distribute() + exchange_ghosts() at rebuilds.
+  // Wall seconds this rank spent in the halo: refreshing ghosts every step and, with Newton
+  // across borders, sending their forces back (including waiting for its neighbours), and in
+  // distribute() + exchange_ghosts() at rebuilds.
   double refresh_seconds() const { return refresh_seconds_; }
   // Collective: the largest `value` of the ranks (the per-step rebuild test), timed: with the
   // refresh travelling behind the interior pairs, a rank waiting for a slower one waits here.
@@ -152,7 +177,7 @@ class Domain {
   RcbTree tree_;
   bool have_tree_ = false;
   double imbalance_ = 1;
-  std::int64_t bisections_ = 0, ghost_count_ = 0;
+  std::int64_t bisections_ = 0, ghost_count_ = 0, refreshed_count_ = 0;
   double refresh_seconds_ = 0, rebuild_seconds_ = 0, test_seconds_ = 0;
   // Ghost traffic: local indices sent to each rank; rows received from each rank.
   std::vector<std::vector<std::uint32_t>> send_;
@@ -160,6 +185,8 @@ class Domain {
   // Where the ghost that arrived k-th lies (slot from n_local; empty: where it arrived).
   std::vector<std::uint32_t> ghost_slot_;
   std::vector<double> buf_out_, buf_in_;
+  std::vector<double> reverse_out_, reverse_in_;  // reverse_forces(): ghosts' halves, owners' sums
+  std::vector<MPI_Request> reverse_requests_;
   // The refresh in flight (begin_refresh to end_refresh): its requests, and whether the frozen
   // were left out.
   std::vector<MPI_Request> requests_;

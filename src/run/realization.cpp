@@ -154,14 +154,17 @@ void write_results(const std::string& path, const RunState& s, const RunResult& 
 
 void log_done(std::ostream* log, const RunState& s, const RunResult& res) {
   const Simulation& sim = s.sim;
-  long long ghosts = 0;  // over all ranks (collective, before the rank-0-only log)
+  long long ghosts = 0;     // over all ranks (collective, before the rank-0-only log)
+  long long refreshed = 0;  // ... of them in a pair of their rank's list (Domain::keep_used_ghosts)
   // The least and most time any rank spent in the halo refresh: the refresh waits for the slowest
   // neighbour, so the spread says how unevenly the work is shared (the busiest rank waits least).
   double refresh_min = 0, refresh_max = 0, test_min = 0, test_max = 0, pairs_max = 0,
          pairs_mean = 0;
   if (const parallel::Domain* dom = sim.domain()) {
-    long long mine = dom->ghosts();
-    MPI_Allreduce(&mine, &ghosts, 1, MPI_LONG_LONG, MPI_SUM, dom->comm());
+    long long mine[2] = {dom->ghosts(), dom->refreshed_ghosts()}, all[2] = {0, 0};
+    MPI_Allreduce(mine, all, 2, MPI_LONG_LONG, MPI_SUM, dom->comm());
+    ghosts = all[0];
+    refreshed = all[1];
     const double t = dom->refresh_seconds();
     MPI_Allreduce(&t, &refresh_min, 1, MPI_DOUBLE, MPI_MIN, dom->comm());
     MPI_Allreduce(&t, &refresh_max, 1, MPI_DOUBLE, MPI_MAX, dom->comm());
@@ -171,7 +174,7 @@ void log_done(std::ostream* log, const RunState& s, const RunResult& res) {
     MPI_Allreduce(&tt, &test_min, 1, MPI_DOUBLE, MPI_MIN, dom->comm());
     MPI_Allreduce(&tt, &test_max, 1, MPI_DOUBLE, MPI_MAX, dom->comm());
     // The pair work's share: the entries of each rank's last neighbour list (border pairs on both
-    // sides), max / mean over the ranks.
+    // sides with Newton off, on one with it on), max / mean over the ranks.
     const auto pairs = static_cast<double>(sim.neighbors().nbr.size());
     MPI_Allreduce(&pairs, &pairs_max, 1, MPI_DOUBLE, MPI_MAX, dom->comm());
     MPI_Allreduce(&pairs, &pairs_mean, 1, MPI_DOUBLE, MPI_SUM, dom->comm());
@@ -201,11 +204,11 @@ void log_done(std::ostream* log, const RunState& s, const RunResult& res) {
   if (const parallel::Domain* dom = sim.domain())
     *log << " on " << dom->size() << " ranks, imbalance " << std::fixed << std::setprecision(3)
          << dom->imbalance() << " (list pairs " << pairs_max / std::max(pairs_mean, 1.0) << "), "
-         << ghosts << " ghosts, " << dom->bisections() << " bisections, " << sim.rebuilds()
-         << " rebuilds; rank 0 in halo refresh " << dom->refresh_seconds() << " s (ranks "
-         << refresh_min << "-" << refresh_max << " s), in the rebuild test " << dom->test_seconds()
-         << " s (ranks " << test_min << "-" << test_max << " s), in migration + ghost exchange "
-         << dom->rebuild_seconds() << " s";
+         << ghosts << " ghosts, " << refreshed << " of them in pairs, " << dom->bisections()
+         << " bisections, " << sim.rebuilds() << " rebuilds; rank 0 in halo refresh "
+         << dom->refresh_seconds() << " s (ranks " << refresh_min << "-" << refresh_max
+         << " s), in the rebuild test " << dom->test_seconds() << " s (ranks " << test_min << "-"
+         << test_max << " s), in migration + ghost exchange " << dom->rebuild_seconds() << " s";
   *log << "); results in " << res.results_file << ", snapshots in " << s.scene.output_dir
        << "/snapshots.xdmf\n";
 }

@@ -144,6 +144,9 @@ struct ReposeTilt {
     "domain-decomposed runs: re-bisect when max/mean particles per rank exceeds this") \
   X(double, frozen_weight, "parallel.frozen_weight", 1, 0.01, 1, \
     "rigid bulk on several ranks: a frozen particle's share of a moving one's work when the ranks' regions are cut (1: by count)") \
+  /* Newton's third law across rank borders (docs/parallel.md, "Newton across borders"). */ \
+  X(OnOff, newton, "parallel.newton", OnOff::on, 0, 0, \
+    "domain-decomposed runs: on: a pair across a rank border is computed by one of its ranks, which sends the other its particle's force; off: by both (the rigid bulk: always off)") \
   X(double, snapshot_interval, "output.snapshot_interval", 0, 0, 1e9, \
     "simulated time between snapshots (0 = once per iteration)") \
   X(double, checkpoint_interval, "output.checkpoint_interval", 0, 0, 1e9, \

@@ -105,10 +105,13 @@ TEST(Domain, MatchesSerialTrajectoryAndConservesIds) {
 // pairs it held by index and receives only those of the pairs whose particles arrive
 // (VerletList::keep_springs). With a tiny skin and a threshold of 1 (a rebuild every few steps,
 // a re-bisection at each, many particles changing rank), after every step each live spring of
-// the serial run is in the list of every rank that owns one of its particles, equal to
-// round-off, and no rank holds a spring the serial run has not.
-TEST(Domain, EverySpringSurvivesTheMigration) {
-  const Scene s = tiny({"neighbor.skin=0.02", "parallel.rebalance_threshold=1.0"});
+// the serial run is in the list of every rank that computes its pair, equal to round-off, and no
+// rank holds a spring the serial run has not. Newton off: every rank that owns one of the pair's
+// particles computes it; on: the owner of the particle computes_border_pair names (a spring that
+// changes hands when that particle changes rank, not the other), and only that rank holds it.
+static void every_spring_survives_the_migration(const char* newton) {
+  const Scene s = tiny({"neighbor.skin=0.02", "parallel.rebalance_threshold=1.0", newton});
+  const bool on = s.newton == OnOff::on;
   const Particles bed = stirred_tiny_bed(s, 11);
   Simulation serial(s, bed, biaxial(s));
   Simulation par(s, share_of(bed, MPI_COMM_WORLD), biaxial(s), 0, 0, MPI_COMM_WORLD);
@@ -144,10 +147,16 @@ TEST(Domain, EverySpringSurvivesTheMigration) {
         for (int d = 0; d < w; ++d) worst = std::max(worst, std::abs(h[d] - r[d]));
       }
     }
-    // Every serial spring with a particle of this rank's is in its list.
+    // Every serial spring whose pair this rank computes is in its list, and no other.
     std::set<std::int64_t> own(p.id.begin(), p.id.begin() + par.local_count());
-    for (const neighbor::SavedSpring& r : ref.records())
-      if ((own.count(r.lo) || own.count(r.hi)) && !held.count({r.lo, r.hi})) ++missing;
+    for (const neighbor::SavedSpring& r : ref.records()) {
+      const bool both = own.count(r.lo) && own.count(r.hi);
+      const bool computes =
+          on ? both || own.count(neighbor::computes_border_pair(r.lo, r.hi) ? r.lo : r.hi)
+             : own.count(r.lo) || own.count(r.hi);
+      missing += computes && !held.count({r.lo, r.hi});
+      extra += !computes && held.count({r.lo, r.hi});
+    }
     was_here = here;
   }
   std::int64_t totals[2] = {arrived, compared};
@@ -162,6 +171,13 @@ TEST(Domain, EverySpringSurvivesTheMigration) {
   EXPECT_EQ(missing, 0);
   EXPECT_EQ(extra, 0);
   EXPECT_LT(worst, 1e-9 * s.d_small);
+}
+
+TEST(Domain, EverySpringSurvivesTheMigrationNewtonOff) {
+  every_spring_survives_the_migration("parallel.newton=off");
+}
+TEST(Domain, EverySpringSurvivesTheMigrationNewtonOn) {
+  every_spring_survives_the_migration("parallel.newton=on");
 }
 
 // The ghosts' refresh between ranks of one node goes through a shared window (Domain::
@@ -345,16 +361,25 @@ TEST(Domain, ThinHaloHoldsEveryPairOfTheSerialList) {
       }
     return out;
   };
-  // Newton off: each rank computes the force of every pair with one of its own particles, so
-  // its list must hold all of those (the union over the ranks is not enough: a pair found on
-  // one side only would move one of its particles alone).
+  // Each rank computes the force of every pair of two of its own particles, and of a pair with
+  // a ghost: with Newton across borders (the default) where computes_border_pair names its own
+  // particle, else always. Its list must hold exactly those (the union over the ranks is not
+  // enough: a pair found by neither rank, or by both with Newton, moves its particles wrongly).
   std::set<std::int64_t> owned;
   for (std::size_t i = 0; i < par.local_count(); ++i) owned.insert(par.particles().id[i]);
+  const bool newton = par.neighbors().newton();
+  EXPECT_TRUE(newton);
   std::set<std::pair<std::int64_t, std::int64_t>> here, expected;
   const std::vector<std::int64_t> mine = pairs_of(par), ref = pairs_of(serial);
   for (std::size_t k = 0; k < mine.size(); k += 2) here.insert({mine[k], mine[k + 1]});
-  for (std::size_t k = 0; k < ref.size(); k += 2)
-    if (owned.count(ref[k]) || owned.count(ref[k + 1])) expected.insert({ref[k], ref[k + 1]});
+  for (std::size_t k = 0; k < ref.size(); k += 2) {
+    const std::int64_t a = ref[k], b = ref[k + 1];
+    const bool computes = owned.count(a) && owned.count(b)
+                              ? true
+                              : owned.count(neighbor::computes_border_pair(a, b) ? a : b) ||
+                                    (!newton && (owned.count(a) || owned.count(b)));
+    if (computes) expected.insert({a, b});
+  }
   EXPECT_GT(ref.size() / 2, 10 * bed.size());
   EXPECT_TRUE(here == expected) << here.size() << " pairs in the list of rank "
                                 << par.domain()->rank() << ", " << expected.size()
@@ -367,10 +392,16 @@ TEST(Domain, ThinHaloHoldsEveryPairOfTheSerialList) {
   EXPECT_GT(inner, n / 4);
   EXPECT_LT(inner, n);
   std::size_t ghost_pairs = 0;
+  std::set<std::uint32_t> partners;  // the ghosts in a pair of the list
   for (std::size_t i = inner; i < n; ++i)
-    for (std::uint32_t k = list.start[i]; k < list.start[i + 1]; ++k)
+    for (std::uint32_t k = list.start[i]; k < list.start[i + 1]; ++k) {
       ghost_pairs += list.nbr[k] >= n;
+      if (list.nbr[k] >= n) partners.insert(list.nbr[k]);
+    }
   EXPECT_GT(ghost_pairs, 0u);
+  // Only those are refreshed (Domain::keep_used_ghosts), fewer than the halo holds.
+  EXPECT_EQ(par.domain()->refreshed_ghosts(), static_cast<std::int64_t>(partners.size()));
+  EXPECT_LT(par.domain()->refreshed_ghosts(), par.domain()->ghosts());
 
   // The old halo: every other rank's particle within 2 r_max + skin of this rank's box.
   const Particles everyone = par.gather_all();
