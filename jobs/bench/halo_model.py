@@ -198,7 +198,7 @@ def main():
         eff = c_p * a.target / p / (compute + ghost + lat + net)  # against one rank, no overhead
         print(f"| {p} | {a.target / p:.0f} | {gmax:.0f} | {gmax / (a.target / p):.2f} | "
               f"{compute * 1e3:.3f} | {ghost * 1e3:.3f} | {lat * 1e3:.3f} | {net * 1e3:.3f} | "
-              f"{100 * eff:.0f}% |")
+              f"{100 * eff:.1f}% |")
 
 
 if __name__ == "__main__":

@@ -162,6 +162,7 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     // dormant springs travel by id on both sides of a border.
     newton_ = s.newton == OnOff::on && !rigid_;
     list_.set_newton(newton_);
+    dom_->reverse_through_window(newton_);
   }
 }
 

@@ -41,6 +41,8 @@ Domain::Domain(MPI_Comm comm, const Box& root, double period_z, double rebalance
   recv_rows_.assign(size_, 0);
   write_at_.assign(size_, 0);
   read_at_.assign(size_, nullptr);
+  reverse_write_at_.assign(size_, kNoOffset);
+  reverse_read_at_.assign(size_, nullptr);
   node_rank_.assign(size_, -1);
   const char* messages = std::getenv("TUMBLE_REFRESH_MESSAGES");
   int shared = messages && std::string(messages) == "1" ? 0 : 1;
@@ -84,15 +86,24 @@ void Domain::place_shared_rows() {
   shared_out_ = false;
   shared_sources_ = 0;
   if (node_comm_ == MPI_COMM_NULL) return;
-  // Two buffers of its rows for each neighbour of the node, one after the other.
+  // Two buffers of its rows for each neighbour of the node, one after the other; with the
+  // ghosts' sums going back (reverse_through_window), two of those for each neighbour of the node
+  // it holds ghosts of. offset_to[2 r], [2 r + 1]: where rank r reads them in this segment.
   std::size_t need = 0;
-  std::vector<long long> offset_to(size_, -1), offset_from(size_, -1);
+  std::vector<long long> offset_to(2 * size_, -1), offset_from(2 * size_, -1);
   for (int r = 0; r < size_; ++r) {
     if (r == rank_ || node_rank_[r] < 0 || send_[r].empty()) continue;
     write_at_[r] = need;
-    offset_to[r] = static_cast<long long>(need);
+    offset_to[2 * r] = static_cast<long long>(need);
     need += 2 * send_[r].size() * kMotionDoubles;
     shared_out_ = true;
+  }
+  for (int r = 0; r < size_ && reverse_window_; ++r) {
+    reverse_write_at_[r] = kNoOffset;
+    if (r == rank_ || node_rank_[r] < 0 || recv_rows_[r] == 0) continue;
+    reverse_write_at_[r] = need;
+    offset_to[2 * r + 1] = static_cast<long long>(need);
+    need += 2 * static_cast<std::size_t>(recv_rows_[r]) * kReverseDoubles;
   }
   // The window is the node's (allocated collectively): grown, with headroom, when any rank's
   // segment is too small for its rows.
@@ -111,15 +122,19 @@ void Domain::place_shared_rows() {
     MPI_Win_lock_all(MPI_MODE_NOCHECK, window_);
     segment_doubles_ = doubles;
   }
-  MPI_Alltoall(offset_to.data(), 1, MPI_LONG_LONG, offset_from.data(), 1, MPI_LONG_LONG, comm_);
+  MPI_Alltoall(offset_to.data(), 2, MPI_LONG_LONG, offset_from.data(), 2, MPI_LONG_LONG, comm_);
   for (int r = 0; r < size_; ++r) {
-    read_at_[r] = nullptr;
-    if (offset_from[r] < 0 || recv_rows_[r] == 0) continue;
+    read_at_[r] = reverse_read_at_[r] = nullptr;
+    const bool rows = offset_from[2 * r] >= 0 && recv_rows_[r] > 0;
+    const bool sums = offset_from[2 * r + 1] >= 0 && !send_[r].empty();
+    if (!rows && !sums) continue;
     MPI_Aint bytes = 0;
     int unit = 0;
     double* base = nullptr;
     MPI_Win_shared_query(window_, node_rank_[r], &bytes, &unit, &base);
-    read_at_[r] = base + offset_from[r];
+    if (sums) reverse_read_at_[r] = base + offset_from[2 * r + 1];
+    if (!rows) continue;
+    read_at_[r] = base + offset_from[2 * r];
     ++shared_sources_;
   }
 }
@@ -474,10 +489,6 @@ void Domain::end_refresh(Particles& p, std::size_t n_local) {
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 
-namespace {
-constexpr std::size_t kReverseDoubles = 6;  // force, torque
-}
-
 void Domain::begin_reverse(const Particles& p, std::size_t n_local) {
   const double t0 = MPI_Wtime();
   std::size_t rows_in = 0;
@@ -485,16 +496,17 @@ void Domain::begin_reverse(const Particles& p, std::size_t n_local) {
   reverse_out_.resize((p.size() - n_local) * kReverseDoubles);
   reverse_in_.resize(rows_in * kReverseDoubles);
   reverse_requests_.clear();
+  const std::size_t turn = reverses_++ & 1u;  // which of the two buffers (the same on every rank)
   std::size_t at = 0;
   for (int r = 0; r < size_; ++r) {  // the sums of the particles this rank sent to r
-    if (send_[r].empty()) continue;
+    if (send_[r].empty() || reverse_read_at_[r]) continue;  // (shared: read in end_reverse)
     reverse_requests_.emplace_back();
     MPI_Irecv(reverse_in_.data() + at, static_cast<int>(send_[r].size() * kReverseDoubles),
               MPI_DOUBLE, r, 8, comm_, &reverse_requests_.back());
     at += send_[r].size() * kReverseDoubles;
   }
   // Each ghost's sums back to where it came from, in the order it arrived (that rank's send_
-  // order).
+  // order): into this rank's segment where the owner is on the node, else a message.
   const bool placed = !ghost_slot_.empty();
   const Vec3* f = p.f.data();
   const Vec3* t = p.t.data();
@@ -502,17 +514,23 @@ void Domain::begin_reverse(const Particles& p, std::size_t n_local) {
   std::size_t a = 0;
   for (int r = 0; r < size_; ++r) {
     if (recv_rows_[r] == 0) continue;
-    double* begin = o;
-    for (const std::size_t end = a + static_cast<std::size_t>(recv_rows_[r]); a < end; ++a) {
+    const auto rows = static_cast<std::size_t>(recv_rows_[r]);
+    const bool shared = reverse_write_at_[r] != kNoOffset;
+    double* begin = shared ? segment_ + reverse_write_at_[r] + turn * rows * kReverseDoubles : o;
+    double* w = begin;
+    for (const std::size_t end = a + rows; a < end; ++a) {
       const std::size_t q = n_local + (placed ? ghost_slot_[a] : a);
-      o[0] = f[q].x, o[1] = f[q].y, o[2] = f[q].z;
-      o[3] = t[q].x, o[4] = t[q].y, o[5] = t[q].z;
-      o += kReverseDoubles;
+      w[0] = f[q].x, w[1] = f[q].y, w[2] = f[q].z;
+      w[3] = t[q].x, w[4] = t[q].y, w[5] = t[q].z;
+      w += kReverseDoubles;
     }
+    if (shared) continue;
+    o = w;
     reverse_requests_.emplace_back();
-    MPI_Isend(begin, static_cast<int>(o - begin), MPI_DOUBLE, r, 8, comm_,
+    MPI_Isend(begin, static_cast<int>(w - begin), MPI_DOUBLE, r, 8, comm_,
               &reverse_requests_.back());
   }
+  if (reverse_window_ && window_ != MPI_WIN_NULL) MPI_Win_sync(window_);  // (the rows written)
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 
@@ -530,15 +548,28 @@ void Domain::end_reverse(Particles& p) {
   MPI_Waitall(static_cast<int>(reverse_requests_.size()), reverse_requests_.data(),
               MPI_STATUSES_IGNORE);
   reverse_requests_.clear();
+  if (reverse_window_ && window_ != MPI_WIN_NULL) {
+    // Every rank of the node has written its sums once all have passed this barrier (one per
+    // step: no collective of the step follows begin_reverse); Win_sync orders the reads after it.
+    // The next begin_reverse writes the other buffer, and the one after it this one again only
+    // after the next step's rebuild test, which every reader enters after its reads.
+    MPI_Barrier(node_comm_);
+    MPI_Win_sync(window_);
+  }
+  const std::size_t turn = (reverses_ - 1) & 1u;
   Vec3* f = p.f.data();
   Vec3* t = p.t.data();
   const double* in = reverse_in_.data();
-  for (int r = 0; r < size_; ++r)
+  for (int r = 0; r < size_; ++r) {
+    const double* from =
+        reverse_read_at_[r] ? reverse_read_at_[r] + turn * send_[r].size() * kReverseDoubles : in;
     for (const std::uint32_t i : send_[r]) {
-      f[i] += Vec3{in[0], in[1], in[2]};
-      t[i] += Vec3{in[3], in[4], in[5]};
-      in += kReverseDoubles;
+      f[i] += Vec3{from[0], from[1], from[2]};
+      t[i] += Vec3{from[3], from[4], from[5]};
+      from += kReverseDoubles;
     }
+    if (!reverse_read_at_[r]) in = from;
+  }
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 

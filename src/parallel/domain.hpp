@@ -120,6 +120,11 @@ class Domain {
     begin_reverse(p, n_local);
     end_reverse(p);
   }
+  // Collective setting, once per scene before the first exchange: the sums go between ranks of
+  // one node through the shared window (a barrier of the node per step instead of messages).
+  // Messages only where the refresh's rows go by messages (TUMBLE_REFRESH_MESSAGES=1, other
+  // nodes).
+  void reverse_through_window(bool on) { reverse_window_ = on; }
   void begin_reverse(const Particles& p, std::size_t n_local);
   void end_reverse(Particles& p);
   // Lets MPI move the messages of the reverse in flight along (returns at once).
@@ -187,6 +192,16 @@ class Domain {
   std::vector<double> buf_out_, buf_in_;
   std::vector<double> reverse_out_, reverse_in_;  // reverse_forces(): ghosts' halves, owners' sums
   std::vector<MPI_Request> reverse_requests_;
+  // The sums between ranks of one node go through the shared window as the refresh's rows do
+  // (reverse_through_window): where this rank writes the sums for each rank (doubles into its
+  // segment; kNoOffset: a message), where it reads those of its own particles from each, and
+  // which of two buffers the step uses (reverses_ & 1).
+  static constexpr std::size_t kNoOffset = ~std::size_t{0};
+  static constexpr std::size_t kReverseDoubles = 6;  // force, torque
+  bool reverse_window_ = false;
+  std::vector<std::size_t> reverse_write_at_;
+  std::vector<const double*> reverse_read_at_;
+  std::uint64_t reverses_ = 0;
   // The refresh in flight (begin_refresh to end_refresh): its requests, and whether the frozen
   // were left out.
   std::vector<MPI_Request> requests_;
