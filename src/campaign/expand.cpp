@@ -72,15 +72,16 @@ Expansion expand(const CampaignSpec& spec) {
   // others (progress, snapshots, analysis outputs) may change without recomputing anything.
   // The rigid bulk's keys change nothing while the bulk is dynamic (bitwise: test_rigid_bulk.cpp),
   // and leaving them out then keeps the ids that campaigns had before the keys existed.
-  // parallel.frozen_weight moves only the cuts between ranks (round-off, as the rank count does,
-  // which is not in the id either).
+  // parallel.frozen_weight moves only the cuts between ranks, and parallel.newton only which rank
+  // computes a border pair (round-off, as the rank count does, which is not in the id either;
+  // leaving the latter out also keeps the ids campaigns had before the key existed).
   const bool dynamic_bulk = e.base.bulk == Bulk::dynamic;
   std::string base_text;
   for (const auto& [k, v] : e.base.resolved)
     if (!campaign_controlled_key(k) &&
         (k.rfind("output.", 0) != 0 || k == "output.checkpoint_interval") &&
-        k != "parallel.frozen_weight" && !(dynamic_bulk && k.rfind("fidelity.bulk", 0) == 0) &&
-        !added_bulk_key_off(k, e.base))
+        k != "parallel.frozen_weight" && k != "parallel.newton" &&
+        !(dynamic_bulk && k.rfind("fidelity.bulk", 0) == 0) && !added_bulk_key_off(k, e.base))
       base_text += k + "=" + v + "\n";
   e.base_hash = hex16(fnv1a64(base_text));
   // A window beyond the base run is a campaign error, not one failure per case.

@@ -351,6 +351,19 @@ TEST(Expand, RigidBulkKeysEnterTheIdOnlyWhenTheBulkIsRigid) {
   EXPECT_NE(expand(s).cases[0].id, rigid);
 }
 
+TEST(Expand, NewtonAcrossBordersStaysOutOfTheId) {
+  // parallel.newton changes a run at round-off only (which rank sums a border pair), as the rank
+  // count does: either value keeps the ids campaigns had before the key existed.
+  CampaignSpec s = parse_campaign(with_campaign(""), "test.toml", ".");
+  const std::string plain = expand(s).cases[0].id;
+  s.overrides.push_back("parallel.newton=off");
+  EXPECT_EQ(expand(s).cases[0].id, plain);
+  s.overrides.push_back("parallel.newton=on");
+  EXPECT_EQ(expand(s).cases[0].id, plain);
+  s.overrides.push_back("parallel.rebalance_threshold=1.5");  // (a key that does enter it)
+  EXPECT_NE(expand(s).cases[0].id, plain);
+}
+
 TEST(Expand, ASweptRigidBulkHasItsThresholdsInItsId) {
   // A dynamic template swept to rigid: the template's hash leaves the bulk's keys out (they change
   // nothing while it is dynamic), so the rigid point's id must take them from its own scene, or a
