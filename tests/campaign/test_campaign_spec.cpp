@@ -356,10 +356,10 @@ TEST(Expand, NewtonAcrossBordersStaysOutOfTheId) {
   // count does: either value keeps the ids campaigns had before the key existed.
   CampaignSpec s = parse_campaign(with_campaign(""), "test.toml", ".");
   const std::string plain = expand(s).cases[0].id;
-  s.overrides.push_back("parallel.newton=off");
-  EXPECT_EQ(expand(s).cases[0].id, plain);
-  s.overrides.push_back("parallel.newton=on");
-  EXPECT_EQ(expand(s).cases[0].id, plain);
+  for (const char* setting : {"parallel.newton=off", "parallel.newton=on"}) {
+    s.overrides.push_back(setting);
+    EXPECT_EQ(expand(s).cases[0].id, plain) << setting;
+  }
   s.overrides.push_back("parallel.rebalance_threshold=1.5");  // (a key that does enter it)
   EXPECT_NE(expand(s).cases[0].id, plain);
 }
