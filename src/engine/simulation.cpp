@@ -226,15 +226,16 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
   neighbor::ContactHistory h(list_.history_layout());
   h.set_records(std::move(records));
   list_.build_with_ghosts(p_, n_local_, h, rigid_ ? &bulk_.dormant : nullptr);
+  // Only the ghosts in a pair of the list are refreshed until the next rebuild: the halo's reach
+  // is an upper bound, and with Newton across borders the other rank computes about half of a
+  // ghost's pairs. (The rigid bulk's pass reads all of them.)
+  std::vector<std::uint8_t> used;
   if (!rigid_) {
-    // Only the ghosts in a pair of the list are refreshed until the next rebuild: the halo's
-    // reach is an upper bound, and with Newton across borders the other rank computes about
-    // half of a ghost's pairs.
-    std::vector<std::uint8_t> used(p_.size() - n_local_, 0);
+    used.assign(p_.size() - n_local_, 0);
     for (const std::uint32_t j : list_.nbr)
       if (j >= n_local_) used[j - n_local_] = 1;
-    dom_->keep_used_ghosts(used);
   }
+  dom_->keep_used_ghosts(rigid_ ? nullptr : &used);
 }
 
 template <class Law, bool kFriction, bool kPeriodic>

@@ -278,7 +278,6 @@ void Domain::exchange_ghosts(Particles& p, std::size_t n_local, double reach, st
   for (int r = 0; r < size_; ++r) recv_rows_[r] = from[r] / kStateDoubles;
   ghost_count_ = refreshed_count_ = static_cast<std::int64_t>(p.size() - n_local);
   ghost_slot_.clear();
-  place_shared_rows();
   rebuild_seconds_ += MPI_Wtime() - t0;
 }
 
@@ -317,19 +316,24 @@ void Domain::place_ghosts(Particles& p, std::size_t n_local,
   rebuild_seconds_ += MPI_Wtime() - t0;
 }
 
-void Domain::keep_used_ghosts(const std::vector<std::uint8_t>& used) {
+void Domain::keep_used_ghosts(const std::vector<std::uint8_t>* used) {
   const double t0 = MPI_Wtime();
+  if (!used) {  // all of them
+    place_shared_rows();
+    rebuild_seconds_ += MPI_Wtime() - t0;
+    return;
+  }
   // To each source rank, the places in its send list of the ghosts this rank keeps (in the
   // order they arrived); the kept ghosts' slots in that order become the arrival order.
   const bool placed = !ghost_slot_.empty();
   std::vector<std::vector<double>> keep(size_);
   std::vector<std::uint32_t> slots;
-  slots.reserve(used.size());
+  slots.reserve(used->size());
   std::size_t a = 0;
   for (int r = 0; r < size_; ++r) {
     for (int k = 0; k < recv_rows_[r]; ++k, ++a) {
       const std::uint32_t slot = placed ? ghost_slot_[a] : static_cast<std::uint32_t>(a);
-      if (!used[slot]) continue;
+      if (!(*used)[slot]) continue;
       keep[r].push_back(k);
       slots.push_back(slot);
     }
@@ -346,7 +350,7 @@ void Domain::keep_used_ghosts(const std::vector<std::uint8_t>& used) {
     out.resize(static_cast<std::size_t>(from[r]));
     at += from[r];
   }
-  place_shared_rows();  // the rows for the node's ranks laid out again, fewer
+  place_shared_rows();
   rebuild_seconds_ += MPI_Wtime() - t0;
 }
 
@@ -450,11 +454,11 @@ void Domain::begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen) 
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 
-void Domain::progress_refresh() {
-  if (requests_.empty()) return;
+void Domain::progress(std::vector<MPI_Request>& requests) {
+  if (requests.empty()) return;
   const double t0 = MPI_Wtime();
   int done = 0;
-  MPI_Testall(static_cast<int>(requests_.size()), requests_.data(), &done, MPI_STATUSES_IGNORE);
+  MPI_Testall(static_cast<int>(requests.size()), requests.data(), &done, MPI_STATUSES_IGNORE);
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 
@@ -531,15 +535,6 @@ void Domain::begin_reverse(const Particles& p, std::size_t n_local) {
               &reverse_requests_.back());
   }
   if (reverse_window_ && window_ != MPI_WIN_NULL) MPI_Win_sync(window_);  // (the rows written)
-  refresh_seconds_ += MPI_Wtime() - t0;
-}
-
-void Domain::progress_reverse() {
-  if (reverse_requests_.empty()) return;
-  const double t0 = MPI_Wtime();
-  int done = 0;
-  MPI_Testall(static_cast<int>(reverse_requests_.size()), reverse_requests_.data(), &done,
-              MPI_STATUSES_IGNORE);
   refresh_seconds_ += MPI_Wtime() - t0;
 }
 

@@ -69,13 +69,14 @@ class Domain {
     thin_radius_ = thin_radius;
     skin_ = skin;
   }
-  // Collective, after the list is built from the ghosts of exchange_ghosts() (and place_ghosts):
-  // only the ghosts with `used[g]` set (g: the row's index from n_local; the ghosts in a pair of
-  // this rank's list) are refreshed and, with Newton across borders, send sums back until the
-  // next exchange. Their owners learn which, and send only those rows; the others keep their rows
-  // where they are, with the state of the exchange (nothing reads them: they are in no pair).
-  // Not with the rigid bulk (its pass reads ghosts beyond the list's pairs).
-  void keep_used_ghosts(const std::vector<std::uint8_t>& used);
+  // Collective, after every exchange_ghosts(), once the list is built from its ghosts (and
+  // place_ghosts): fixes which ghosts the refresh carries until the next exchange, and lays out
+  // the node's shared rows for them. Only those with `used[g]` set (g: the row's index from
+  // n_local; the ghosts in a pair of this rank's list) are refreshed and, with Newton across
+  // borders, send sums back; their owners learn which and send only those rows; the others keep
+  // the state of the exchange (nothing reads them: they are in no pair). `used` null: all of
+  // them (the rigid bulk, whose pass reads ghosts beyond the list's pairs).
+  void keep_used_ghosts(const std::vector<std::uint8_t>* used);
   // The ghosts refreshed every step (this rank's; keep_used_ghosts()), and all it holds.
   std::int64_t refreshed_ghosts() const { return refreshed_count_; }
   // Puts the ghosts of the last exchange_ghosts() in another order: ghost slot k (row n_local + k)
@@ -111,9 +112,10 @@ class Domain {
   void end_refresh(Particles& p, std::size_t n_local);
   // Collective, every step with Newton across borders (VerletList::set_newton): the force and
   // torque each ghost collected from this rank's pairs go to its owner, which adds them to its
-  // particle's (in the order of the ranks, so a run repeats itself). By messages, in two halves
-  // like the refresh: begin_reverse() sends the ghosts' sums (every pair with a ghost computed)
-  // and posts the receives; end_reverse() waits and adds. Work that neither writes a ghost's
+  // particle's (in the order of the ranks, so a run repeats itself). In two halves like the
+  // refresh, and the same ways (the node's shared window, messages): begin_reverse() sends the
+  // ghosts' sums (every pair with a ghost computed) and posts the receives; end_reverse() waits
+  // and adds. Work that neither writes a ghost's
   // accumulators nor reads or writes a border particle's force (the interior rows' pairs) may
   // run in between. Not with the rigid bulk.
   void reverse_forces(Particles& p, std::size_t n_local) {
@@ -127,11 +129,10 @@ class Domain {
   void reverse_through_window(bool on) { reverse_window_ = on; }
   void begin_reverse(const Particles& p, std::size_t n_local);
   void end_reverse(Particles& p);
-  // Lets MPI move the messages of the reverse in flight along (returns at once).
-  void progress_reverse();
-  // Lets MPI move the messages of the refresh in flight along (a test of their requests; returns
-  // at once).
-  void progress_refresh();
+  // Let MPI move the messages of the refresh (of the reverse) in flight along (a test of their
+  // requests; returns at once).
+  void progress_refresh() { progress(requests_); }
+  void progress_reverse() { progress(reverse_requests_); }
   // The ranks whose ghosts this rank reads from the shared window (0: all by messages).
   int shared_sources() const { return shared_sources_; }
 
@@ -222,9 +223,12 @@ class Domain {
   bool shared_out_ = false;       // this rank writes rows into its segment
   bool refresh_pending_ = false;  // between begin_refresh and end_refresh
   bool refresh_synced_ = false;   // ... and a collective of all ranks has passed since begin
-  // At exchange_ghosts: lays out the segment for the new send lists, grows the window if any rank
-  // of the node needs more, and learns where each neighbour of the node writes this rank's rows.
+  // At keep_used_ghosts: lays out the segment for the new send lists (and the sums going back),
+  // grows the window if any rank of the node needs more, and learns where each neighbour of the
+  // node writes this rank's rows.
   void place_shared_rows();
+  // A test of `requests` (the refresh's or the reverse's), timed as the halo's.
+  void progress(std::vector<MPI_Request>& requests);
   // Whether this rank's rows for rank r go into the window (r on this node), not a message.
   bool writes_shared(int r) const { return shared_out_ && node_rank_[r] >= 0; }
   void free_window();
