@@ -354,9 +354,8 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
         if (states[k].state == State::Failed) ++failed;
         if (states[k].state == State::Pending) pending.push_back(k);
       }
-      // Largest first: the long cases start early, the short ones fill the gaps at the end.
-      std::stable_sort(pending.begin(), pending.end(), [&](std::size_t a, std::size_t b) {
-        return e.cases[slice[a]].cost > e.cases[slice[b]].cost;
+      std::sort(pending.begin(), pending.end(), [&](std::size_t a, std::size_t b) {
+        return runs_before(e.cases[slice[a]], e.cases[slice[b]]);
       });
       for (std::size_t k : pending) in.tasks.push_back(states[k].next);
       in.total = static_cast<int>(slice.size());

@@ -214,6 +214,12 @@ Scene case_scene(const CampaignSpec& spec, const Case& c, const std::string& cas
   return parse_scene(spec.scene_text, o, spec.scene_path);
 }
 
+bool runs_before(const Case& a, const Case& b) {
+  if (a.cost != b.cost) return a.cost > b.cost;
+  if (a.replica != b.replica) return a.replica < b.replica;
+  return a.index < b.index;
+}
+
 std::vector<std::size_t> slice_cases(const Expansion& e, int i, int n) {
   std::vector<std::size_t> order(e.cases.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;

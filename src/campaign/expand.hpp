@@ -60,6 +60,13 @@ std::int64_t case_seed(const CampaignSpec& spec, const Case& c, int attempt);
 Scene case_scene(const CampaignSpec& spec, const Case& c, const std::string& case_dir,
                  const std::string& bed_cache, std::int64_t seed);
 
+// The order in which a campaign starts its cases: the largest cost first (the long cases start
+// early, the short ones fill the gaps at the end); among equal costs the lower replica first, then
+// the expansion's order. So a campaign stopped part-way (a job's time limit, a machine taken back)
+// has the same replicas of every point of equal cost, a paired comparison rather than all the
+// replicas of one point and none of the next.
+bool runs_before(const Case& a, const Case& b);
+
 // Slice i of n (1-based): cases sorted by cost (largest first) dealt in a snake over the slices,
 // so each slice gets a similar share of the work. Returns case indices.
 std::vector<std::size_t> slice_cases(const Expansion& e, int i, int n);

@@ -411,5 +411,37 @@ TEST(Expand, ASweptBulkOptionKeepsTheBedsCommon) {
   EXPECT_NE(case_seed(f, ef.cases[0], 1), case_seed(f, ef.cases[1], 1));
 }
 
+TEST(Expand, CasesRunLargestFirstThenReplicaByReplica) {
+  // Two points of one cost (dynamic and rigid bulk: the cost model counts particles x steps) and
+  // a longer protocol: the long point's cases start first; then replica 0 of both short points,
+  // then replica 1, ..., so a campaign stopped part-way holds pairs, not one point's replicas.
+  const CampaignSpec s = parse_campaign(with_campaign(R"(
+[[sweep]]
+"fidelity.bulk" = ["dynamic", "rigid"]
+[[sweep]]
+theta_z = 120
+)",
+                                                      "replicas = 3"),
+                                        "test.toml", ".");
+  const Expansion e = expand(s);
+  ASSERT_EQ(e.cases.size(), 9u);
+  std::vector<std::size_t> order(e.cases.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return runs_before(e.cases[a], e.cases[b]); });
+  std::vector<std::string> got;
+  for (std::size_t k : order) {
+    const Case& c = e.cases[k];
+    const std::string kind = c.params_text.find("theta_z=120") != std::string::npos ? "long"
+                             : c.params_text.find("rigid") != std::string::npos     ? "rigid"
+                                                                                    : "dynamic";
+    got.push_back(kind + std::to_string(c.replica));
+  }
+  const std::vector<std::string> want = {"long0",    "long1",  "long2",    "dynamic0", "rigid0",
+                                         "dynamic1", "rigid1", "dynamic2", "rigid2"};
+  EXPECT_EQ(got, want);
+  EXPECT_GT(e.cases[order[0]].cost, e.cases[order[3]].cost);
+}
+
 }  // namespace
 }  // namespace tumble::campaign
