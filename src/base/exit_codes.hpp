@@ -8,6 +8,7 @@ inline constexpr int kRunFailed = 1;     // a run-time failure (NaN, escaped par
 inline constexpr int kBadInput = 2;      // refused before any work: a key, an option, a file
 inline constexpr int kCorruptInput = 3;  // a file Tumble wrote reads back damaged
 inline constexpr int kFailedCases = 4;   // a campaign finished with failed or excluded cases
-inline constexpr int kWorkLeft = 10;     // `tumble campaign --status`: cases still to run
+inline constexpr int kWorkLeft = 10;     // cases still to run (`campaign --status`, `merge`), or a
+                                         // `run`/`campaign` stopped by a signal at its checkpoints
 
 }  // namespace tumble::exit_code
