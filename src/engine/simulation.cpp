@@ -530,9 +530,13 @@ void Simulation::pair_forces_with_refresh() {
   // particle: they run while the messages travel, in four pieces with a look at the messages
   // between them (ranks on other nodes): MPI moves a message larger than its eager limit (a few
   // kB; a rank's refresh is tens to hundreds of kB) only inside its calls, so without them the
-  // transfer would wait for end_refresh (end_reverse). (Consecutive ranges: the same sums in the
-  // same order as one.) With Newton across borders the ghosts' sums travel back after the border
-  // rows: the first half of the interior rows hides the refresh, the second half the sums.
+  // transfer would wait for end_refresh (end_reverse). (Consecutive pieces: the same sums in the
+  // same order as one range.) With Newton across borders the ghosts' sums travel back after the
+  // border rows: the first half of the interior rows hides the refresh, the second half the sums.
+  // The border rows then run between the halves, so an interior particle of the second half with
+  // a border partner sums its forces in another order than on a rebuild step (all rows in index
+  // order): round-off, and the same in every run, a restart included (checkpoints are taken at
+  // rebuilds).
   auto interior_rows = [&](std::uint32_t begin, std::uint32_t end,
                            void (parallel::Domain::*look)()) {
     constexpr std::uint32_t kPieces = 4;
