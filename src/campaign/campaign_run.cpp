@@ -405,7 +405,7 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   in.slice = slice_text;
   in.out = &out;
   in.quiet = opt.quiet;
-  CaseContext ctx{&spec, &e, dir, bed_cache, MPI_COMM_NULL, nullptr};
+  CaseContext ctx{&spec, &e, dir, bed_cache, MPI_COMM_NULL, nullptr, nullptr};
   const ScheduleStats stats = schedule(ctx, world, in);
 
   // Rank 0 folds the statistics while the others wait (sleeping); an error here must not leave

@@ -20,6 +20,7 @@
 #include "io/bed_io.hpp"
 #include "run/realization.hpp"
 #include "run/repose_measure.hpp"
+#include "run/run_state.hpp"
 #include "run/time_limit_observer.hpp"
 
 namespace tumble::campaign {
@@ -88,6 +89,33 @@ class PollObserver : public Observer {
 
  private:
   const std::function<void()>& poll_;
+};
+
+// The group leader's progress reports (CaseContext::progress), at the run's progress interval,
+// from the start of the protocol loop as the run's own progress lines.
+class ProgressReport : public Observer {
+ public:
+  ProgressReport(const std::function<void(const CaseProgress&)>& report, const CaseTask& task)
+      : report_(report), task_(task) {}
+  void after_step(RunState& s) override {
+    const std::int64_t step = s.sim.step_count();
+    if ((step & 63) != 0) return;
+    if (!started_) {
+      last_ = s.started;
+      started_ = true;
+    }
+    const auto now = Clock::now();
+    if (std::chrono::duration<double>(now - last_).count() < s.scene.progress_interval) return;
+    last_ = now;
+    report_({task_.case_index, task_.attempt, s.first_step, step, s.total_steps,
+             std::chrono::duration<double>(now - s.started).count()});
+  }
+
+ private:
+  const std::function<void(const CaseProgress&)>& report_;
+  CaseTask task_;
+  bool started_ = false;
+  Clock::time_point last_;
 };
 }  // namespace
 
@@ -160,6 +188,8 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
     if (c.time_limit > 0) ro.observers.push_back(&time_limit);
     PollObserver poll(ctx.poll);
     if (ctx.poll) ro.observers.push_back(&poll);
+    ProgressReport report(ctx.progress, task);
+    if (lead && ctx.progress) ro.observers.push_back(&report);
     const std::unique_ptr<Observer> fault = fault_injection_for(c.id);
     if (fault) ro.observers.push_back(fault.get());
     (void)run_realization(scene, ro);
@@ -239,6 +269,29 @@ bool decode(const std::string& line, CaseTask& t, CaseOutcome& o) {
   o.end = j["end"].text;
   o.wall = j["wall"].number;
   o.resumed_from_step = static_cast<long long>(j["resumed_from_step"].number);
+  return true;
+}
+
+std::string encode(const CaseProgress& p) {
+  JsonWriter w;
+  w.add("case_index", static_cast<long long>(p.case_index))
+      .add("attempt", p.attempt)
+      .add("first_step", static_cast<long long>(p.first_step))
+      .add("step", static_cast<long long>(p.step))
+      .add("total_steps", static_cast<long long>(p.total_steps))
+      .add("seconds", p.seconds);
+  return w.str();
+}
+
+bool decode(const std::string& line, CaseProgress& p) {
+  JsonObject j;
+  if (!parse_json_line(line, j)) return false;
+  p.case_index = static_cast<std::size_t>(j["case_index"].number);
+  p.attempt = static_cast<int>(j["attempt"].number);
+  p.first_step = static_cast<std::int64_t>(j["first_step"].number);
+  p.step = static_cast<std::int64_t>(j["step"].number);
+  p.total_steps = static_cast<std::int64_t>(j["total_steps"].number);
+  p.seconds = j["seconds"].number;
   return true;
 }
 

@@ -37,6 +37,18 @@ struct CaseOutcome {
   long long resumed_from_step = 0;
 };
 
+// How far a running case has come: its group's leader reports it to the dispatcher every
+// progress interval (campaign.progress_interval) while the protocol runs, so that the campaign's
+// ETA rests on the running cases' own rates before any case has finished (a case may take days).
+struct CaseProgress {
+  std::size_t case_index = 0;
+  int attempt = 1;
+  std::int64_t first_step = 0;   // where this call of the run began (a resumed case: later than 0)
+  std::int64_t step = 0;         // at the report
+  std::int64_t total_steps = 0;  // the whole protocol
+  double seconds = 0;            // wall seconds of this call's protocol loop so far
+};
+
 struct CaseContext {
   const CampaignSpec* spec = nullptr;
   const Expansion* expansion = nullptr;
@@ -47,6 +59,8 @@ struct CaseContext {
   // Called between time steps (and settling blocks) on the dispatching rank, so that it keeps
   // handing out cases while its own group computes; empty elsewhere.
   std::function<void()> poll;
+  // Called on the group's leader with the case's progress (CaseProgress); empty: not reported.
+  std::function<void(const CaseProgress&)> progress;
 };
 
 // DIR/cases/<case id>: the case's scene output, checkpoint, collector state, fields and log.
@@ -59,5 +73,7 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task);
 // The outcome as one JSON line (sent to the dispatcher) and back.
 std::string encode(const CaseTask& t, const CaseOutcome& o);
 bool decode(const std::string& line, CaseTask& t, CaseOutcome& o);
+std::string encode(const CaseProgress& p);
+bool decode(const std::string& line, CaseProgress& p);
 
 }  // namespace tumble::campaign

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <ostream>
 #include <set>
 #include <sstream>
@@ -91,7 +92,11 @@ void Dispatcher::started(const CaseTask& t, const std::vector<int>& ranks) {
   // that one ends, and the line says so rather than "start".
   bool held = false;
   for (const auto& [idx, other] : running_) held = held || other.ranks == ranks;
-  running_[t.case_index] = {ranks, Clock::now(), t};
+  Held h;
+  h.ranks = ranks;
+  h.handed = Clock::now();
+  h.task = t;
+  running_[t.case_index] = h;
   CaseRecord r = record(t, ranks);
   r.status = "running";
   r.start = utc_now();
@@ -193,6 +198,14 @@ void Dispatcher::stop(int signal) {
        " at the next neighbour rebuild with a checkpoint; rerun the same command to go on");
 }
 
+void Dispatcher::progress(const CaseProgress& p) {
+  const auto it = running_.find(p.case_index);
+  if (it == running_.end() || it->second.task.attempt != p.attempt || p.total_steps <= 0) return;
+  it->second.reported = true;
+  it->second.last = p;
+  it->second.reported_at = Clock::now();
+}
+
 void Dispatcher::tick() {
   if (since(last_tick_) < std::max(1.0, ctx_.spec->progress_interval)) return;
   in_.manifest->sync();
@@ -216,7 +229,17 @@ void Dispatcher::line(const std::string& event, bool counts) {
   eta_in.ranks = std::max(1, ranks_);
   for (const auto& [idx, held] : running_) {
     const double c = cost(CaseTask{idx, 1, 0, false});
-    eta_in.running.push_back({c, since(held.handed), static_cast<int>(held.ranks.size())});
+    EtaInput::Running r{c, since(held.handed), static_cast<int>(held.ranks.size())};
+    if (held.reported) {
+      const CaseProgress& p = held.last;
+      const auto total = static_cast<double>(p.total_steps);
+      r.reported = true;
+      r.done_share = static_cast<double>(p.step) / total;
+      r.call_share = static_cast<double>(p.step - p.first_step) / total;
+      r.call_seconds = p.seconds;
+      r.since_report = since(held.reported_at);
+    }
+    eta_in.running.push_back(r);
     eta_in.queued_cost -= c;
   }
   const double eta = estimate_eta(eta_in);
@@ -231,6 +254,20 @@ void Dispatcher::line(const std::string& event, bool counts) {
   os << "[campaign] ";
   if (!event.empty()) os << event << "\n[campaign] ";
   os << "done " << done_ << " | running " << running;
+  // How far the running cases are (their leaders' last reports), in case order.
+  std::string shares;
+  int reported = 0;
+  for (const auto& [idx, held] : running_)
+    if (held.reported) {
+      ++reported;
+      std::ostringstream one;
+      one << std::fixed << std::setprecision(1)
+          << 100.0 * static_cast<double>(held.last.step) /
+                 static_cast<double>(held.last.total_steps)
+          << "%";
+      shares += (shares.empty() ? "" : ", ") + one.str();
+    }
+  if (reported > 0) os << " (" << shares << (reported == 1 ? " of its steps)" : " of their steps)");
   if (next > 0) os << " | next " << next;
   os << " | failed " << failed_ << " | left " << left << " of " << in_.total << " | elapsed "
      << format_hms(since(t0_)) << " | ETA " << format_hms(eta);

@@ -35,6 +35,10 @@ class Dispatcher {
   // handed to the same ranks before this one ended (held next in line) starts counting now.
   std::vector<int> finished(const CaseTask& t, const CaseOutcome& o);
 
+  // A running case's progress from its group's leader (ignored if the case is not running or
+  // the report is of an earlier attempt: reports and results travel apart).
+  void progress(const CaseProgress& p);
+
   // A stop request (base/stop_request.hpp): no case starts any more; those running end at their
   // next checkpoint with the outcome "stopped" (recorded as such: a rerun continues them).
   void stop(int signal);
@@ -62,6 +66,9 @@ class Dispatcher {
     std::vector<int> ranks;    // the group's world ranks, leader first
     Clock::time_point handed;  // when the case was handed out (or, if held, when it started)
     CaseTask task;
+    bool reported = false;  // its leader's last progress report and when it came
+    CaseProgress last;
+    Clock::time_point reported_at;
   };
   std::map<std::size_t, Held> running_;  // case index -> who runs it
   int done_ = 0, failed_ = 0, stop_signal_ = 0;

@@ -18,9 +18,10 @@
 namespace tumble::campaign {
 namespace {
 using Clock = std::chrono::steady_clock;
-constexpr int kTagResult = 4101;  // group leader -> rank 0: the outcome of a case
-constexpr int kTagAssign = 4102;  // rank 0 -> every rank of a group: an Assignment, or "stop"
-constexpr int kTagGroup = 4103;   // MPI_Comm_create_group of a case's ranks
+constexpr int kTagResult = 4101;    // group leader -> rank 0: the outcome of a case
+constexpr int kTagAssign = 4102;    // rank 0 -> every rank of a group: an Assignment, or "stop"
+constexpr int kTagGroup = 4103;     // MPI_Comm_create_group of a case's ranks
+constexpr int kTagProgress = 4104;  // group leader -> rank 0: how far its case is (CaseProgress)
 constexpr auto kPoll = std::chrono::microseconds(200);
 // A rank that waits long (an idle group for the rest of a campaign, a barrier behind a long case)
 // polls ever less often, up to every kPollMax: at a steady 200 us an idle rank took ~6% of a core
@@ -187,6 +188,7 @@ class Coordinator {
     }
     for (int r = 1; r < pool_.size(); ++r) outbox_.send("stop", r, kTagAssign);
     outbox_.drain();
+    take_progress();  // (reports that came after their cases' results)
     ScheduleStats s = book_.stats();
     s.loop_wall = since(book_.start());
     return s;
@@ -210,6 +212,7 @@ class Coordinator {
       if (it != held_.end()) held_.erase(it);
       pool_.release(ranks);
     }
+    take_progress();
     // Strictly in queue order (largest first): a case waits until its group is free, so a big
     // case is never starved by small ones behind it.
     while (const CaseTask* next = book_.peek()) {
@@ -246,6 +249,17 @@ class Coordinator {
     outbox_.progress();
   }
 
+  // The remote leaders' progress reports (a report may arrive after its case's result: the
+  // book ignores it then).
+  void take_progress() {
+    int flag = 0;
+    MPI_Status st;
+    while (MPI_Iprobe(MPI_ANY_SOURCE, kTagProgress, world_, &flag, &st), flag) {
+      CaseProgress p;
+      if (decode(recv_string(st.MPI_SOURCE, kTagProgress, world_), p)) book_.progress(p);
+    }
+  }
+
   // Sends the queue's head to every rank of the group but this one, and records it.
   void hand_out(const Assignment& a) {
     book_.pop();
@@ -256,7 +270,9 @@ class Coordinator {
 
   void run_local() {
     const auto t0 = Clock::now();
-    const CaseOutcome o = run_assignment(ctx_, world_, local_, [this] {
+    CaseContext mine = ctx_;
+    mine.progress = [this](const CaseProgress& p) { book_.progress(p); };
+    const CaseOutcome o = run_assignment(mine, world_, local_, [this] {
       const auto p0 = Clock::now();
       pump();
       ScheduleStats& s = book_.stats();
@@ -283,11 +299,13 @@ void work(const CaseContext& ctx, MPI_Comm world) {
   int me = 0;
   MPI_Comm_rank(world, &me);
   Outbox outbox(world);
+  CaseContext mine = ctx;  // a leader's progress reports go to rank 0 as they come
+  mine.progress = [&outbox](const CaseProgress& p) { outbox.send(encode(p), 0, kTagProgress); };
   while (true) {
     const std::string msg = recv_string_sleeping(0, kTagAssign, world);
     if (msg == "stop") return;
     const Assignment a = decode_assignment(msg);
-    const CaseOutcome o = run_assignment(ctx, world, a, nullptr);
+    const CaseOutcome o = run_assignment(mine, world, a, nullptr);
     if (a.ranks.front() == me) outbox.send(encode(a.task, o), 0, kTagResult);
   }
 }

@@ -76,5 +76,52 @@ TEST(Eta, UnknownBeforeAnyCaseFinished) {
   EXPECT_TRUE(std::isnan(estimate_eta(in)));
 }
 
+// Cases that take days: before any has finished, the running cases' progress reports give the
+// rate. Two cases of cost 1 on two workers, each 25% through after 100 s (400 s per case), two
+// queued cases of cost 1: the running ones end in 300 s, the queued ones 400 s later: 700 s.
+TEST(Eta, ReportsGiveTheRateBeforeAnyCaseFinished) {
+  EtaInput in;
+  in.ranks = 2;
+  in.queued_cost = 2;
+  EtaInput::Running fresh{1, 100};
+  fresh.reported = true;
+  fresh.done_share = 0.25;
+  fresh.call_share = 0.25;
+  fresh.call_seconds = 100;
+  in.running = {fresh, fresh};
+  EXPECT_NEAR(estimate_eta(in), 700, 1e-9);
+  // A resumed case, 25% done: 10% before this call, 15% in its 100 s: 75% left at its own
+  // 0.15% per second, 500 s.
+  EtaInput::Running resumed = fresh;
+  resumed.call_share = 0.15;
+  in.running = {resumed};
+  in.queued_cost = 0;
+  EXPECT_NEAR(estimate_eta(in), 0.75 / 0.0015, 1e-9);
+  // 60 s after its report it is 9% further.
+  in.running[0].since_report = 60;
+  EXPECT_NEAR(estimate_eta(in), 0.75 / 0.0015 - 60, 1e-9);
+  // Without a report (a case still settling its bed) there is no rate yet.
+  in.running[0].reported = false;
+  EXPECT_TRUE(std::isnan(estimate_eta(in)));
+}
+
+// A finished case and a running one that reported share one rate (cost per rank-second).
+TEST(Eta, ReportsAndFinishedCasesShareTheRate) {
+  EtaInput in;
+  in.ranks = 1;
+  in.done_cost = 1;
+  in.done_rank_seconds = 1000;  // one case of cost 1 in 1000 s
+  EtaInput::Running r{1, 300};
+  r.reported = true;
+  r.done_share = 0.2;
+  r.call_share = 0.2;
+  r.call_seconds = 300;  // this one runs slower: 0.2 of its cost in 300 s
+  in.running = {r};
+  in.queued_cost = 1;
+  // Rate (1 + 0.2) / (1000 + 300) per rank-second; left 0.8 + 1; the running case's own
+  // remainder 0.8 / (0.2 / 300) = 1200 s is less than 1.8 / rate = 1950 s.
+  EXPECT_NEAR(estimate_eta(in), 1.8 * 1300 / 1.2, 1e-9);
+}
+
 }  // namespace
 }  // namespace tumble::campaign

@@ -1,0 +1,47 @@
+"""campaign.mpi2_progress_eta: a campaign's ETA before any case has finished.
+
+Two cases on 2 ranks (groups of 1: rank 0 computes one and dispatches, rank 1 computes the other
+and reports to rank 0 by message), a progress line every second. Checks, on the lines before the
+first case ends: at least one line gives an ETA (not --:--:--) and the progress of both running
+cases (both reporting paths: rank 0's own case and a remote leader's), and the shares only grow;
+the campaign then ends with both cases done."""
+import argparse
+import re
+import shutil
+import subprocess
+
+import campaign_checks as cc
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--tumble", required=True)
+ap.add_argument("--mpiexec", required=True)
+ap.add_argument("--np-flag", default="-n")
+ap.add_argument("--campaign", required=True)
+a = ap.parse_args()
+
+shutil.rmtree("ci_eta", ignore_errors=True)
+cmd = cc.mpiexec_command(a.mpiexec, a.np_flag, 2) + [a.tumble, "campaign", a.campaign]
+print(" ".join(cmd), flush=True)
+run = subprocess.run(cmd, capture_output=True, text=True)
+print(run.stdout)
+if run.returncode != 0:
+    print(run.stderr)
+    cc.fail("campaign failed")
+
+before_first_end = []
+for line in run.stdout.splitlines():
+    if line.startswith("[campaign] done: "):
+        break
+    before_first_end.append(line)
+both = [l for l in before_first_end if re.search(r"running 2 \([0-9.]+%, [0-9.]+% of their steps\)", l)]
+timed = [l for l in both if "ETA --:--:--" not in l and re.search(r"ETA \d+:\d\d:\d\d", l)]
+if not timed:
+    cc.fail("no progress line with both cases' shares and an ETA before the first case ended")
+shares = [tuple(float(x) for x in re.findall(r"([0-9.]+)%", l)) for l in both]
+for prev, cur in zip(shares, shares[1:]):
+    if any(c < p for p, c in zip(prev, cur)):
+        cc.fail("a running case's share went back: %s then %s" % (prev, cur))
+if run.stdout.count("[campaign] done: ") != 2:
+    cc.fail("expected both cases done")
+print("OK: %d lines with both shares before the first case ended, %d of them with an ETA; "
+      "first: %s" % (len(both), len(timed), timed[0]))
