@@ -11,6 +11,10 @@
 #   THETA="57 57" the point; ACCURACY_OUT (default results/rigid_pattern/<scene>_<tier>)
 #   VARIANT="fidelity.bulk_segment_thaw=off": a third point, rigid with that key=value (on the same
 #   beds; its cases join a campaign that ran without it, whose cases keep their ids)
+#   RANKS_PER_CASE=k (default 1): each case on a group of k ranks (NP = 6k runs a 3-replica
+#   campaign at once: bst_paper at standard on a node of 48 cores with k = 8). The group size is
+#   not part of a case's id and a checkpoint restarts on any group size, so a campaign begun on
+#   1-rank groups goes on with k; its wall times per iteration then mix group sizes.
 # Rerunning resumes: the campaign skips its finished cases.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -39,6 +43,7 @@ replicas = $REPLICAS
 tier = "$TIER"
 bed_cache = "$(realpath -m beds)"
 progress_interval = 120
+ranks_per_case = ${RANKS_PER_CASE:-1}
 
 [overrides]
 "protocol.iterations" = $ITERATIONS
