@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -23,6 +24,8 @@
 #include "campaign/field_collector.hpp"
 #include "campaign/manifest.hpp"
 #include "campaign/scheduler.hpp"
+#include "h5/hdf5_file.hpp"
+#include "scene/scene.hpp"
 
 namespace tumble::campaign {
 namespace fs = std::filesystem;
@@ -123,6 +126,25 @@ std::vector<CaseState> classify(const CampaignSpec& spec, const Expansion& e,
     out.push_back(s);
   }
   return out;
+}
+
+// How far a case's checkpoint is ("checkpoint at step 302049 of 9477915, 3.2%"; "" if it has none
+// or it does not read): the step and the resolved scene (its run length, β included) it holds.
+std::string checkpoint_progress(const std::string& campaign_dir, const Case& c) {
+  const std::string path = case_dir(campaign_dir, c.id) + "/checkpoint.h5";
+  try {
+    if (!fs::exists(path)) return "";
+    io::H5File f(path, io::H5File::Mode::Read);
+    const std::int64_t step = f.attr_int64("/", "step");
+    const Scene s = parse_scene(f.attr_string("/", "scene"), {}, "checkpoint");
+    const double total = std::round(s.run_time() / s.time_step());
+    std::ostringstream os;
+    os << "checkpoint at step " << step << " of " << static_cast<long long>(total) << ", "
+       << std::fixed << std::setprecision(1) << 100.0 * static_cast<double>(step) / total << "%";
+    return os.str();
+  } catch (const std::exception&) {
+    return "";
+  }
 }
 
 void write_text_atomically(const std::string& path, const std::string& text) {
@@ -365,10 +387,20 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
         out << "campaign " << spec.name << " slice " << slice_text << ": " << slice.size()
             << " cases: " << done << " done, " << failed << " failed, " << pending.size()
             << " to run\n";
-        for (std::size_t k : pending)
+        // A case whose last record says "running" may be running now if a campaign holds the
+        // directory (its record cannot tell this invocation from one that died before it).
+        const int runner = DirectoryLock::running_process(dir);
+        for (std::size_t k : pending) {
+          std::string note = states[k].note;
+          if (runner != 0 && note == "interrupted")
+            note = "interrupted, or running now: process " + std::to_string(runner) +
+                   " runs this campaign";
+          if (const std::string at = checkpoint_progress(dir, e.cases[slice[k]]); !at.empty())
+            note += (note.empty() ? "" : ", ") + at;
           out << "  to run: " << e.cases[slice[k]].id << " [" << e.cases[slice[k]].params_text
-              << "] attempt " << states[k].next.attempt
-              << (states[k].note.empty() ? "" : " (" + states[k].note + ")") << "\n";
+              << "] attempt " << states[k].next.attempt << (note.empty() ? "" : " (" + note + ")")
+              << "\n";
+        }
         status_rc = pending.empty() ? exit_code::kOk : exit_code::kWorkLeft;
       } else {
         fs::create_directories(dir + "/partials");

@@ -46,6 +46,15 @@ DirectoryLock::DirectoryLock(const std::string& dir, int slicing) {
                    "end, or run into another --output");
 }
 
+int DirectoryLock::running_process(const std::string& dir) {
+  const std::string path = dir + "/campaign.lock";
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 0;
+  const pid_t pid = holder(fd, 0, 0);  // len 0: every byte, every slicing
+  ::close(fd);
+  return static_cast<int>(pid);
+}
+
 DirectoryLock::~DirectoryLock() {
   if (fd_ >= 0) ::close(fd_);  // releases the lock
 }

@@ -16,6 +16,8 @@ class DirectoryLock {
   // Throws InputError naming the directory if another slicing holds it.
   DirectoryLock(const std::string& dir, int slicing);
   ~DirectoryLock();
+  // The process that runs a campaign (any slicing) in `dir` right now, or 0 (`--status`).
+  static int running_process(const std::string& dir);
   DirectoryLock(const DirectoryLock&) = delete;
   DirectoryLock& operator=(const DirectoryLock&) = delete;
 

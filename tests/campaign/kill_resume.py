@@ -21,12 +21,14 @@ trajectory (run/checkpoint_observer.hpp)."""
 import argparse
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
 import time
 
 import campaign_checks as cc
+import h5py
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--tumble", required=True)
@@ -165,6 +167,31 @@ stamp = {c: os.stat(os.path.join(run, r["output"], "fields.h5")).st_mtime_ns
 if a.signal == "KILL":
     print("killed %d processes with %d case(s) done and %d running"
           % (killed, len(done_before), len(running_before)), flush=True)
+
+# `--status` (one process, no mpiexec) lists the cases to run, and each interrupted or stopped
+# one with its checkpoint's step, read here from the file itself, of the protocol's steps.
+status = subprocess.run([a.tumble, "campaign", a.campaign, "--output", run, "--status"],
+                        capture_output=True, text=True)
+if status.returncode != 10:
+    cc.fail("--status: exit code %d, expected 10 (work left):\n%s%s"
+            % (status.returncode, status.stdout, status.stderr))
+with_checkpoint = 0
+for c in running_before:
+    line = [l for l in status.stdout.splitlines() if c in l]
+    path = os.path.join(run, latest[c]["output"], "checkpoint.h5")
+    if not os.path.exists(path):  # (killed before its first checkpoint)
+        if not line or "checkpoint at" in line[0]:
+            cc.fail("--status: case %s without a checkpoint: %s" % (c, line))
+        continue
+    with_checkpoint += 1
+    with h5py.File(path, "r") as f:
+        step = int(f.attrs["step"])
+    m = re.search(r"checkpoint at step (\d+) of (\d+), ([0-9.]+)%", line[0]) if line else None
+    if not m or int(m.group(1)) != step or step > int(m.group(2)):  # (= : killed after its last step)
+        cc.fail("--status does not give case %s's checkpoint step %d: %s" % (c, step, line))
+if not with_checkpoint:
+    cc.fail("--status: no interrupted case had a checkpoint to show")
+print("--status: %d case(s) with their checkpoint's step" % with_checkpoint, flush=True)
 
 t0 = time.time()
 if subprocess.run(rerun + [run], stdout=log, stderr=subprocess.STDOUT).returncode != 0:
