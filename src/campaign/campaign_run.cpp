@@ -393,9 +393,12 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
         for (std::size_t k : pending) {
           std::string note = states[k].note;
           if (runner != 0 && note == "interrupted")
-            note = "interrupted, or running now: process " + std::to_string(runner) +
+            note = "interrupted, or running now: " +
+                   (runner > 0 ? "process " + std::to_string(runner) : "another process") +
                    " runs this campaign";
-          if (const std::string at = checkpoint_progress(dir, e.cases[slice[k]]); !at.empty())
+          // (A retry with a new seed starts afresh: its folder's checkpoint is not its own.)
+          if (const std::string at = checkpoint_progress(dir, e.cases[slice[k]]);
+              !at.empty() && !states[k].next.fresh)
             note += (note.empty() ? "" : ", ") + at;
           out << "  to run: " << e.cases[slice[k]].id << " [" << e.cases[slice[k]].params_text
               << "] attempt " << states[k].next.attempt << (note.empty() ? "" : " (" + note + ")")

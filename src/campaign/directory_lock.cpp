@@ -10,15 +10,21 @@
 
 namespace tumble::campaign {
 namespace {
-// The process holding a lock that conflicts with a write lock on [start, start + len), or 0.
-pid_t holder(int fd, off_t start, off_t len) {
+// Whether another process holds a lock that conflicts with a write lock on [start, start + len),
+// and its pid where the kernel can tell (a holder in another pid namespace or on another NFS
+// client may read as 0 or less: held all the same).
+struct Holder {
+  bool held = false;
+  pid_t pid = 0;
+};
+Holder holder(int fd, off_t start, off_t len) {
   struct flock q {};
   q.l_type = F_WRLCK;
   q.l_whence = SEEK_SET;
   q.l_start = start;
   q.l_len = len;
-  if (::fcntl(fd, F_GETLK, &q) != 0 || q.l_type == F_UNLCK) return 0;
-  return q.l_pid;
+  if (::fcntl(fd, F_GETLK, &q) != 0 || q.l_type == F_UNLCK) return {};
+  return {true, q.l_pid};
 }
 }  // namespace
 
@@ -34,13 +40,13 @@ DirectoryLock::DirectoryLock(const std::string& dir, int slicing) {
   const bool got = ::fcntl(fd_, F_SETLK, &mine) == 0;
   // Another slicing: a lock on any byte but ours (both sides checked after taking ours, so two
   // slicings starting at once both refuse rather than both run).
-  pid_t other = got ? holder(fd_, 0, slicing) : 0;
-  if (got && other == 0) other = holder(fd_, slicing + 1, 0);  // len 0: to the end of the file
-  if (got && other == 0) return;
+  Holder other = got ? holder(fd_, 0, slicing) : Holder{};
+  if (got && !other.held) other = holder(fd_, slicing + 1, 0);  // len 0: to the end of the file
+  if (got && !other.held) return;
   ::close(fd_);
   fd_ = -1;
   throw InputError("campaign error: '" + dir + "' is being run right now with another slicing" +
-                   (other > 0 ? " (process " + std::to_string(other) + ")" : "") +
+                   (other.pid > 0 ? " (process " + std::to_string(other.pid) + ")" : "") +
                    ": a whole campaign, its slices i/" + std::to_string(slicing) +
                    " and other slicings i/m would compute the same cases twice; wait for it to "
                    "end, or run into another --output");
@@ -50,9 +56,10 @@ int DirectoryLock::running_process(const std::string& dir) {
   const std::string path = dir + "/campaign.lock";
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return 0;
-  const pid_t pid = holder(fd, 0, 0);  // len 0: every byte, every slicing
+  const Holder h = holder(fd, 0, 0);  // len 0: every byte, every slicing
   ::close(fd);
-  return static_cast<int>(pid);
+  if (!h.held) return 0;
+  return h.pid > 0 ? static_cast<int>(h.pid) : -1;
 }
 
 DirectoryLock::~DirectoryLock() {

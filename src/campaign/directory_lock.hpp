@@ -16,7 +16,8 @@ class DirectoryLock {
   // Throws InputError naming the directory if another slicing holds it.
   DirectoryLock(const std::string& dir, int slicing);
   ~DirectoryLock();
-  // The process that runs a campaign (any slicing) in `dir` right now, or 0 (`--status`).
+  // The process that runs a campaign (any slicing) in `dir` right now: its pid, -1 if the
+  // kernel cannot name it (another pid namespace, another NFS client), 0 if none (`--status`).
   static int running_process(const std::string& dir);
   DirectoryLock(const DirectoryLock&) = delete;
   DirectoryLock& operator=(const DirectoryLock&) = delete;

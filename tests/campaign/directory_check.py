@@ -3,7 +3,8 @@ holds one campaign.
 
 1. While the whole campaign (kill_campaign.toml, 1 rank, ~30 s) runs, `--slice 1/2` of it into
    the same directory is refused at once (exit 2, "another slicing"), as is a second whole run
-   (exit 2, "already running"); the first run is then stopped.
+   (exit 2, "already running"), and `--status` names the running process (not after it is
+   killed); the first run is then stopped.
 2. Another campaign (groups_campaign.toml) into that directory is refused (exit 2, "holds another
    campaign") without touching its campaign.toml; with --force it runs (exit 0)."""
 import argparse
@@ -38,11 +39,24 @@ try:
                                                                      r.returncode, r.stderr))
         print("refused while running (%s): %s" % (" ".join(extra) or "same slicing",
                                                    r.stderr.strip().splitlines()[0][:100]))
+    # --status names the running process (DirectoryLock::running_process) beside the case it
+    # runs; once the process is gone, it does not.
+    r = subprocess.run([a.tumble, "campaign", a.kill_campaign, "--output", out, "--status"],
+                       capture_output=True, text=True, timeout=30)
+    want = "process %d runs this campaign" % whole.pid
+    if r.returncode != 10 or want not in r.stdout:
+        cc.fail("--status while the campaign runs: exit %d, no '%s' in:\n%s%s"
+                % (r.returncode, want, r.stdout, r.stderr))
+    print("--status while running: " + [l for l in r.stdout.splitlines() if want in l][0][:120])
     if whole.poll() is not None:
         cc.fail("the whole campaign ended before the checks: they proved nothing")
 finally:
     whole.kill()
     whole.wait()
+r = subprocess.run([a.tumble, "campaign", a.kill_campaign, "--output", out, "--status"],
+                   capture_output=True, text=True, timeout=30)
+if "runs this campaign" in r.stdout:
+    cc.fail("--status after the campaign was killed still names a running process:\n" + r.stdout)
 
 before = open(os.path.join(out, "campaign.toml")).read()
 r = subprocess.run([a.tumble, "campaign", a.other_campaign, "--output", out],
