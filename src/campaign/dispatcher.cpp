@@ -30,9 +30,7 @@ Dispatcher::Dispatcher(const CaseContext& ctx, const ScheduleInput& in,
       ranks_(ranks),
       queue_(in.tasks.begin(), in.tasks.end()),
       done_(in.done_before),
-      failed_(in.failed_before) {
-  for (const auto& t : queue_) left_cost_ += cost(t);
-}
+      failed_(in.failed_before) {}
 
 const CaseTask* Dispatcher::peek() {
   const auto now = Clock::now();
@@ -133,7 +131,6 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
   r.resumed_from_step = o.resumed_from_step;
   stats_.cases_run += 1;
   stats_.rank_seconds += o.wall * k;
-  left_cost_ -= cost(t);
   std::string what;
   if (o.failure == "stopped") {  // neither done nor failed: the rerun continues the same attempt
     r.status = "stopped";
@@ -146,6 +143,9 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
     done_ += 1;
     done_cost_ += cost(t);
     done_rank_seconds_ += o.wall * k;
+    EtaInput::Rate& point = done_by_point_[ctx_.expansion->cases[t.case_index].point_id];
+    point.cost += cost(t);
+    point.rank_seconds += o.wall * k;
     what = "done";
   } else {
     r.status = "failed";
@@ -159,7 +159,6 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
       CaseTask again{t.case_index, t.attempt + 1, case_seed(*ctx_.spec, c, t.attempt + 1),
                      ctx_.spec->retry_seed == "new"};
       queue_.push_back(again);
-      left_cost_ += cost(again);
       const double delay = kRetryDelay * std::pow(2.0, again.attempt - 2);
       not_before_[t.case_index] =
           Clock::now() + std::chrono::duration_cast<Clock::duration>(
@@ -189,7 +188,6 @@ void Dispatcher::stop(int signal) {
   stop_signal_ = signal;
   stats_.stop_signal = signal;
   stats_.not_started = static_cast<int>(queue_.size());
-  for (const auto& t : queue_) left_cost_ -= cost(t);
   queue_.clear();
   not_before_.clear();
   const std::size_t n = running_.size();
@@ -225,11 +223,14 @@ void Dispatcher::line(const std::string& event, bool counts) {
   EtaInput eta_in;
   eta_in.done_cost = done_cost_;
   eta_in.done_rank_seconds = done_rank_seconds_;
-  eta_in.queued_cost = left_cost_;
+  eta_in.done_by_point = done_by_point_;
+  for (const auto& t : queue_)
+    eta_in.queued_by_point[ctx_.expansion->cases[t.case_index].point_id] += cost(t);
   eta_in.ranks = std::max(1, ranks_);
   for (const auto& [idx, held] : running_) {
     const double c = cost(CaseTask{idx, 1, 0, false});
     EtaInput::Running r{c, since(held.handed), static_cast<int>(held.ranks.size())};
+    r.point = ctx_.expansion->cases[idx].point_id;
     if (held.reported) {
       const CaseProgress& p = held.last;
       const auto total = static_cast<double>(p.total_steps);
@@ -240,7 +241,6 @@ void Dispatcher::line(const std::string& event, bool counts) {
       r.since_report = since(held.reported_at);
     }
     eta_in.running.push_back(r);
-    eta_in.queued_cost -= c;
   }
   const double eta = estimate_eta(eta_in);
   // A group that still runs a case may already hold its next one (started() says "next"): that

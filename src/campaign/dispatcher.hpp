@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "campaign/case_runner.hpp"
+#include "campaign/eta.hpp"
 #include "campaign/manifest.hpp"
 #include "campaign/scheduler.hpp"
 
@@ -72,7 +73,8 @@ class Dispatcher {
   };
   std::map<std::size_t, Held> running_;  // case index -> who runs it
   int done_ = 0, failed_ = 0, stop_signal_ = 0;
-  double left_cost_ = 0, done_cost_ = 0, done_rank_seconds_ = 0;
+  double done_cost_ = 0, done_rank_seconds_ = 0;
+  std::map<std::string, EtaInput::Rate> done_by_point_;  // the cases done, by point (the ETA)
   ScheduleStats stats_;
   Clock::time_point t0_ = Clock::now(), last_tick_ = Clock::now(), last_line_ = Clock::now();
 };

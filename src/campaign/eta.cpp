@@ -4,31 +4,52 @@
 #include <cmath>
 
 namespace tumble::campaign {
+namespace {
+bool measured(const EtaInput::Rate& r) { return r.cost > 0 && r.rank_seconds > 0; }
+bool reported(const EtaInput::Running& r) {
+  return r.reported && r.call_share > 0 && r.call_seconds > 0;
+}
+}  // namespace
 
 double estimate_eta(const EtaInput& in) {
-  double cost_done = std::max(0.0, in.done_cost),
-         rank_seconds = std::max(0.0, in.done_rank_seconds);
+  EtaInput::Rate all{std::max(0.0, in.done_cost), std::max(0.0, in.done_rank_seconds)};
+  std::map<std::string, EtaInput::Rate> by_point = in.done_by_point;
   for (const auto& r : in.running)
-    if (r.reported && r.call_share > 0 && r.call_seconds > 0) {
-      cost_done += r.cost * r.call_share;
-      rank_seconds += r.call_seconds * std::max(1, r.ranks);
+    if (reported(r)) {
+      const double cost = r.cost * r.call_share,
+                   rank_seconds = r.call_seconds * std::max(1, r.ranks);
+      all.cost += cost;
+      all.rank_seconds += rank_seconds;
+      if (!r.point.empty()) {
+        by_point[r.point].cost += cost;
+        by_point[r.point].rank_seconds += rank_seconds;
+      }
     }
-  if (!(cost_done > 0) || !(rank_seconds > 0)) return NAN;
-  const double rate = cost_done / rank_seconds;  // cost per rank-second
-  double left = in.queued_cost, longest = 0;
+  if (!measured(all)) return NAN;
+  // Cost per rank-second: the point's own once measured, else all points' together.
+  const auto rate = [&](const std::string& point) {
+    const auto it = point.empty() ? by_point.end() : by_point.find(point);
+    const EtaInput::Rate& r = it != by_point.end() && measured(it->second) ? it->second : all;
+    return r.cost / r.rank_seconds;
+  };
+  double rank_seconds = in.queued_cost / rate("");
+  for (const auto& [point, cost] : in.queued_by_point) rank_seconds += cost / rate(point);
+  double longest = 0;
   for (const auto& r : in.running) {
-    if (r.reported && r.call_share > 0 && r.call_seconds > 0) {
+    const int k = std::max(1, r.ranks);
+    if (reported(r)) {
       const double per_second = r.call_share / r.call_seconds;  // its own share per second
       const double share_left = std::max(0.0, 1 - r.done_share - per_second * r.since_report);
-      left += r.cost * share_left;
+      rank_seconds += share_left / per_second * k;
       longest = std::max(longest, share_left / per_second);
       continue;
     }
-    const double rest = std::max(0.0, r.cost - rate * r.ranks * r.age);
-    left += rest;
-    longest = std::max(longest, rest / (rate * std::max(1, r.ranks)));
+    const double p = rate(r.point);
+    const double rest = std::max(0.0, r.cost - p * k * r.age);
+    rank_seconds += rest / p;
+    longest = std::max(longest, rest / (p * k));
   }
-  return std::max(left / (rate * std::max(1, in.ranks)), longest);
+  return std::max(rank_seconds / std::max(1, in.ranks), longest);
 }
 
 }  // namespace tumble::campaign

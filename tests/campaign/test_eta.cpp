@@ -105,7 +105,8 @@ TEST(Eta, ReportsGiveTheRateBeforeAnyCaseFinished) {
   EXPECT_TRUE(std::isnan(estimate_eta(in)));
 }
 
-// A finished case and a running one that reported share one rate (cost per rank-second).
+// A finished case and a running one that reported share one rate (cost per rank-second) for the
+// queue; the running case is left with what its own rate leaves of it.
 TEST(Eta, ReportsAndFinishedCasesShareTheRate) {
   EtaInput in;
   in.ranks = 1;
@@ -118,9 +119,38 @@ TEST(Eta, ReportsAndFinishedCasesShareTheRate) {
   r.call_seconds = 300;  // this one runs slower: 0.2 of its cost in 300 s
   in.running = {r};
   in.queued_cost = 1;
-  // Rate (1 + 0.2) / (1000 + 300) per rank-second; left 0.8 + 1; the running case's own
-  // remainder 0.8 / (0.2 / 300) = 1200 s is less than 1.8 / rate = 1950 s.
-  EXPECT_NEAR(estimate_eta(in), 1.8 * 1300 / 1.2, 1e-9);
+  // The running case: 0.8 / (0.2 / 300) = 1200 s; the queued one at (1 + 0.2) / (1000 + 300).
+  EXPECT_NEAR(estimate_eta(in), 1200 + 1300 / 1.2, 1e-9);
+}
+
+// Points whose cases run at different speeds for the same cost (a rigid bulk against a dynamic
+// one): each point's queued cases are charged at its own rate once it has one. Cost 1 each, one
+// rank. Rigid: one case done in 100 s. Dynamic: one running, 10% after 100 s (1000 s a case).
+// Queued: one rigid, one dynamic; a third point not measured yet takes the rate of all.
+TEST(Eta, EachPointAtItsOwnRate) {
+  EtaInput in;
+  in.ranks = 1;
+  in.done_cost = 1;
+  in.done_rank_seconds = 100;
+  in.done_by_point["rigid"] = {1, 100};
+  EtaInput::Running dynamic{1, 100};
+  dynamic.reported = true;
+  dynamic.done_share = dynamic.call_share = 0.1;
+  dynamic.call_seconds = 100;
+  dynamic.point = "dynamic";
+  in.running = {dynamic};
+  in.queued_by_point = {{"rigid", 1}, {"dynamic", 1}};
+  EXPECT_NEAR(estimate_eta(in), 900 + 100 + 1000, 1e-9);
+  // With one rate for all ((1 + 0.1) / 200 per second) the queue would cost 2 x 181.8 s: the
+  // dynamic case's 1000 s would be missed.
+  in.queued_by_point["other"] = 1;
+  EXPECT_NEAR(estimate_eta(in), 900 + 100 + 1000 + 200 / 1.1, 1e-9);
+  // Before its own report a running case of a measured point is credited at that point's rate.
+  in.queued_by_point = {};
+  EtaInput::Running rigid{1, 40};
+  rigid.point = "rigid";
+  in.running = {dynamic, rigid};
+  EXPECT_NEAR(estimate_eta(in), 900 + 60, 1e-9);
 }
 
 }  // namespace
