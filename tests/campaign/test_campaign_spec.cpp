@@ -415,15 +415,10 @@ TEST(Expand, CasesRunLargestFirstThenReplicaByReplica) {
   // Two points of one cost (dynamic and rigid bulk: the cost model counts particles x steps) and
   // a longer protocol: the long point's cases start first; then replica 0 of both short points,
   // then replica 1, ..., so a campaign stopped part-way holds pairs, not one point's replicas.
-  const CampaignSpec s = parse_campaign(with_campaign(R"(
-[[sweep]]
-"fidelity.bulk" = ["dynamic", "rigid"]
-[[sweep]]
-theta_z = 120
-)",
-                                                      "replicas = 3"),
-                                        "test.toml", ".");
-  const Expansion e = expand(s);
+  const std::string sweeps =
+      "[[sweep]]\n\"fidelity.bulk\" = [\"dynamic\", \"rigid\"]\n[[sweep]]\ntheta_z = 120\n";
+  const Expansion e =
+      expand(parse_campaign(with_campaign(sweeps, "replicas = 3"), "test.toml", "."));
   ASSERT_EQ(e.cases.size(), 9u);
   std::vector<std::size_t> order(e.cases.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
