@@ -10,6 +10,8 @@
 #   ACCURACY_OUT  (default results/accuracy_campaign/<campaign file name>)
 # A tier whose OUT/TIER already holds finished cases of the same campaign resumes: copying a
 # finished run of the campaign at that tier there (cp -r) reuses it.
+{  # read to the closing brace before running: an edit or a `git pull` while it runs (hours)
+   # cannot change what it does next
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 CAMPAIGN=${1:?usage: campaign_tiers.sh CAMPAIGN [NP]}
@@ -45,3 +47,5 @@ PY
   run_tier_campaign "$dir" "$tier" "$NP"
 done
 /usr/bin/python3 jobs/accuracy/pattern_table.py "$OUT" "$ITERATIONS" --point "$POINT"
+exit
+}

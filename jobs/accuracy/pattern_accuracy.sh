@@ -10,6 +10,8 @@
 #                                          [ITERATIONS=4] [NP=2]
 # TIERS="standard fast preview" leaves the reference out (the errors are then against standard).
 # Rerunning resumes: each tier's campaign skips its finished cases.
+{  # read to the closing brace before running: an edit or a `git pull` while it runs (hours)
+   # cannot change what it does next
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SCENE=${1:-scenes/bst_tiny.toml}
@@ -51,3 +53,5 @@ EOF
   run_tier_campaign "$dir" "$tier" "$NP"
 done
 /usr/bin/python3 jobs/accuracy/pattern_table.py "$OUT" "$ITERATIONS"
+exit
+}

@@ -25,6 +25,8 @@
 # ~18 min for bst_paper's z half, N = 600000, on 2 ranks here), whose checkpoint every variant
 # then continues from (a rigid checkpoint restarts dynamic). The x half alone is so ~half the job;
 # jobs/accuracy/rigid_iteration_table.py takes the segments not run from their twins.
+{  # read to the closing brace before running: an edit or a `git pull` while it runs (hours)
+   # cannot change what it does next
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SCENE=${1:-scenes/bst_paper.toml}
@@ -133,3 +135,5 @@ for ((r = 1; r <= ROUNDS; r++)); do
   [ "$more" -eq 1 ] || break
 done
 report
+exit
+}

@@ -16,6 +16,8 @@
 #   not part of a case's id and a checkpoint restarts on any group size, so a campaign begun on
 #   1-rank groups goes on with k; its wall times per iteration then mix group sizes.
 # Rerunning resumes: the campaign skips its finished cases.
+{  # read to the closing brace before running: an edit or a `git pull` while it runs (hours)
+   # cannot change what it does next
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SCENE=${1:-scenes/bst_small.toml}
@@ -65,3 +67,5 @@ EOF
 run_tier_campaign "$OUT" "$TIER" "$NP"
 /usr/bin/python3 jobs/accuracy/pattern_table.py "$OUT" "$ITERATIONS" \
   --split "fidelity.bulk=dynamic,rigid${VARIANT:+,rigid+$VARIANT}"
+exit
+}
