@@ -16,6 +16,10 @@
 namespace tumble::campaign {
 namespace {
 constexpr double kRetryDelay = 5;  // seconds before a second attempt, doubling after
+// Progress reports a running case's rate is taken over: 10 progress intervals (5 min at the
+// default 30 s, 20 min at the accuracy campaigns' 120 s), long enough to smooth a case's phases,
+// short enough to follow a pause or a busier machine.
+constexpr std::size_t kRecentReports = 11;
 constexpr double kMaxRetryDelay = 300;
 double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -199,8 +203,10 @@ void Dispatcher::stop(int signal) {
 void Dispatcher::progress(const CaseProgress& p) {
   const auto it = running_.find(p.case_index);
   if (it == running_.end() || it->second.task.attempt != p.attempt || p.total_steps <= 0) return;
-  it->second.reported = true;
-  it->second.last = p;
+  auto& recent = it->second.recent;
+  if (!recent.empty() && recent.back().first_step != p.first_step) recent.clear();  // (a new call)
+  recent.push_back(p);
+  if (recent.size() > kRecentReports) recent.pop_front();
   it->second.reported_at = Clock::now();
 }
 
@@ -231,13 +237,15 @@ void Dispatcher::line(const std::string& event, bool counts) {
     const double c = cost(CaseTask{idx, 1, 0, false});
     EtaInput::Running r{c, since(held.handed), static_cast<int>(held.ranks.size())};
     r.point = ctx_.expansion->cases[idx].point_id;
-    if (held.reported) {
-      const CaseProgress& p = held.last;
-      const auto total = static_cast<double>(p.total_steps);
+    if (!held.recent.empty()) {
+      // The rate over the recent reports (from the call's start while there is one report).
+      const CaseProgress &first = held.recent.front(), &last = held.recent.back();
+      const bool one = held.recent.size() == 1;
+      const auto total = static_cast<double>(last.total_steps);
       r.reported = true;
-      r.done_share = static_cast<double>(p.step) / total;
-      r.call_share = static_cast<double>(p.step - p.first_step) / total;
-      r.call_seconds = p.seconds;
+      r.done_share = static_cast<double>(last.step) / total;
+      r.call_share = static_cast<double>(last.step - (one ? last.first_step : first.step)) / total;
+      r.call_seconds = last.seconds - (one ? 0.0 : first.seconds);
       r.since_report = since(held.reported_at);
     }
     eta_in.running.push_back(r);
@@ -258,12 +266,12 @@ void Dispatcher::line(const std::string& event, bool counts) {
   std::string shares;
   int reported = 0;
   for (const auto& [idx, held] : running_)
-    if (held.reported) {
+    if (!held.recent.empty()) {
       ++reported;
       std::ostringstream one;
       one << std::fixed << std::setprecision(1)
-          << 100.0 * static_cast<double>(held.last.step) /
-                 static_cast<double>(held.last.total_steps)
+          << 100.0 * static_cast<double>(held.recent.back().step) /
+                 static_cast<double>(held.recent.back().total_steps)
           << "%";
       shares += (shares.empty() ? "" : ", ") + one.str();
     }

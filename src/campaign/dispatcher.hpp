@@ -67,8 +67,10 @@ class Dispatcher {
     std::vector<int> ranks;    // the group's world ranks, leader first
     Clock::time_point handed;  // when the case was handed out (or, if held, when it started)
     CaseTask task;
-    bool reported = false;  // its leader's last progress report and when it came
-    CaseProgress last;
+    // Its leader's recent progress reports (the last kRecentReports: the rate the ETA takes is
+    // over them, so that it follows a change of speed, a pause or a busier machine, within a
+    // few progress intervals rather than averaging the whole call), and when the last came.
+    std::deque<CaseProgress> recent;
     Clock::time_point reported_at;
   };
   std::map<std::size_t, Held> running_;  // case index -> who runs it

@@ -22,9 +22,9 @@ struct EtaInput {
     double cost = 0;  // the case's cost
     double age = 0;   // seconds since it started
     int ranks = 1;    // its group's ranks
-    // Its group leader's last report (CaseProgress), if any: the share of the protocol done at
-    // the report, the share this call of the run did and the wall seconds it took, and the
-    // seconds since the report.
+    // Its group leader's reports (CaseProgress), if any: the share of the protocol done at the
+    // last one, the share done over a recent stretch of the run and the wall seconds it took (the
+    // case's own rate), and the seconds since the last report.
     bool reported = false;
     double done_share = 0, call_share = 0, call_seconds = 0, since_report = 0;
     std::string point = {};  // its point's id ("": charged at the common rate)
