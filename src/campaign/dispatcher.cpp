@@ -233,8 +233,19 @@ void Dispatcher::line(const std::string& event, bool counts) {
   for (const auto& t : queue_)
     eta_in.queued_by_point[ctx_.expansion->cases[t.case_index].point_id] += cost(t);
   eta_in.ranks = std::max(1, ranks_);
+  // A case held as its group's next (the group still runs the one handed before it) has not
+  // begun: it is charged as queued, not credited with the time it waits.
+  std::map<std::vector<int>, std::size_t> first_of_group;
+  for (const auto& [idx, held] : running_) {
+    auto [it, fresh] = first_of_group.emplace(held.ranks, idx);
+    if (!fresh && held.handed < running_.at(it->second).handed) it->second = idx;
+  }
   for (const auto& [idx, held] : running_) {
     const double c = cost(CaseTask{idx, 1, 0, false});
+    if (first_of_group.at(held.ranks) != idx) {
+      eta_in.queued_by_point[ctx_.expansion->cases[idx].point_id] += c;
+      continue;
+    }
     EtaInput::Running r{c, since(held.handed), static_cast<int>(held.ranks.size())};
     r.point = ctx_.expansion->cases[idx].point_id;
     if (!held.recent.empty()) {
