@@ -79,7 +79,7 @@ void register_run(CLI::App& app) {
         }
         std::cout << planned_particle_count(scene) << " particles; time step " << scene.time_step()
                   << " s (stability bound " << time_step_bound(scene) << " s); "
-                  << std::llround(scene.run_time() / scene.time_step()) << " steps\n";
+                  << scene.protocol_steps() << " steps\n";
       }
       return;
     }

@@ -3,7 +3,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -137,10 +136,11 @@ std::string checkpoint_progress(const std::string& campaign_dir, const Case& c) 
     io::H5File f(path, io::H5File::Mode::Read);
     const std::int64_t step = f.attr_int64("/", "step");
     const Scene s = parse_scene(f.attr_string("/", "scene"), {}, "checkpoint");
-    const double total = std::round(s.run_time() / s.time_step());
+    const std::int64_t total = s.protocol_steps();
     std::ostringstream os;
-    os << "checkpoint at step " << step << " of " << static_cast<long long>(total) << ", "
-       << std::fixed << std::setprecision(1) << 100.0 * static_cast<double>(step) / total << "%";
+    os << "checkpoint at step " << step << " of " << total << ", " << std::fixed
+       << std::setprecision(1) << 100.0 * static_cast<double>(step) / static_cast<double>(total)
+       << "%";
     return os.str();
   } catch (const std::exception&) {
     return "";

@@ -90,33 +90,6 @@ class PollObserver : public Observer {
  private:
   const std::function<void()>& poll_;
 };
-
-// The group leader's progress reports (CaseContext::progress), at the run's progress interval,
-// from the start of the protocol loop as the run's own progress lines.
-class ProgressReport : public Observer {
- public:
-  ProgressReport(const std::function<void(const CaseProgress&)>& report, const CaseTask& task)
-      : report_(report), task_(task) {}
-  void after_step(RunState& s) override {
-    const std::int64_t step = s.sim.step_count();
-    if ((step & 63) != 0) return;
-    if (!started_) {
-      last_ = s.started;
-      started_ = true;
-    }
-    const auto now = Clock::now();
-    if (std::chrono::duration<double>(now - last_).count() < s.scene.progress_interval) return;
-    last_ = now;
-    report_({task_.case_index, task_.attempt, s.first_step, step, s.total_steps,
-             std::chrono::duration<double>(now - s.started).count()});
-  }
-
- private:
-  const std::function<void(const CaseProgress&)>& report_;
-  CaseTask task_;
-  bool started_ = false;
-  Clock::time_point last_;
-};
 }  // namespace
 
 std::string case_output(const std::string& id) { return "cases/" + id; }
@@ -188,8 +161,12 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
     if (c.time_limit > 0) ro.observers.push_back(&time_limit);
     PollObserver poll(ctx.poll);
     if (ctx.poll) ro.observers.push_back(&poll);
-    ProgressReport report(ctx.progress, task);
-    if (lead && ctx.progress) ro.observers.push_back(&report);
+    if (lead && ctx.progress)  // with each of the run's progress lines
+      ro.on_progress = [&](const RunState& s) {
+        ctx.progress({task.case_index, task.attempt, s.first_step, s.sim.step_count(),
+                      s.total_steps,
+                      std::chrono::duration<double>(Clock::now() - s.started).count()});
+      };
     const std::unique_ptr<Observer> fault = fault_injection_for(c.id);
     if (fault) ro.observers.push_back(fault.get());
     (void)run_realization(scene, ro);

@@ -27,7 +27,7 @@ CollectPlan make_collect_plan(const CollectSpec& spec, const Scene& scene) {
   if (scene.cylinder()) {  // the run samples S_a, S_r every output.analysis_interval itself
     if (!(scene.analysis_interval > 0))
       fail("output.analysis_interval", "must be > 0 in a cylinder campaign (it sets the series)");
-    p.total_steps = std::llround(scene.run_time() / scene.time_step());
+    p.total_steps = scene.protocol_steps();
     return p;
   }
   if (scene.mode != Mode::biaxial)
@@ -39,7 +39,7 @@ CollectPlan make_collect_plan(const CollectSpec& spec, const Scene& scene) {
   const double period = scene.iterations > 0 ? scene.run_time() / scene.iterations : 0;
   if (!(period > 0)) fail("protocol.iterations", "must be > 0 for a campaign case");
   p.steps_per_iteration = period / dt;
-  p.total_steps = std::llround(scene.run_time() / dt);
+  p.total_steps = scene.protocol_steps();
   const int n = spec.samples_per_iteration;
   if (p.steps_per_iteration / n < 1)
     fail("collect.samples_per_iteration",

@@ -163,7 +163,7 @@ Expansion expand(const CampaignSpec& spec) {
             if (k.rfind("fidelity.bulk_", 0) == 0 && !added_bulk_key_off(k, s))
               canon += ";" + k + "=" + v;
         (void)make_collect_plan(spec.collect, s);
-        const double steps = std::llround(s.run_time() / s.time_step());
+        const auto steps = static_cast<double>(s.protocol_steps());
         double particles = 1000;  // a given bed file: its size is not known without reading it
         if (s.bed_file.empty()) particles = static_cast<double>(planned_particle_count(s));
         cost = particles * steps;

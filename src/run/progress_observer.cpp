@@ -40,6 +40,7 @@ void ProgressObserver::after_step(RunState& s) {
     log << "  " << dom->size() << " ranks, imbalance " << std::fixed << std::setprecision(3)
         << dom->imbalance() << std::defaultfloat;
   log << std::endl;
+  if (then_) then_(s);
 }
 
 }  // namespace tumble

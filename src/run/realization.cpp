@@ -241,7 +241,7 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
   Simulation* sim = st.sim.get();
   RunState& s = *st.state;
   s.particles = res.particles = sim->global_count();
-  s.total_steps = std::llround(scene.run_time() / dt);
+  s.total_steps = scene.protocol_steps();
   s.first_step = sim->step_count();
   s.end_step =
       opt.max_steps >= 0 ? std::min(s.total_steps, s.first_step + opt.max_steps) : s.total_steps;
@@ -261,7 +261,7 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
   if (opt.write_snapshots) add(std::make_unique<SnapshotObserver>(snap_steps));
   add(std::make_unique<CheckpointObserver>(
       ckpt_path, steps_for(scene.checkpoint_interval, dt, period), scene.checkpoint_wall));
-  add(std::make_unique<ProgressObserver>());
+  add(std::make_unique<ProgressObserver>(opt.on_progress));
 
   if (sim->step_count() == 0)
     for (Observer* o : observers) o->start(s);

@@ -6,6 +6,7 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -27,6 +28,9 @@ struct RunOptions {
   // its snapshots and checkpoints (so a checkpoint never runs ahead of their saved state).
   // On a decomposed run every rank passes its own instances (run/observer.hpp).
   std::vector<Observer*> observers;
+  // Called on the run's rank 0 with each progress line (a campaign case's leader reports to the
+  // dispatcher from it); empty: nothing beyond the line.
+  std::function<void(const RunState&)> on_progress;
   // The ranks that run this realization together (domain decomposition); MPI_COMM_NULL or one
   // rank: serial. Every rank of `comm` calls run_realization with the same scene and options.
   MPI_Comm comm = MPI_COMM_NULL;

@@ -35,6 +35,8 @@ double Scene::mass_small() const { return density * kPi / 6.0 * d_small * d_smal
 double Scene::mass_large() const {
   return density * density_ratio * kPi / 6.0 * d_large * d_large * d_large;
 }
+std::int64_t Scene::protocol_steps() const { return std::llround(run_time() / time_step()); }
+
 double Scene::run_time() const {
   if (mode == Mode::biaxial) {
     const double w = omega();

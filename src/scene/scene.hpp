@@ -29,7 +29,8 @@ struct Scene {
   double omega() const;  // [rad/s]
   double mass_small() const;
   double mass_large() const;
-  double run_time() const;  // simulated seconds the protocol runs (after settling)
+  double run_time() const;              // simulated seconds the protocol runs (after settling)
+  std::int64_t protocol_steps() const;  // the protocol's time steps: run_time / time_step
   bool cylinder() const { return shape == Shape::cylinder; }
   // The value of a key owned by a contact law (law_values); throws std::logic_error if no
   // registered law declares `key`.
