@@ -233,8 +233,9 @@ void Dispatcher::line(const std::string& event, bool counts) {
   for (const auto& t : queue_)
     eta_in.queued_by_point[ctx_.expansion->cases[t.case_index].point_id] += cost(t);
   eta_in.ranks = std::max(1, ranks_);
-  // A case held as its group's next (the group still runs the one handed before it) has not
-  // begun: it is charged as queued, not credited with the time it waits.
+  // A group that still runs a case may already hold its next one (started() says "next"): that
+  // one has not begun. It is charged as queued, not credited with the time it waits, and counted
+  // as next, not as running, so "running" never exceeds the groups.
   std::map<std::vector<int>, std::size_t> first_of_group;
   for (const auto& [idx, held] : running_) {
     auto [it, fresh] = first_of_group.emplace(held.ranks, idx);
@@ -262,11 +263,7 @@ void Dispatcher::line(const std::string& event, bool counts) {
     eta_in.running.push_back(r);
   }
   const double eta = estimate_eta(eta_in);
-  // A group that still runs a case may already hold its next one (started() says "next"): that
-  // one is counted as next, not as running, so "running" never exceeds the groups.
-  std::set<std::vector<int>> groups;
-  for (const auto& [idx, held] : running_) groups.insert(held.ranks);
-  const int running = static_cast<int>(groups.size());
+  const int running = static_cast<int>(first_of_group.size());
   const int next = static_cast<int>(running_.size()) - running;
   const int left = in_.total - done_ - failed_ - static_cast<int>(running_.size());
   std::ostringstream os;
