@@ -32,8 +32,28 @@ std::vector<double> exchange(MPI_Comm comm, const std::vector<std::vector<double
   return in;
 }
 
+namespace {
+// TUMBLE_HALO_NODE_RANKS=k in the environment: the halo takes each k consecutive ranks of a node
+// for a node of their own (0 or unset: the node as MPI sees it). On one machine this gives the
+// paths of many nodes, window and messages side by side on one rank, to tests and to a user
+// chasing a fault that shows only across nodes. Read on every rank; a value that is not a whole
+// number >= 0 is refused by name.
+int halo_node_ranks() {
+  const char* text = std::getenv("TUMBLE_HALO_NODE_RANKS");
+  if (text == nullptr || *text == '\0') return 0;
+  char* end = nullptr;
+  const long k = std::strtol(text, &end, 10);
+  if (*end != '\0' || k < 0 || k > 1 << 20)
+    throw std::invalid_argument("TUMBLE_HALO_NODE_RANKS = \"" + std::string(text) +
+                                "\": a whole number of ranks per node, 0 (the real nodes) to " +
+                                std::to_string(1 << 20));
+  return static_cast<int>(k);
+}
+}  // namespace
+
 Domain::Domain(MPI_Comm comm, const Box& root, double period_z, double rebalance_threshold)
     : root_(root), period_z_(period_z), threshold_(rebalance_threshold) {
+  const int node_ranks = halo_node_ranks();  // (before any communicator exists: it may throw)
   MPI_Comm_dup(comm, &comm_);
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
@@ -50,6 +70,14 @@ Domain::Domain(MPI_Comm comm, const Box& root, double period_z, double rebalance
   if (size_ > 1 && shared) {
     // (Every rank takes part: the split is collective over comm_.)
     MPI_Comm_split_type(comm_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node_comm_);
+    if (node_ranks > 0) {  // nodes of node_ranks ranks each, cut from the real ones
+      int node_rank = 0;
+      MPI_Comm_rank(node_comm_, &node_rank);
+      MPI_Comm part;
+      MPI_Comm_split(node_comm_, node_rank / node_ranks, node_rank, &part);
+      MPI_Comm_free(&node_comm_);
+      node_comm_ = part;
+    }
     MPI_Group all, node;
     MPI_Comm_group(comm_, &all);
     MPI_Comm_group(node_comm_, &node);

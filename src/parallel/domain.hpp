@@ -107,7 +107,8 @@ class Domain {
   // written) and the neighbour reads them from there, one copy instead of MPI's two plus its
   // polling. A collective between the halves (max_over_ranks: the step's rebuild test) is the
   // point after which the rows are there; without one end_refresh() waits at a barrier of the
-  // node. TUMBLE_REFRESH_MESSAGES=1 in the environment sends messages to every rank instead.
+  // node. TUMBLE_REFRESH_MESSAGES=1 in the environment sends messages to every rank instead;
+  // TUMBLE_HALO_NODE_RANKS=k takes each k ranks of a node for a node (tests of many nodes on one).
   void begin_refresh(Particles& p, std::size_t n_local, bool skip_frozen = false);
   void end_refresh(Particles& p, std::size_t n_local);
   // Collective, every step with Newton across borders (VerletList::set_newton): the force and

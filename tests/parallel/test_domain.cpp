@@ -190,9 +190,10 @@ TEST(Domain, EverySpringSurvivesTheMigrationNewtonOn) {
 }
 
 // The ghosts' refresh between ranks of one node goes through a shared window (Domain::
-// begin_refresh); with TUMBLE_REFRESH_MESSAGES=1 it goes by messages. Both give the same run to
-// the last bit: a stirred bed, 150 steps with rebuilds and re-bisections (so the window is laid
-// out again and grown while in use).
+// begin_refresh); with TUMBLE_REFRESH_MESSAGES=1 it goes by messages, and with
+// TUMBLE_HALO_NODE_RANKS=2 on 3 ranks both at once (ranks 0 and 1 share a window, rank 2 is a
+// node of its own). All give the same run to the last bit: a stirred bed, 150 steps with
+// rebuilds and re-bisections (so the window is laid out again and grown while in use).
 TEST(Domain, SharedWindowRefreshEqualsMessages) {
   const Scene s = tiny({"neighbor.skin=0.05", "parallel.rebalance_threshold=1.0"});
   const Particles bed = stirred_tiny_bed(s, 5);
@@ -200,19 +201,29 @@ TEST(Domain, SharedWindowRefreshEqualsMessages) {
   Simulation messages(s, share_of(bed, MPI_COMM_WORLD), biaxial(s), 0, 0, MPI_COMM_WORLD);
   unsetenv("TUMBLE_REFRESH_MESSAGES");
   Simulation shared(s, share_of(bed, MPI_COMM_WORLD), biaxial(s), 0, 0, MPI_COMM_WORLD);
+  setenv("TUMBLE_HALO_NODE_RANKS", "2", 1);
+  Simulation mixed(s, share_of(bed, MPI_COMM_WORLD), biaxial(s), 0, 0, MPI_COMM_WORLD);
+  unsetenv("TUMBLE_HALO_NODE_RANKS");
   messages.compute_forces();
   shared.compute_forces();
+  mixed.compute_forces();
   for (int k = 0; k < 150; ++k) {
     messages.step();
     shared.step();
+    mixed.step();
   }
   EXPECT_EQ(messages.domain()->shared_sources(), 0);
   EXPECT_GT(shared.domain()->shared_sources(), 0);  // (one node: every neighbour)
+  if (size_of(MPI_COMM_WORLD) == 3 && world_rank() == 2) {
+    EXPECT_EQ(mixed.domain()->shared_sources(), 0);
+  }
   EXPECT_GT(shared.rebuilds(), 10u);
   EXPECT_GT(shared.domain()->bisections(), 5);
-  const Particles a = messages.gather_all(), b = shared.gather_all();
+  const Particles a = messages.gather_all(), b = shared.gather_all(), c = mixed.gather_all();
   ASSERT_EQ(a.size(), b.size());
+  ASSERT_EQ(a.size(), c.size());
   EXPECT_EQ(motions_differing(a, b), 0u);
+  EXPECT_EQ(motions_differing(a, c), 0u);
 }
 
 // The thin halo of a size mixture (Domain::thin_halo: a small particle goes to another rank
