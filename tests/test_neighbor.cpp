@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <random>
 #include <set>
 
@@ -272,7 +274,7 @@ TEST(NearFilter, LanesReturnThePlainIndices) {
     radius[j] = 0.5 + 0.25 * u(rng);
   }
   const double xi[3] = {0.1, -0.2, 1.9};
-  x[3] = xi[0] + 1.0;  // candidate 1 exactly at the reach of 0.4 + 0.6
+  x[3] = xi[0] + 1.0;  // candidate 1 at the reach of (0.3 + 0.6) + 0.1
   x[4] = xi[1];
   x[5] = xi[2];
   radius[1] = 0.6;
@@ -282,9 +284,9 @@ TEST(NearFilter, LanesReturnThePlainIndices) {
       for (std::uint32_t hi = lo; hi <= lo + 40; ++hi) {
         std::vector<std::uint32_t> a(hi - lo + 4), b(hi - lo + 4);
         const std::size_t na = tumble::neighbor::near_filter_plain(x.data(), radius.data(), lo, hi,
-                                                                   xi, 0.4, period, a.data());
+                                                                   xi, 0.3, 0.1, period, a.data());
         const std::size_t nb = tumble::neighbor::near_filter_avx2(x.data(), radius.data(), lo, hi,
-                                                                  xi, 0.4, period, b.data());
+                                                                  xi, 0.3, 0.1, period, b.data());
         ASSERT_EQ(na, nb) << "lo " << lo << " hi " << hi << " period " << period;
         for (std::size_t k = 0; k < na; ++k) ASSERT_EQ(a[k], b[k]);
         found += na;
@@ -293,4 +295,61 @@ TEST(NearFilter, LanesReturnThePlainIndices) {
   }
   EXPECT_GT(found, tried / 10);  // both outcomes occur often
   EXPECT_LT(found, tried * 9 / 10);
+}
+
+// A pair is listed from both of its sides alike (two ranks each decide a border pair from their
+// own particle): pairs placed within a few ulps of the cutoff, random radii and skins, each
+// filter asked about j from i and about i from j. The cutoff summed as (r_i + skin) + r_j, the
+// order before, disagrees on some of the same pairs (counted here, so the test can fail).
+TEST(NearFilter, PairListedFromBothSidesAlike) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<tumble::neighbor::NearFilter> filters = {&tumble::neighbor::near_filter_plain};
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx2")) filters.push_back(&tumble::neighbor::near_filter_avx2);
+  long asymmetric = 0, listed = 0, old_asymmetric = 0;
+  const int pairs = 20000;
+  for (int k = 0; k < pairs; ++k) {
+    const double r[2] = {1e-3 * (0.5 + u(rng)), 1e-3 * (0.5 + u(rng))};
+    const double skin = 1e-3 * (0.01 + 0.5 * u(rng));
+    // j along a random direction at the cutoff, nudged by a few ulps either way
+    const double cut = (r[0] + r[1]) + skin;
+    double dir[3] = {u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5};
+    const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+    double dist = cut;
+    for (int n = static_cast<int>(u(rng) * 7) - 3; n != 0; n += n > 0 ? -1 : 1)
+      dist = std::nextafter(dist, n > 0 ? 1.0 : 0.0);
+    std::vector<double> x(24, 0.0), radius(8, 1e-3);  // two particles, room for a 4-lane load
+    for (int q = 0; q < 3; ++q) {
+      x[q] = 0.01 * (u(rng) - 0.5);
+      x[3 + q] = x[q] + dist * dir[q] / len;
+    }
+    radius[0] = r[0];
+    radius[1] = r[1];
+    for (int q = 6; q < 24; ++q) x[q] = 10.0 + q;  // particles 2-7 far away
+    for (const auto filter : filters) {
+      // Four candidates each way (the AVX2 filter's 4-lane path): 1-4 from 0, 0-3 from 1.
+      std::uint32_t out[8];
+      const std::size_t from_i =
+          filter(x.data(), radius.data(), 1, 5, x.data(), r[0], skin, 0.0, out);
+      const bool j_from_i = from_i > 0 && out[0] == 1;
+      const std::size_t from_j =
+          filter(x.data(), radius.data(), 0, 4, x.data() + 3, r[1], skin, 0.0, out);
+      const bool i_from_j = from_j > 0 && out[0] == 0;
+      asymmetric += j_from_i != i_from_j;
+      listed += j_from_i;
+    }
+    double d2 = 0;
+    for (int q = 0; q < 3; ++q) d2 += (x[q] - x[3 + q]) * (x[q] - x[3 + q]);
+    const double old_ij = (r[0] + skin) + r[1], old_ji = (r[1] + skin) + r[0];
+    old_asymmetric += (d2 < old_ij * old_ij) != (d2 < old_ji * old_ji);
+  }
+  EXPECT_EQ(asymmetric, 0);
+  EXPECT_GT(listed, pairs / 10);  // both outcomes occur
+  EXPECT_LT(listed, static_cast<long>(filters.size()) * pairs * 9 / 10);
+  EXPECT_GT(old_asymmetric, 0) << "no pair near enough the cutoff to tell the orders apart";
+  std::printf(
+      "[ symmetry ] %ld of %d pairs at the cutoff listed from one side only with "
+      "(r_i + skin) + r_j\n",
+      old_asymmetric, pairs);
 }

@@ -74,7 +74,7 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
   int ci, cj, ck;
   grid_.coords(grid_.cell_of(p.x[i]), ci, cj, ck);
   const Vec3 xi = p.x[i];
-  const double ri = p.radius[i] + skin_;
+  const double ri = p.radius[i];
   const double* x = &p.x.data()->x;
   // Room for `more` entries after the first `count` (the filter writes up to 4 beyond its hits).
   auto room = [&](std::size_t more) {
@@ -83,7 +83,7 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
   auto filter = [&](std::uint32_t lo, std::uint32_t hi) {
     if (lo >= hi) return;
     room(hi - lo + 4);
-    count += near_(x, p.radius.data(), lo, hi, &xi.x, ri, period_z_, nbr.data() + count);
+    count += near_(x, p.radius.data(), lo, hi, &xi.x, ri, skin_, period_z_, nbr.data() + count);
   };
   // Cells in increasing index order and particles in increasing order within a cell: each row
   // comes out sorted by partner index within each layer without a sort.
@@ -136,7 +136,7 @@ std::size_t VerletList::add_row(const Particles& p, std::size_t i, bool with_gho
             const std::uint32_t j = ghost_of_cell_[g];
             if (frozen_row && p.bulk_state[j] < 0) continue;
             room(1);
-            count += near_filter_plain(x, p.radius.data(), j, j + 1, &xi.x, ri, period_z_,
+            count += near_filter_plain(x, p.radius.data(), j, j + 1, &xi.x, ri, skin_, period_z_,
                                        nbr.data() + count);
           }
       }
