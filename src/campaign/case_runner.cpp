@@ -129,6 +129,13 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
           << (ranks > 1 ? "s" : "") << ", started " << out.start << std::endl;
     });
     if (!c.scene_error.empty()) throw InputError(c.scene_error);
+    if (lead && ctx.progress) {  // (until the protocol begins: bed, β)
+      CaseProgress preparing;
+      preparing.case_index = task.case_index;
+      preparing.attempt = task.attempt;
+      preparing.preparing = true;
+      ctx.progress(preparing);
+    }
     // β = "measured" is filled in first: the collection plan counts steps per iteration.
     const Scene scene =
         with_repose_resolved(case_scene(spec, c, dir, ctx.bed_cache, task.seed),
@@ -161,9 +168,13 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
     if (c.time_limit > 0) ro.observers.push_back(&time_limit);
     PollObserver poll(ctx.poll);
     if (ctx.poll) ro.observers.push_back(&poll);
+    if (lead && ctx.progress) {  // the protocol begins here (where a resumed case left off)
+      ctx.progress({task.case_index, task.attempt, false, decision[0], decision[0],
+                    scene.protocol_steps(), 0.0});
+    }
     if (lead && ctx.progress)  // with each of the run's progress lines
       ro.on_progress = [&](const RunState& s) {
-        ctx.progress({task.case_index, task.attempt, s.first_step, s.sim.step_count(),
+        ctx.progress({task.case_index, task.attempt, false, s.first_step, s.sim.step_count(),
                       s.total_steps,
                       std::chrono::duration<double>(Clock::now() - s.started).count()});
       };
@@ -253,6 +264,7 @@ std::string encode(const CaseProgress& p) {
   JsonWriter w;
   w.add("case_index", static_cast<long long>(p.case_index))
       .add("attempt", p.attempt)
+      .add("preparing", p.preparing ? 1 : 0)
       .add("first_step", static_cast<long long>(p.first_step))
       .add("step", static_cast<long long>(p.step))
       .add("total_steps", static_cast<long long>(p.total_steps))
@@ -265,6 +277,7 @@ bool decode(const std::string& line, CaseProgress& p) {
   if (!parse_json_line(line, j)) return false;
   p.case_index = static_cast<std::size_t>(j["case_index"].number);
   p.attempt = static_cast<int>(j["attempt"].number);
+  p.preparing = j["preparing"].number != 0;
   p.first_step = static_cast<std::int64_t>(j["first_step"].number);
   p.step = static_cast<std::int64_t>(j["step"].number);
   p.total_steps = static_cast<std::int64_t>(j["total_steps"].number);

@@ -40,9 +40,13 @@ struct CaseOutcome {
 // How far a running case has come: its group's leader reports it to the dispatcher every
 // progress interval (campaign.progress_interval) while the protocol runs, so that the campaign's
 // ETA rests on the running cases' own rates before any case has finished (a case may take days).
+// Also once when the case begins (`preparing`: it may first settle its bed and measure β, hours
+// on a paper-scale bed, which the protocol's steps do not count) and once when its protocol
+// begins (step = first_step, seconds 0).
 struct CaseProgress {
   std::size_t case_index = 0;
   int attempt = 1;
+  bool preparing = false;        // before the protocol: the steps below are 0
   std::int64_t first_step = 0;   // where this call of the run began (a resumed case: later than 0)
   std::int64_t step = 0;         // at the report
   std::int64_t total_steps = 0;  // the whole protocol

@@ -202,7 +202,14 @@ void Dispatcher::stop(int signal) {
 
 void Dispatcher::progress(const CaseProgress& p) {
   const auto it = running_.find(p.case_index);
-  if (it == running_.end() || it->second.task.attempt != p.attempt || p.total_steps <= 0) return;
+  if (it == running_.end() || it->second.task.attempt != p.attempt) return;
+  it->second.preparing = p.preparing;
+  if (p.preparing) {
+    it->second.recent.clear();
+    it->second.reported_at = Clock::now();
+    return;
+  }
+  if (p.total_steps <= 0) return;
   auto& recent = it->second.recent;
   if (!recent.empty() && recent.back().first_step != p.first_step) recent.clear();  // (a new call)
   recent.push_back(p);
@@ -249,6 +256,7 @@ void Dispatcher::line(const std::string& event, bool counts) {
     }
     EtaInput::Running r{c, since(held.handed), static_cast<int>(held.ranks.size())};
     r.point = ctx_.expansion->cases[idx].point_id;
+    r.preparing = held.preparing;
     if (!held.recent.empty()) {
       // The rate over the recent reports (from the call's start while there is one report).
       const CaseProgress &first = held.recent.front(), &last = held.recent.back();
@@ -272,8 +280,9 @@ void Dispatcher::line(const std::string& event, bool counts) {
   os << "done " << done_ << " | running " << running;
   // How far the running cases are (their leaders' last reports), in case order.
   std::string shares;
-  int reported = 0;
-  for (const auto& [idx, held] : running_)
+  int reported = 0, preparing = 0;
+  for (const auto& [idx, held] : running_) {
+    preparing += held.preparing;
     if (!held.recent.empty()) {
       ++reported;
       std::ostringstream one;
@@ -283,7 +292,15 @@ void Dispatcher::line(const std::string& event, bool counts) {
           << "%";
       shares += (shares.empty() ? "" : ", ") + one.str();
     }
-  if (reported > 0) os << " (" << shares << (reported == 1 ? " of its steps)" : " of their steps)");
+  }
+  // (A case preparing settles its bed or measures β before its protocol's first step.)
+  if (reported > 0 || preparing > 0) {
+    os << " (";
+    if (reported > 0) os << shares << (reported == 1 ? " of its steps" : " of their steps");
+    if (reported > 0 && preparing > 0) os << "; ";
+    if (preparing > 0) os << preparing << " preparing";
+    os << ")";
+  }
   if (next > 0) os << " | next " << next;
   os << " | failed " << failed_ << " | left " << left << " of " << in_.total << " | elapsed "
      << format_hms(since(t0_)) << " | ETA " << format_hms(eta);

@@ -72,6 +72,7 @@ class Dispatcher {
     // few progress intervals rather than averaging the whole call), and when the last came.
     std::deque<CaseProgress> recent;
     Clock::time_point reported_at;
+    bool preparing = false;  // it said so and its protocol has not begun (bed, β)
   };
   std::map<std::size_t, Held> running_;  // case index -> who runs it
   int done_ = 0, failed_ = 0, stop_signal_ = 0;

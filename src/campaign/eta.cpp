@@ -45,7 +45,12 @@ double estimate_eta(const EtaInput& in) {
       continue;
     }
     const double p = rate(r.point);
-    const double rest = std::max(0.0, r.cost - p * k * r.age);
+    // A case whose protocol began (reported once, no rate of its own yet) is credited from its
+    // share done at that report; one that did not report, with its age.
+    const double rest = r.preparing ? r.cost
+                        : r.reported
+                            ? std::max(0.0, r.cost * (1 - r.done_share) - p * k * r.since_report)
+                            : std::max(0.0, r.cost - p * k * r.age);
     rank_seconds += rest / p;
     longest = std::max(longest, rest / (p * k));
   }

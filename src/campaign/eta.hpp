@@ -28,6 +28,9 @@ struct EtaInput {
     bool reported = false;
     double done_share = 0, call_share = 0, call_seconds = 0, since_report = 0;
     std::string point = {};  // its point's id ("": charged at the common rate)
+    // It said it is preparing (settling its bed, measuring β) and its protocol has not begun:
+    // none of its cost is done, whatever its age (the preparation is not in the cost model).
+    bool preparing = false;
   };
   std::vector<Running> running;
   double queued_cost = 0;                         // cost of the cases not started yet, no point

@@ -197,18 +197,20 @@ def compare_ensembles(a, b, tol):
 def running_within_groups(out, text, groups, expect_held=False):
     """Every progress line counts at most one running case per group (a group's next case, held
     while it finishes the last, is "next"), and the counts add up to the total; the running cases'
-    shares of their steps, where they reported, are no more than the running cases and within
-    0-100%; every held case gets its own "start" line later (expect_held: and there is at least
+    shares of their steps, where they reported, and the cases preparing (bed, beta) are no more
+    than the running cases, the shares within 0-100%; every held case gets its own "start" line later (expect_held: and there is at least
     one)."""
     seen = 0
     for m in re.finditer(r"\[campaign\] done (\d+) \| running (\d+)(?: \(([^)]*)\))?"
                          r"(?: \| next (\d+))? \| failed (\d+) \| left (\d+) of (\d+)", text):
         shares = [float(x) for x in re.findall(r"([0-9.]+)%", m.group(3) or "")]
+        preparing = re.search(r"(\d+) preparing", m.group(3) or "")
+        preparing = int(preparing.group(1)) if preparing else 0
         done, running, nxt, failed, left, total = (int(m.group(k) or 0) for k in (1, 2, 4, 5, 6, 7))
         seen += 1
         if running > groups or done + running + nxt + failed + left != total:
             fail("%s: progress line '%s' (%d groups)" % (out, m.group(0), groups))
-        if len(shares) > running or any(not 0 <= x <= 100 for x in shares):
+        if len(shares) + preparing > running or any(not 0 <= x <= 100 for x in shares):
             fail("%s: progress line '%s': shares of the running cases' steps" % (out, m.group(0)))
     if not seen:
         fail("%s: no progress line" % out)

@@ -1,8 +1,10 @@
 """campaign.mpi2_progress_eta: a campaign's ETA before any case has finished.
 
 Two cases on 2 ranks (groups of 1: rank 0 computes one and dispatches, rank 1 computes the other
-and reports to rank 0 by message), a progress line every second. Checks, on the lines before the
-first case ends: at least one line gives an ETA (not --:--:--) and the progress of both running
+and reports to rank 0 by message), a progress line every second, an empty bed cache and a
+measured beta, so that both cases begin by preparing (settling the bed, measuring beta). Checks,
+on the lines before the first case ends: lines with both cases preparing come before any share
+of a protocol, at least one line gives an ETA (not --:--:--) and the progress of both running
 cases (both reporting paths: rank 0's own case and a remote leader's), and the shares only grow;
 the campaign then ends with both cases done."""
 import argparse
@@ -20,6 +22,7 @@ ap.add_argument("--campaign", required=True)
 a = ap.parse_args()
 
 shutil.rmtree("ci_eta", ignore_errors=True)
+shutil.rmtree("beds_eta", ignore_errors=True)
 cmd = cc.mpiexec_command(a.mpiexec, a.np_flag, 2) + [a.tumble, "campaign", a.campaign]
 print(" ".join(cmd), flush=True)
 run = subprocess.run(cmd, capture_output=True, text=True)
@@ -33,6 +36,14 @@ for line in run.stdout.splitlines():
     if line.startswith("[campaign] done: "):
         break
     before_first_end.append(line)
+progress = [l for l in before_first_end if re.search(r"\| running \d", l)]
+preparing = [k for k, l in enumerate(progress) if "running 2 (2 preparing)" in l]
+with_share = [k for k, l in enumerate(progress) if "%" in l.split("| failed")[0]]
+if not preparing:
+    cc.fail("no progress line with both cases preparing (bed, beta)")
+if with_share and min(with_share) < max(preparing):
+    cc.fail("a line with both cases preparing after a protocol's share: %s"
+            % progress[max(preparing)])
 both = [l for l in before_first_end if re.search(r"running 2 \([0-9.]+%, [0-9.]+% of their steps\)", l)]
 timed = [l for l in both if "ETA --:--:--" not in l and re.search(r"ETA \d+:\d\d:\d\d", l)]
 if not timed:
@@ -43,5 +54,5 @@ for prev, cur in zip(shares, shares[1:]):
         cc.fail("a running case's share went back: %s then %s" % (prev, cur))
 if run.stdout.count("[campaign] done: ") != 2:
     cc.fail("expected both cases done")
-print("OK: %d lines with both shares before the first case ended, %d of them with an ETA; "
-      "first: %s" % (len(both), len(timed), timed[0]))
+print("OK: %d lines with both cases preparing, then %d with both shares before the first case "
+      "ended, %d of them with an ETA; first: %s" % (len(preparing), len(both), len(timed), timed[0]))

@@ -153,5 +153,30 @@ TEST(Eta, EachPointAtItsOwnRate) {
   EXPECT_NEAR(estimate_eta(in), 900 + 60, 1e-9);
 }
 
+// A case that says it is preparing (settling its bed, measuring β: hours on a paper-scale bed,
+// outside the cost model) has done none of its protocol, whatever its age; once its protocol
+// begins (one report at its first step, no rate of its own yet) it is credited from its share
+// at that report. One case done in 1000 s (cost 1), one rank.
+TEST(Eta, PreparingCaseHasDoneNoneOfItsCost) {
+  EtaInput in;
+  in.ranks = 1;
+  in.done_cost = 1;
+  in.done_rank_seconds = 1000;
+  EtaInput::Running case_{1, 600};  // without a word: credited with 600 s of its 1000
+  in.running = {case_};
+  EXPECT_NEAR(estimate_eta(in), 400, 1e-9);
+  in.running[0].preparing = true;  // preparing for 600 s: all of it left
+  EXPECT_NEAR(estimate_eta(in), 1000, 1e-9);
+  // Its protocol began 100 s ago at step 0 (a fresh case): 900 s left, its 600 s of
+  // preparation not counted as protocol.
+  in.running[0].preparing = false;
+  in.running[0].reported = true;
+  in.running[0].since_report = 100;
+  EXPECT_NEAR(estimate_eta(in), 900, 1e-9);
+  // A resumed case whose protocol began at 40% 100 s ago: 600 - 100 s left.
+  in.running[0].done_share = 0.4;
+  EXPECT_NEAR(estimate_eta(in), 500, 1e-9);
+}
+
 }  // namespace
 }  // namespace tumble::campaign
