@@ -298,16 +298,18 @@ TEST(NearFilter, LanesReturnThePlainIndices) {
 }
 
 // A pair is listed from both of its sides alike (two ranks each decide a border pair from their
-// own particle): pairs placed within a few ulps of the cutoff, random radii and skins, each
-// filter asked about j from i and about i from j. The cutoff summed as (r_i + skin) + r_j, the
-// order before, disagrees on some of the same pairs (counted here, so the test can fail).
+// own particle, possibly in different paths of the filter): pairs placed within a few ulps of
+// the cutoff, random radii and skins, j asked about from i and i from j in every path (plain,
+// AVX2's four lanes, AVX2's one-at-a-time remainder): all answers agree. The cutoff summed as
+// (r_i + skin) + r_j, the order before, disagrees on some of the same pairs (counted here, so
+// the test can fail).
 TEST(NearFilter, PairListedFromBothSidesAlike) {
   std::mt19937_64 rng(29);
   std::uniform_real_distribution<double> u(0, 1);
   std::vector<tumble::neighbor::NearFilter> filters = {&tumble::neighbor::near_filter_plain};
   __builtin_cpu_init();
   if (__builtin_cpu_supports("avx2")) filters.push_back(&tumble::neighbor::near_filter_avx2);
-  long asymmetric = 0, listed = 0, old_asymmetric = 0;
+  long asymmetric = 0, listed = 0, asked = 0, old_asymmetric = 0;
   const int pairs = 20000;
   for (int k = 0; k < pairs; ++k) {
     const double r[2] = {1e-3 * (0.5 + u(rng)), 1e-3 * (0.5 + u(rng))};
@@ -327,26 +329,32 @@ TEST(NearFilter, PairListedFromBothSidesAlike) {
     radius[0] = r[0];
     radius[1] = r[1];
     for (int q = 6; q < 24; ++q) x[q] = 10.0 + q;  // particles 2-7 far away
+    // Every answer, each way: ranges of four candidates (AVX2: its lanes) and of one (its
+    // remainder); j's index is 1 (from i), i's is 0 (from j).
+    std::vector<bool> answers;
     for (const auto filter : filters) {
-      // Four candidates each way (the AVX2 filter's 4-lane path): 1-4 from 0, 0-3 from 1.
       std::uint32_t out[8];
-      const std::size_t from_i =
+      const std::size_t four_from_i =
           filter(x.data(), radius.data(), 1, 5, x.data(), r[0], skin, 0.0, out);
-      const bool j_from_i = from_i > 0 && out[0] == 1;
-      const std::size_t from_j =
+      answers.push_back(four_from_i > 0 && out[0] == 1);
+      answers.push_back(filter(x.data(), radius.data(), 1, 2, x.data(), r[0], skin, 0.0, out) > 0);
+      const std::size_t four_from_j =
           filter(x.data(), radius.data(), 0, 4, x.data() + 3, r[1], skin, 0.0, out);
-      const bool i_from_j = from_j > 0 && out[0] == 0;
-      asymmetric += j_from_i != i_from_j;
-      listed += j_from_i;
+      answers.push_back(four_from_j > 0 && out[0] == 0);
+      answers.push_back(filter(x.data(), radius.data(), 0, 1, x.data() + 3, r[1], skin, 0.0, out) >
+                        0);
     }
+    for (const bool a : answers) asymmetric += a != answers[0];
+    listed += answers[0];
+    asked += 1;
     double d2 = 0;
     for (int q = 0; q < 3; ++q) d2 += (x[q] - x[3 + q]) * (x[q] - x[3 + q]);
     const double old_ij = (r[0] + skin) + r[1], old_ji = (r[1] + skin) + r[0];
     old_asymmetric += (d2 < old_ij * old_ij) != (d2 < old_ji * old_ji);
   }
   EXPECT_EQ(asymmetric, 0);
-  EXPECT_GT(listed, pairs / 10);  // both outcomes occur
-  EXPECT_LT(listed, static_cast<long>(filters.size()) * pairs * 9 / 10);
+  EXPECT_GT(listed, asked / 10);  // both outcomes occur
+  EXPECT_LT(listed, asked * 9 / 10);
   EXPECT_GT(old_asymmetric, 0) << "no pair near enough the cutoff to tell the orders apart";
   std::printf(
       "[ symmetry ] %ld of %d pairs at the cutoff listed from one side only with "

@@ -142,7 +142,10 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
                                               s.rebalance_threshold);
     if (s.bulk == Bulk::rigid) dom_->weigh_frozen(s.frozen_weight);
     halo_reach_ = 2 * rmax + skin;
-    ghost_reach_ = rmax + skin;
+    // (A margin of 1e-9: the halo's test r_j + (r_max + skin) against a box and the list's
+    // (r_i + r_j) + skin against a particle round apart by an ulp; with it a pair at the cutoff
+    // never lacks its ghost. The extra ghosts are in no pair.)
+    ghost_reach_ = (rmax + skin) * (1 + 1e-9);
     // A size mixture: the particles no wider than the geometric mean of the smallest and the
     // largest radius go out with a thinner halo (Domain::thin_halo; in an R = 2 bed the small
     // ones' 1.6 d_small becomes 1.1 d_small, where no large one is near).

@@ -36,27 +36,35 @@ namespace {
 // TUMBLE_HALO_NODE_RANKS=k in the environment: the halo takes each k consecutive ranks of a node
 // for a node of their own (0 or unset: the node as MPI sees it). On one machine this gives the
 // paths of many nodes, window and messages side by side on one rank, to tests and to a user
-// chasing a fault that shows only across nodes. Read on every rank; a value that is not a whole
-// number >= 0 is refused by name.
+// chasing a fault that shows only across nodes. -1: not a whole number from 0 to 2^20.
+constexpr int kMaxNodeRanks = 1 << 20;
 int halo_node_ranks() {
   const char* text = std::getenv("TUMBLE_HALO_NODE_RANKS");
   if (text == nullptr || *text == '\0') return 0;
   char* end = nullptr;
   const long k = std::strtol(text, &end, 10);
-  if (*end != '\0' || k < 0 || k > 1 << 20)
-    throw std::invalid_argument("TUMBLE_HALO_NODE_RANKS = \"" + std::string(text) +
-                                "\": a whole number of ranks per node, 0 (the real nodes) to " +
-                                std::to_string(1 << 20));
-  return static_cast<int>(k);
+  return *end != '\0' || k < 0 || k > kMaxNodeRanks ? -1 : static_cast<int>(k);
 }
 }  // namespace
 
 Domain::Domain(MPI_Comm comm, const Box& root, double period_z, double rebalance_threshold)
     : root_(root), period_z_(period_z), threshold_(rebalance_threshold) {
-  const int node_ranks = halo_node_ranks();  // (before any communicator exists: it may throw)
   MPI_Comm_dup(comm, &comm_);
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
+  // Every rank must split alike (the split is collective): a bad value, or ranks that see
+  // different ones, is refused on all of them (freeing what the destructor will not).
+  const int node_ranks = halo_node_ranks();
+  int range[2] = {node_ranks, -node_ranks};
+  MPI_Allreduce(MPI_IN_PLACE, range, 2, MPI_INT, MPI_MIN, comm_);
+  if (range[0] < 0 || range[0] != -range[1]) {
+    MPI_Comm_free(&comm_);
+    const char* text = std::getenv("TUMBLE_HALO_NODE_RANKS");
+    throw std::invalid_argument(
+        "TUMBLE_HALO_NODE_RANKS = \"" + std::string(text ? text : "") +
+        "\": must be a whole number of ranks per node, 0 (the nodes MPI reports) to " +
+        std::to_string(kMaxNodeRanks) + ", the same on every rank");
+  }
   send_.resize(size_);
   recv_rows_.assign(size_, 0);
   write_at_.assign(size_, 0);

@@ -2,8 +2,8 @@
 // refresh and, with Newton across borders, their force sums going back. Between ranks of one node
 // both go through a shared window with two buffers used in turns and a collective or a barrier
 // of the node as the only ordering, so a missing barrier shows only when one rank runs behind
-// the others (an engine run keeps the ranks in step and would likely pass). Here one rank at a
-// time sleeps at one of the five points of a step, and every value read must be that step's.
+// the others. Here one rank at a
+// time sleeps at one of the six points of a step, and every value read must be that step's.
 // The same under three layouts of the ranks on nodes: one node (the window between all), one
 // node per rank (messages only) and, on 3 ranks, nodes of two (TUMBLE_HALO_NODE_RANKS=2: rank 1
 // reads rank 0 from the window and rank 2 from messages in the same step).
@@ -59,7 +59,8 @@ struct Faults {
 };
 
 // `steps` steps on a fixed halo of the refresh and, with `newton`, the sums going back; at step
-// k rank k % size sleeps 0.2-2 ms at one of six points (before the refresh, on either side of
+// k rank k % size sleeps 1-5 ms (long enough for the others to be scheduled on a loaded,
+// oversubscribed machine) at one of six points (before the refresh, on either side of
 // the collective between its halves, before the reverse, between its halves, after it). Even
 // steps call the collective that stands for the engine's rebuild test between the refresh's
 // halves; odd steps leave end_refresh its own barrier. Without Newton that collective is the
@@ -78,7 +79,7 @@ Faults run_late_ranks(int steps, bool newton) {
   Faults out;
   std::vector<long> first_holders(n, -1);
   std::mt19937 rng(23);  // the same stream on every rank: all agree on who sleeps where
-  std::uniform_int_distribution<int> point(0, 5), micros(200, 2000);
+  std::uniform_int_distribution<int> point(0, newton ? 5 : 2), micros(1000, 5000);
   for (int k = 0; k < steps; ++k) {
     const int late_point = point(rng), late_us = micros(rng);
     auto maybe_late = [&](int here) {
@@ -158,7 +159,7 @@ void expect_no_faults(const Faults& f) {
 // Each layout with Newton across borders (refresh and sums) and without (refresh only).
 void late_ranks_in_layout(const char* node_ranks) {
   if (node_ranks) setenv("TUMBLE_HALO_NODE_RANKS", node_ranks, 1);
-  const Faults with = run_late_ranks(300, true), without = run_late_ranks(300, false);
+  const Faults with = run_late_ranks(200, true), without = run_late_ranks(200, false);
   unsetenv("TUMBLE_HALO_NODE_RANKS");
   expect_no_faults(with);
   expect_no_faults(without);
@@ -174,7 +175,10 @@ TEST(HaloWindow, LateRankNodesOfTwoRanks) { late_ranks_in_layout("2"); }
 TEST(HaloWindow, NodeLayoutsDecideWhatGoesThroughTheWindow) {
   const int size = size_of(MPI_COMM_WORLD);
   const long one_node = shared_sources_with(nullptr, nullptr);
-  EXPECT_EQ(one_node, size * (size - 1)) << "every rank neighbours every other on this lattice";
+  if (size <= 4) {  // (RCB's cuts of the cube: more ranks leave some apart)
+    EXPECT_EQ(one_node, size * (size - 1)) << "every rank neighbours every other on this lattice";
+  }
+  EXPECT_GT(one_node, 0);
   EXPECT_EQ(shared_sources_with("1", nullptr), 0);
   EXPECT_EQ(shared_sources_with(nullptr, "1"), 0);
   EXPECT_EQ(shared_sources_with("0", nullptr), one_node);
@@ -186,8 +190,11 @@ TEST(HaloWindow, NodeLayoutsDecideWhatGoesThroughTheWindow) {
   }
 }
 
+// A bad value, or ranks that see different values (a split of the node that would hang), is
+// refused on every rank.
 TEST(HaloWindow, BadNodeRanksRefusedByName) {
-  for (const char* bad : {"-1", "two", "2x", "99999999"}) {
+  const std::string differ = world_rank() == 0 ? "2" : "1";
+  for (const char* bad : {"-1", "two", "2x", "99999999", differ.c_str()}) {
     setenv("TUMBLE_HALO_NODE_RANKS", bad, 1);
     try {
       parallel::Domain dom(MPI_COMM_WORLD, parallel::Box{{-1, -1, -1}, {1, 1, 1}}, 0, 1.1);
