@@ -129,13 +129,7 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
           << (ranks > 1 ? "s" : "") << ", started " << out.start << std::endl;
     });
     if (!c.scene_error.empty()) throw InputError(c.scene_error);
-    if (lead && ctx.progress) {  // (until the protocol begins: bed, β)
-      CaseProgress preparing;
-      preparing.case_index = task.case_index;
-      preparing.attempt = task.attempt;
-      preparing.preparing = true;
-      ctx.progress(preparing);
-    }
+    if (lead && ctx.progress) ctx.progress({task.case_index, task.attempt, true});  // bed, β
     // β = "measured" is filled in first: the collection plan counts steps per iteration.
     const Scene scene =
         with_repose_resolved(case_scene(spec, c, dir, ctx.bed_cache, task.seed),
@@ -168,16 +162,17 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
     if (c.time_limit > 0) ro.observers.push_back(&time_limit);
     PollObserver poll(ctx.poll);
     if (ctx.poll) ro.observers.push_back(&poll);
-    if (lead && ctx.progress) {  // the protocol begins here (where a resumed case left off)
+    if (lead && ctx.progress) {
+      // The protocol begins here (where a resumed case left off), then a report with each of
+      // the run's progress lines.
       ctx.progress({task.case_index, task.attempt, false, decision[0], decision[0],
                     scene.protocol_steps(), 0.0});
-    }
-    if (lead && ctx.progress)  // with each of the run's progress lines
       ro.on_progress = [&](const RunState& s) {
         ctx.progress({task.case_index, task.attempt, false, s.first_step, s.sim.step_count(),
                       s.total_steps,
                       std::chrono::duration<double>(Clock::now() - s.started).count()});
       };
+    }
     const std::unique_ptr<Observer> fault = fault_injection_for(c.id);
     if (fault) ro.observers.push_back(fault.get());
     (void)run_realization(scene, ro);

@@ -52,12 +52,15 @@ Domain::Domain(MPI_Comm comm, const Box& root, double period_z, double rebalance
   MPI_Comm_dup(comm, &comm_);
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
-  // Every rank must split alike (the split is collective): a bad value, or ranks that see
-  // different ones, is refused on all of them (freeing what the destructor will not).
+  // The environment's halo settings, agreed by all ranks in one reduction: the window if every
+  // rank may use it; the node split only if every rank asks for the same (the split is
+  // collective), else refused on all of them (freeing what the destructor will not).
+  const char* messages = std::getenv("TUMBLE_REFRESH_MESSAGES");
   const int node_ranks = halo_node_ranks();
-  int range[2] = {node_ranks, -node_ranks};
-  MPI_Allreduce(MPI_IN_PLACE, range, 2, MPI_INT, MPI_MIN, comm_);
-  if (range[0] < 0 || range[0] != -range[1]) {
+  int agreed[3] = {messages && std::string(messages) == "1" ? 0 : 1, node_ranks, -node_ranks};
+  MPI_Allreduce(MPI_IN_PLACE, agreed, 3, MPI_INT, MPI_MIN, comm_);
+  const int shared = agreed[0];
+  if (agreed[1] < 0 || agreed[1] != -agreed[2]) {
     MPI_Comm_free(&comm_);
     const char* text = std::getenv("TUMBLE_HALO_NODE_RANKS");
     throw std::invalid_argument(
@@ -72,9 +75,6 @@ Domain::Domain(MPI_Comm comm, const Box& root, double period_z, double rebalance
   reverse_write_at_.assign(size_, kNoOffset);
   reverse_read_at_.assign(size_, nullptr);
   node_rank_.assign(size_, -1);
-  const char* messages = std::getenv("TUMBLE_REFRESH_MESSAGES");
-  int shared = messages && std::string(messages) == "1" ? 0 : 1;
-  MPI_Allreduce(MPI_IN_PLACE, &shared, 1, MPI_INT, MPI_MIN, comm_);  // all ranks alike
   if (size_ > 1 && shared) {
     // (Every rank takes part: the split is collective over comm_.)
     MPI_Comm_split_type(comm_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node_comm_);

@@ -43,6 +43,20 @@ Particles lattice(int n) {
   return p;
 }
 
+const parallel::Box kCube{{-1, -1, -1}, {1, 1, 1}};
+
+// The lattice handed to its owners with a halo of reach 0.3 in which every ghost is refreshed
+// (and sends its sums back); returns the owned count.
+std::size_t lattice_with_halo(parallel::Domain& dom, Particles& p) {
+  p = lattice(12);
+  std::vector<neighbor::SavedSpring> records;
+  dom.distribute(p, records, 0.3, 3);
+  const std::size_t n = p.size();
+  dom.exchange_ghosts(p, n, 0.3);
+  dom.keep_used_ghosts(nullptr);
+  return n;
+}
+
 // What an owner writes into its particle's motion at step k, and what a rank holding it as a
 // ghost adds to its force at step k: no two steps alike, so a row of another step is seen.
 Vec3 velocity_at(std::int64_t id, int k) {
@@ -67,14 +81,10 @@ struct Faults {
 // step's only meeting of the ranks: what keeps a fast rank's next rows from a late reader is
 // the second buffer.
 Faults run_late_ranks(int steps, bool newton) {
-  Particles p = lattice(12);
-  parallel::Domain dom(MPI_COMM_WORLD, parallel::Box{{-1, -1, -1}, {1, 1, 1}}, 0, 1.1);
+  parallel::Domain dom(MPI_COMM_WORLD, kCube, 0, 1.1);
   dom.reverse_through_window(newton);
-  std::vector<neighbor::SavedSpring> records;
-  dom.distribute(p, records, 0.3, 3);
-  const std::size_t n = p.size();
-  dom.exchange_ghosts(p, n, 0.3);
-  dom.keep_used_ghosts(nullptr);  // every ghost refreshed, every ghost's sum sent back
+  Particles p;
+  const std::size_t n = lattice_with_halo(dom, p);
   const int rank = world_rank(), size = size_of(MPI_COMM_WORLD);
   Faults out;
   std::vector<long> first_holders(n, -1);
@@ -135,12 +145,9 @@ Faults run_late_ranks(int steps, bool newton) {
 long shared_sources_with(const char* node_ranks, const char* messages) {
   if (node_ranks) setenv("TUMBLE_HALO_NODE_RANKS", node_ranks, 1);
   if (messages) setenv("TUMBLE_REFRESH_MESSAGES", messages, 1);
-  Particles p = lattice(12);
-  parallel::Domain dom(MPI_COMM_WORLD, parallel::Box{{-1, -1, -1}, {1, 1, 1}}, 0, 1.1);
-  std::vector<neighbor::SavedSpring> records;
-  dom.distribute(p, records, 0.3, 3);
-  dom.exchange_ghosts(p, p.size(), 0.3);
-  dom.keep_used_ghosts(nullptr);
+  parallel::Domain dom(MPI_COMM_WORLD, kCube, 0, 1.1);
+  Particles p;
+  (void)lattice_with_halo(dom, p);
   unsetenv("TUMBLE_HALO_NODE_RANKS");
   unsetenv("TUMBLE_REFRESH_MESSAGES");
   long shared = dom.shared_sources();
@@ -197,7 +204,7 @@ TEST(HaloWindow, BadNodeRanksRefusedByName) {
   for (const char* bad : {"-1", "two", "2x", "99999999", differ.c_str()}) {
     setenv("TUMBLE_HALO_NODE_RANKS", bad, 1);
     try {
-      parallel::Domain dom(MPI_COMM_WORLD, parallel::Box{{-1, -1, -1}, {1, 1, 1}}, 0, 1.1);
+      parallel::Domain dom(MPI_COMM_WORLD, kCube, 0, 1.1);
       ADD_FAILURE() << "accepted TUMBLE_HALO_NODE_RANKS=" << bad;
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find("TUMBLE_HALO_NODE_RANKS"), std::string::npos);
