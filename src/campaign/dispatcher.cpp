@@ -282,6 +282,9 @@ void Dispatcher::line(const std::string& event, bool counts) {
   std::string shares;
   int reported = 0, preparing = 0;
   for (const auto& [idx, held] : running_) {
+    // (Only the cases running: a held case's leader may report before its group's last result
+    // is in, since the two come with different tags.)
+    if (first_of_group.at(held.ranks) != idx) continue;
     preparing += held.preparing;
     if (!held.recent.empty()) {
       ++reported;
