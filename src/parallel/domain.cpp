@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "base/error.hpp"
 #include "parallel/particle_pack.hpp"
 #include "parallel/wide_bins.hpp"
 
@@ -63,7 +64,7 @@ Domain::Domain(MPI_Comm comm, const Box& root, double period_z, double rebalance
   if (agreed[1] < 0 || agreed[1] != -agreed[2]) {
     MPI_Comm_free(&comm_);
     const char* text = std::getenv("TUMBLE_HALO_NODE_RANKS");
-    throw std::invalid_argument(
+    throw InputError(  // (a campaign fails the case once, as bad input: no retry helps)
         "TUMBLE_HALO_NODE_RANKS = \"" + std::string(text ? text : "") +
         "\": must be a whole number of ranks per node, 0 (the nodes MPI reports) to " +
         std::to_string(kMaxNodeRanks) + ", the same on every rank");

@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "base/error.hpp"
 #include "parallel/domain.hpp"
 #include "parallel_helpers.hpp"
 
@@ -198,7 +199,7 @@ TEST(HaloWindow, NodeLayoutsDecideWhatGoesThroughTheWindow) {
 }
 
 // A bad value, or ranks that see different values (a split of the node that would hang), is
-// refused on every rank.
+// refused on every rank, as bad input (a campaign does not retry it).
 TEST(HaloWindow, BadNodeRanksRefusedByName) {
   const std::string differ = world_rank() == 0 ? "2" : "1";
   for (const char* bad : {"-1", "two", "2x", "99999999", differ.c_str()}) {
@@ -206,7 +207,7 @@ TEST(HaloWindow, BadNodeRanksRefusedByName) {
     try {
       parallel::Domain dom(MPI_COMM_WORLD, kCube, 0, 1.1);
       ADD_FAILURE() << "accepted TUMBLE_HALO_NODE_RANKS=" << bad;
-    } catch (const std::invalid_argument& e) {
+    } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("TUMBLE_HALO_NODE_RANKS"), std::string::npos);
     }
   }
