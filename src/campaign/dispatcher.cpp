@@ -194,7 +194,10 @@ void Dispatcher::stop(int signal) {
   stats_.not_started = static_cast<int>(queue_.size());
   queue_.clear();
   not_before_.clear();
-  const std::size_t n = running_.size();
+  // (Groups, not entries: a case held next in line ends "not begun".)
+  std::set<std::vector<int>> groups;
+  for (const auto& [idx, held] : running_) groups.insert(held.ranks);
+  const std::size_t n = groups.size();
   line(signal_name(signal) + ": stopping; no case starts any more, " +
        (n == 1 ? std::string("the running case ends") : std::to_string(n) + " running cases end") +
        " at the next neighbour rebuild with a checkpoint; rerun the same command to go on");
