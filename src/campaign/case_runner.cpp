@@ -162,17 +162,12 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
     if (c.time_limit > 0) ro.observers.push_back(&time_limit);
     PollObserver poll(ctx.poll);
     if (ctx.poll) ro.observers.push_back(&poll);
-    if (lead && ctx.progress) {
-      // The protocol begins here (where a resumed case left off), then a report with each of
-      // the run's progress lines.
-      ctx.progress({task.case_index, task.attempt, false, decision[0], decision[0],
-                    scene.protocol_steps(), 0.0});
+    if (lead && ctx.progress)  // when the protocol loop begins, then with each progress line
       ro.on_progress = [&](const RunState& s) {
         ctx.progress({task.case_index, task.attempt, false, s.first_step, s.sim.step_count(),
                       s.total_steps,
                       std::chrono::duration<double>(Clock::now() - s.started).count()});
       };
-    }
     const std::unique_ptr<Observer> fault = fault_injection_for(c.id);
     if (fault) ro.observers.push_back(fault.get());
     (void)run_realization(scene, ro);

@@ -278,6 +278,9 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
 
   // The run loop.
   s.started = Clock::now();
+  // The caller hears that the protocol begins (where a restart left off) now, after the bed or
+  // checkpoint is loaded: a campaign's ETA credits the case's rate from here, not its setup.
+  if (s.log && opt.on_progress) opt.on_progress(s);
   while (sim->step_count() < s.end_step) {
     const std::int64_t next = sim->step_count() + 1;
     for (Observer* o : observers) o->before_step(s, next);

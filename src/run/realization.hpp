@@ -28,8 +28,9 @@ struct RunOptions {
   // its snapshots and checkpoints (so a checkpoint never runs ahead of their saved state).
   // On a decomposed run every rank passes its own instances (run/observer.hpp).
   std::vector<Observer*> observers;
-  // Called on the run's rank 0 with each progress line (a campaign case's leader reports to the
-  // dispatcher from it); empty: nothing beyond the line.
+  // Called on the run's rank 0 when the protocol loop begins (its first step not yet taken)
+  // and with each progress line (a campaign case's leader reports to the dispatcher from it);
+  // empty: nothing beyond the line.
   std::function<void(const RunState&)> on_progress;
   // The ranks that run this realization together (domain decomposition); MPI_COMM_NULL or one
   // rank: serial. Every rank of `comm` calls run_realization with the same scene and options.
