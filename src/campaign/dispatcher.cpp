@@ -194,10 +194,7 @@ void Dispatcher::stop(int signal) {
   stats_.not_started = static_cast<int>(queue_.size());
   queue_.clear();
   not_before_.clear();
-  // (Groups, not entries: a case held next in line ends "not begun".)
-  std::set<std::vector<int>> groups;
-  for (const auto& [idx, held] : running_) groups.insert(held.ranks);
-  const std::size_t n = groups.size();
+  const std::size_t n = running_cases().size();  // (a case held next in line ends "not begun")
   line(signal_name(signal) + ": stopping; no case starts any more, " +
        (n == 1 ? std::string("the running case ends") : std::to_string(n) + " running cases end") +
        " at the next neighbour rebuild with a checkpoint; rerun the same command to go on");
@@ -218,6 +215,15 @@ void Dispatcher::progress(const CaseProgress& p) {
   recent.push_back(p);
   if (recent.size() > kRecentReports) recent.pop_front();
   it->second.reported_at = Clock::now();
+}
+
+std::map<std::vector<int>, std::size_t> Dispatcher::running_cases() const {
+  std::map<std::vector<int>, std::size_t> first_of_group;
+  for (const auto& [idx, held] : running_) {
+    auto [it, fresh] = first_of_group.emplace(held.ranks, idx);
+    if (!fresh && held.handed < running_.at(it->second).handed) it->second = idx;
+  }
+  return first_of_group;
 }
 
 void Dispatcher::tick() {
@@ -246,11 +252,7 @@ void Dispatcher::line(const std::string& event, bool counts) {
   // A group that still runs a case may already hold its next one (started() says "next"): that
   // one has not begun. It is charged as queued, not credited with the time it waits, and counted
   // as next, not as running, so "running" never exceeds the groups.
-  std::map<std::vector<int>, std::size_t> first_of_group;
-  for (const auto& [idx, held] : running_) {
-    auto [it, fresh] = first_of_group.emplace(held.ranks, idx);
-    if (!fresh && held.handed < running_.at(it->second).handed) it->second = idx;
-  }
+  const std::map<std::vector<int>, std::size_t> first_of_group = running_cases();
   for (const auto& [idx, held] : running_) {
     const double c = cost(CaseTask{idx, 1, 0, false});
     if (first_of_group.at(held.ranks) != idx) {

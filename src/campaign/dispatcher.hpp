@@ -55,6 +55,9 @@ class Dispatcher {
   std::string case_label(const CaseTask& t) const;
   CaseRecord record(const CaseTask& t, const std::vector<int>& ranks) const;
   void line(const std::string& event, bool counts = false);
+  // Each group's running case (ranks -> case index): the one it was handed first; a later one
+  // is held next in line (its leader may report before this one's result is in).
+  std::map<std::vector<int>, std::size_t> running_cases() const;
 
   const CaseContext& ctx_;
   const ScheduleInput& in_;
