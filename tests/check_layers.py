@@ -14,7 +14,7 @@ import sys
 
 # folder -> the folders its files may include (lower layers). Bottom first.
 ALLOWED = {
-    "base": set(),  # vec3, particles, errors, hashing, text, version, Student t
+    "base": set(),  # vec3, particles, errors, hashing, text, version, Student t, halo env
     "h5": {"base"},  # HDF5 wrapper (base: the error types of a corrupt file)
     "projection": set(),  # Lambert equal-area grid
     "scene": {"base"},

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "base/error.hpp"
+#include "base/halo_environment.hpp"
 #include "parallel/particle_pack.hpp"
 #include "parallel/wide_bins.hpp"
 
@@ -33,21 +34,6 @@ std::vector<double> exchange(MPI_Comm comm, const std::vector<std::vector<double
   return in;
 }
 
-namespace {
-// TUMBLE_HALO_NODE_RANKS=k in the environment: the halo takes each k consecutive ranks of a node
-// for a node of their own (0 or unset: the node as MPI sees it). On one machine this gives the
-// paths of many nodes, window and messages side by side on one rank, to tests and to a user
-// chasing a fault that shows only across nodes. -1: not a whole number from 0 to 2^20.
-constexpr int kMaxNodeRanks = 1 << 20;
-int halo_node_ranks() {
-  const char* text = std::getenv("TUMBLE_HALO_NODE_RANKS");
-  if (text == nullptr || *text == '\0') return 0;
-  char* end = nullptr;
-  const long k = std::strtol(text, &end, 10);
-  return *end != '\0' || k < 0 || k > kMaxNodeRanks ? -1 : static_cast<int>(k);
-}
-}  // namespace
-
 Domain::Domain(MPI_Comm comm, const Box& root, double period_z, double rebalance_threshold)
     : root_(root), period_z_(period_z), threshold_(rebalance_threshold) {
   MPI_Comm_dup(comm, &comm_);
@@ -57,17 +43,15 @@ Domain::Domain(MPI_Comm comm, const Box& root, double period_z, double rebalance
   // rank may use it; the node split only if every rank asks for the same (the split is
   // collective), else refused on all of them (freeing what the destructor will not).
   const char* messages = std::getenv("TUMBLE_REFRESH_MESSAGES");
-  const int node_ranks = halo_node_ranks();
+  const int node_ranks = halo_node_ranks_from_environment();  // (-1: a bad value)
   int agreed[3] = {messages && std::string(messages) == "1" ? 0 : 1, node_ranks, -node_ranks};
   MPI_Allreduce(MPI_IN_PLACE, agreed, 3, MPI_INT, MPI_MIN, comm_);
   const int shared = agreed[0];
   if (agreed[1] < 0 || agreed[1] != -agreed[2]) {
     MPI_Comm_free(&comm_);
-    const char* text = std::getenv("TUMBLE_HALO_NODE_RANKS");
-    throw InputError(  // (a campaign fails the case once, as bad input: no retry helps)
-        "TUMBLE_HALO_NODE_RANKS = \"" + std::string(text ? text : "") +
-        "\": must be a whole number of ranks per node, 0 (the nodes MPI reports) to " +
-        std::to_string(kMaxNodeRanks) + ", the same on every rank");
+    // (a campaign fails the case once, as bad input: no retry helps; the commands refuse a bad
+    // value at start, so this is a value that differs between ranks)
+    throw InputError(halo_node_ranks_error());
   }
   send_.resize(size_);
   recv_rows_.assign(size_, 0);

@@ -5,7 +5,8 @@ Each row of bad_inputs.tsv is one command line that Tumble must refuse before an
 code it must end with (src/base/exit_codes.hpp: 2 = bad input) and a word its message must hold.
 Placeholders in a row: {scenes} (the shipped scenes), {fx} (fixture files this script writes:
 empty and comment-only scenes, bad campaigns, directories, see FIXTURES; and files tumble writes
-for it, orbits files of two protocols, see TUMBLE_FIXTURES). A row is
+for it, orbits files of two protocols, see TUMBLE_FIXTURES). Leading NAME=value words of a
+command set environment variables for that row only, as in a shell. A row is
 
   refused as expected  the exit code and the word match;
   crash                killed by a signal, an uncaught C++ exception (std::bad_alloc,
@@ -20,6 +21,7 @@ usage: bad_input_table.py --tumble BIN --table bad_inputs.tsv --source SRC [--wo
 """
 import argparse
 import os
+import re
 import shlex
 import subprocess
 import sys
@@ -123,9 +125,21 @@ def read_table(path):
     return rows
 
 
-def run(tumble, args, limit):
+ENV_WORD = re.compile(r"^[A-Z_][A-Z0-9_]*=")
+
+
+def split_env(args):
+    """The leading NAME=value words of a command (its environment) and the rest."""
+    env = {}
+    while args and ENV_WORD.match(args[0]):
+        name, value = args.pop(0).split("=", 1)
+        env[name] = value
+    return env, args
+
+
+def run(tumble, args, limit, extra_env=None):
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_rmaps_base_oversubscribe="1")
+               OMPI_MCA_rmaps_base_oversubscribe="1", **(extra_env or {}))
     t0 = time.monotonic()
     try:
         p = subprocess.run([tumble] + args, capture_output=True, text=True, timeout=limit,
@@ -170,8 +184,9 @@ def main():
     counts = {"refused as expected": 0, "crash": 0, "silently accepted": 0, "mismatch": 0}
     slow = []
     for rid, want_rc, word, cmd, lineno in rows:
-        args = shlex.split(cmd.replace("{scenes}", scenes).replace("{fx}", fx).replace("{source}", a.source))
-        rc, out, dt = run(a.tumble, args, a.row_limit)
+        row_env, args = split_env(shlex.split(
+            cmd.replace("{scenes}", scenes).replace("{fx}", fx).replace("{source}", a.source)))
+        rc, out, dt = run(a.tumble, args, a.row_limit, row_env)
         if rc is None or rc < 0 or rc >= 128 or any(w in out for w in CRASH_WORDS):
             kind = "crash"
         elif rc == 0:
@@ -194,7 +209,9 @@ def main():
         if kind != "refused as expected":
             failures.append("row %s (line %d): %s\n  command: tumble %s\n  want exit %d and '%s'; "
                             "got exit %s after %.2f s:\n%s"
-                            % (rid, lineno, kind, " ".join(args), want_rc, word, rc, dt,
+                            % (rid, lineno, kind,
+                               " ".join(["%s=%s" % e for e in row_env.items()] + args), want_rc,
+                               word, rc, dt,
                                out[-2000:]))
 
     print("\nrows %d: refused as expected %d, crashes %d, silently accepted %d, mismatches %d"
