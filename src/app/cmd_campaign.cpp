@@ -6,7 +6,7 @@
 
 #include "app/campaign_commands.hpp"
 #include "app/commands.hpp"
-#include "base/halo_environment.hpp"
+#include "base/environment.hpp"
 #include "base/stop_request.hpp"
 #include "campaign/campaign_run.hpp"
 
@@ -46,7 +46,7 @@ void register_campaign(CLI::App& app) {
     int rc = 0;
     try {
       arm_memory_limit(opts->max_memory);
-      check_halo_environment();  // (else every case's domain would refuse it, after its bed)
+      check_environment();  // (else each case would meet it only after its bed)
       campaign::parse_slice(opts->slice, opts->run.slice_i, opts->run.slice_n);
       if (!opts->ranks_per_case.empty())
         opts->run.ranks_per_case = campaign::parse_ranks_per_case(opts->ranks_per_case);

@@ -6,9 +6,9 @@
 #include <iostream>
 
 #include "app/commands.hpp"
+#include "base/environment.hpp"
 #include "base/error.hpp"
 #include "base/exit_codes.hpp"
-#include "base/halo_environment.hpp"
 #include "base/memory.hpp"
 #include "base/stop_request.hpp"
 #include "run/realization.hpp"
@@ -65,7 +65,7 @@ void register_run(CLI::App& app) {
     }
     if (opts->scene.empty()) throw CLI::RequiredError("scene");
     arm_memory_limit(opts->max_memory);
-    check_halo_environment();  // (the domain reads it only after the bed is made)
+    check_environment();  // (the engine and domain read it only after the bed is made)
     const Scene scene = load_scene(opts->scene, opts->overrides);
     // A missing checkpoint is bad input (exit 2), found before the bed is made or the HDF5
     // library is asked to open it.

@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "base/cpu_lanes.hpp"
+#include "base/environment.hpp"
 #include "base/error.hpp"
 #include "base/growth.hpp"
 #include "engine/law_lanes.hpp"
@@ -76,8 +77,7 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
   }
   species0_ = sp_range[0] == (1 << 30) ? 0 : sp_range[0];
   one_species_ = sp_range[0] == (1 << 30) || sp_range[0] == -sp_range[1];
-  const char* general = std::getenv("TUMBLE_GENERAL_KERNELS");
-  const bool force_general = general != nullptr && std::string(general) == "1";
+  const bool force_general = env_switch_on("TUMBLE_GENERAL_KERNELS");
   if (force_general) one_species_ = false;
   neighbor::HistoryLayout history;  // the law's, for the list's per-contact store
   contact::with_law(s, [&](auto tag) {
@@ -157,8 +157,7 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     for (double r : p_.radius)
       if (r * r <= rmin * rmax) thin = std::max(thin, r);
     MPI_Allreduce(MPI_IN_PLACE, &thin, 1, MPI_DOUBLE, MPI_MAX, comm);
-    const char* full = std::getenv("TUMBLE_FULL_HALO");
-    int thin_ok = thin < rmax && !(full != nullptr && std::string(full) == "1") ? 1 : 0;
+    int thin_ok = thin < rmax && !env_switch_on("TUMBLE_FULL_HALO") ? 1 : 0;
     MPI_Allreduce(MPI_IN_PLACE, &thin_ok, 1, MPI_INT, MPI_MIN, comm);  // every rank alike
     if (thin_ok) dom_->thin_halo(thin, skin);
     // The rigid bulk keeps Newton off: its frozen ghosts are left out of the refresh and its

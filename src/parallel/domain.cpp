@@ -7,8 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "base/environment.hpp"
 #include "base/error.hpp"
-#include "base/halo_environment.hpp"
 #include "parallel/particle_pack.hpp"
 #include "parallel/wide_bins.hpp"
 
@@ -42,9 +42,8 @@ Domain::Domain(MPI_Comm comm, const Box& root, double period_z, double rebalance
   // The environment's halo settings, agreed by all ranks in one reduction: the window if every
   // rank may use it; the node split only if every rank asks for the same (the split is
   // collective), else refused on all of them (freeing what the destructor will not).
-  const char* messages = std::getenv("TUMBLE_REFRESH_MESSAGES");
   const int node_ranks = halo_node_ranks_from_environment();  // (-1: a bad value)
-  int agreed[3] = {messages && std::string(messages) == "1" ? 0 : 1, node_ranks, -node_ranks};
+  int agreed[3] = {env_switch_on("TUMBLE_REFRESH_MESSAGES") ? 0 : 1, node_ranks, -node_ranks};
   MPI_Allreduce(MPI_IN_PLACE, agreed, 3, MPI_INT, MPI_MIN, comm_);
   const int shared = agreed[0];
   if (agreed[1] < 0 || agreed[1] != -agreed[2]) {
