@@ -2,18 +2,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iomanip>
 #include <ostream>
 #include <set>
 #include <sstream>
 
+#include "base/error.hpp"
 #include "base/stop_request.hpp"
 #include "base/text_util.hpp"
 #include "campaign/eta.hpp"
 #include "campaign/expand.hpp"
 #include "campaign/rank_pool.hpp"
+#include "io/bed_io.hpp"
+#include "run/repose_measure.hpp"
 
 namespace tumble::campaign {
+namespace fs = std::filesystem;
 namespace {
 constexpr double kRetryDelay = 5;  // seconds before a second attempt, doubling after
 // Progress reports a running case's rate is taken over: 10 progress intervals (5 min at the
@@ -36,16 +41,82 @@ Dispatcher::Dispatcher(const CaseContext& ctx, const ScheduleInput& in,
       done_(in.done_before),
       failed_(in.failed_before) {}
 
-const CaseTask* Dispatcher::peek() {
+const CaseTask* Dispatcher::peek(const std::vector<int>& group) {
   const auto now = Clock::now();
+  deferred_.clear();
+  // Rank 0 peeks after each of its own time steps: when every due case waited on another's
+  // preparation at the last look and nothing has changed since, they still do.
+  if (all_waiting_at_ == changes_ && all_waiting_for_ == group && not_before_.empty())
+    return nullptr;
   for (peeked_ = queue_.begin(); peeked_ != queue_.end(); ++peeked_) {
     const auto wait = not_before_.find(peeked_->case_index);
-    if (wait == not_before_.end() || wait->second <= now) return &*peeked_;
+    if (wait != not_before_.end() && wait->second > now) continue;
+    const long long by = preparing_its_files(*peeked_, group);
+    if (by < 0) return &*peeked_;
+    if (deferred_.empty())
+      deferred_ = "ahead of " + ctx_.expansion->cases[peeked_->case_index].id +
+                  ", which waits for the settled bed or measured beta that " +
+                  ctx_.expansion->cases[static_cast<std::size_t>(by)].id + " is preparing";
+  }
+  if (!deferred_.empty()) {
+    all_waiting_at_ = changes_;
+    all_waiting_for_ = group;
   }
   return nullptr;
 }
 
+namespace {
+// The cache files a case would make before its protocol: its settled bed unless given one, and
+// its measured β if the protocol asks for one; those that exist are not made again. None when it
+// resumes from its checkpoint (which holds the particles and β), or when its scene is invalid
+// (it fails at once).
+std::vector<std::string> missing_preparation_files(const CaseContext& ctx, const CaseTask& t) {
+  const Case& c = ctx.expansion->cases[t.case_index];
+  const std::string dir = case_dir(ctx.campaign_dir, c.id);
+  if (!c.scene_error.empty() || (!t.fresh && fs::exists(dir + "/checkpoint.h5"))) return {};
+  std::vector<std::string> files;
+  try {
+    const Scene s = case_scene(*ctx.spec, c, dir, ctx.bed_cache, t.seed);
+    if (s.bed_file.empty() && !fs::exists(io::bed_cache_path(s)))
+      files.push_back(io::bed_cache_path(s));
+    if (s.repose_pending() && !fs::exists(repose_cache_path(s)))
+      files.push_back(repose_cache_path(s));
+  } catch (const InputError&) {
+    return {};
+  }
+  return files;
+}
+}  // namespace
+
+const std::vector<std::string>& Dispatcher::files_to_prepare(const CaseTask& t) {
+  const auto key = std::make_pair(t.case_index, t.seed);
+  auto it = prepares_.find(key);
+  if (it == prepares_.end()) it = prepares_.emplace(key, missing_preparation_files(ctx_, t)).first;
+  return it->second;
+}
+
+long long Dispatcher::preparing_its_files(const CaseTask& t, const std::vector<int>& group) {
+  // The cases that prepare now: each group's running case (not one held next in line, which
+  // begins only when that one ends: a case that needs its files before then makes them itself),
+  // before its protocol's first report, on another group than the one this case is for.
+  std::vector<std::size_t> preparing;
+  for (const auto& [ranks, idx] : running_cases()) {
+    const Held& h = running_.at(idx);
+    if (h.recent.empty() && !h.prepares.empty() && ranks != group) preparing.push_back(idx);
+  }
+  if (preparing.empty()) return -1;  // (the common path: no scene is read)
+  const std::vector<std::string>& mine = files_to_prepare(t);
+  for (const std::size_t idx : preparing) {
+    const std::vector<std::string>& theirs = running_.at(idx).prepares;
+    for (const std::string& f : mine)
+      if (std::find(theirs.begin(), theirs.end(), f) != theirs.end())
+        return static_cast<long long>(idx);
+  }
+  return -1;
+}
+
 void Dispatcher::pop() {
+  ++changes_;
   not_before_.erase(peeked_->case_index);
   queue_.erase(peeked_);
 }
@@ -98,6 +169,8 @@ void Dispatcher::started(const CaseTask& t, const std::vector<int>& ranks) {
   h.ranks = ranks;
   h.handed = Clock::now();
   h.task = t;
+  ++changes_;
+  h.prepares = missing_preparation_files(ctx_, t);  // (afresh: the memo may predate a bed)
   running_[t.case_index] = h;
   CaseRecord r = record(t, ranks);
   r.status = "running";
@@ -106,10 +179,13 @@ void Dispatcher::started(const CaseTask& t, const std::vector<int>& ranks) {
   if (!in_.quiet)
     line(std::string(held ? "next " : "start ") + case_label(t) + " on rank" +
          (ranks.size() > 1 ? "s " : " ") + r.ranks + " (" + r.hosts + ")" +
-         (held ? ", held: starts when the case running there ends" : ""));
+         (held ? ", held: starts when the case running there ends" : "") +
+         (deferred_.empty() ? "" : ", " + deferred_));
+  deferred_.clear();
 }
 
 std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
+  ++changes_;
   const Held held = running_.at(t.case_index);
   running_.erase(t.case_index);
   // The group's next case, held while this one ran, starts now: its age counts from here, and
@@ -203,6 +279,7 @@ void Dispatcher::stop(int signal) {
 void Dispatcher::progress(const CaseProgress& p) {
   const auto it = running_.find(p.case_index);
   if (it == running_.end() || it->second.task.attempt != p.attempt) return;
+  ++changes_;  // (a protocol's first report ends its case's preparation)
   it->second.preparing = p.preparing;
   if (p.preparing) {
     it->second.recent.clear();

@@ -3,9 +3,11 @@
 // of cases, which ranks run what, the manifest lines of every start and end, retries, the progress
 // lines and their ETA, and the statistics of the invocation.
 #include <chrono>
+#include <cstdint>
 #include <deque>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "campaign/case_runner.hpp"
@@ -24,8 +26,13 @@ class Dispatcher {
   // The next case to hand out (nullptr if none is due now) and the ranks it needs; pop() takes
   // that case off the queue. A retry waits out its back-off (kRetryDelay, doubling with each
   // attempt) while the cases behind it go ahead, so a fault that fails attempts at once (a full
-  // disk) does not burn every attempt within a second.
-  const CaseTask* peek();
+  // disk) does not burn every attempt within a second. A case that would settle a bed or measure
+  // a β that a case handed out before it is still preparing waits too (the cases behind it go
+  // ahead): it finds them made once that case's protocol begins, instead of making them again
+  // beside it (two points that differ only in keys outside the bed, such as fidelity.bulk, share
+  // each replica's bed and β). `group`: the ranks the case would be held on, next in line, when
+  // it is for a group that runs a case (a case preparing there is done before this one begins).
+  const CaseTask* peek(const std::vector<int>& group = {});
   int ranks_for(const CaseTask& t) const;
   void pop();
   std::size_t queued() const { return queue_.size(); }
@@ -55,6 +62,10 @@ class Dispatcher {
   std::string case_label(const CaseTask& t) const;
   CaseRecord record(const CaseTask& t, const std::vector<int>& ranks) const;
   void line(const std::string& event, bool counts = false);
+  // The cache files (settled bed, measured β) the case would make before its protocol begins:
+  // those missing, none if it resumes from its checkpoint. Kept per case and seed once known.
+  const std::vector<std::string>& files_to_prepare(const CaseTask& t);
+
   // Each group's running case (ranks -> case index): the one it was handed first; a later one
   // is held next in line (its leader may report before this one's result is in).
   std::map<std::vector<int>, std::size_t> running_cases() const;
@@ -75,9 +86,19 @@ class Dispatcher {
     // few progress intervals rather than averaging the whole call), and when the last came.
     std::deque<CaseProgress> recent;
     Clock::time_point reported_at;
-    bool preparing = false;  // it said so and its protocol has not begun (bed, β)
+    bool preparing = false;             // it said so and its protocol has not begun (bed, β)
+    std::vector<std::string> prepares;  // the files it makes before its protocol (as handed out)
   };
   std::map<std::size_t, Held> running_;  // case index -> who runs it
+  std::map<std::pair<std::size_t, std::int64_t>, std::vector<std::string>> prepares_;  // memo
+  std::string deferred_;  // why peek() passed over the queue's first due case ("": it did not)
+  // Counts the changes a deferral depends on (hand-outs, results, reports); all_waiting_at_: the
+  // count when every due case last waited on another's preparation.
+  long long changes_ = 0, all_waiting_at_ = -1;
+  std::vector<int> all_waiting_for_;  // the group of that peek
+  // The running case of another group that is still preparing a file this one would make: its
+  // index, or -1.
+  long long preparing_its_files(const CaseTask& t, const std::vector<int>& group);
   int done_ = 0, failed_ = 0, stop_signal_ = 0;
   double done_cost_ = 0, done_rank_seconds_ = 0;
   std::map<std::string, EtaInput::Rate> done_by_point_;  // the cases done, by point (the ETA)

@@ -238,7 +238,7 @@ class Coordinator {
     // computes, comes only between its own time steps); at the tail, cases go to whoever is
     // free first.
     for (auto& [ranks, n] : held_) {
-      const CaseTask* next = book_.peek();
+      const CaseTask* next = book_.peek(ranks);
       if (!next || n != 1 || book_.ranks_for(*next) != static_cast<int>(ranks.size()) ||
           book_.queued() <= static_cast<std::size_t>(pool_.size()) / ranks.size())
         continue;

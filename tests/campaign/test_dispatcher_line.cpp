@@ -67,7 +67,7 @@ struct HeldCase : ::testing::Test {
     ASSERT_NE(d->peek(), nullptr);  // (peek() then pop(), as the scheduler hands them out)
     d->pop();
     d->started(first, {0});
-    ASSERT_NE(d->peek(), nullptr);
+    ASSERT_NE(d->peek({0}), nullptr);  // (for the same group: nothing waits on its preparation)
     d->pop();
     d->started(held, {0});  // the same group: held until the first case ends
     d->progress({0, 1, false, 0, 500, 1000, 10.0});
