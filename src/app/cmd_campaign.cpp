@@ -25,7 +25,12 @@ void register_campaign(CLI::App& app) {
   cmd->add_option("file", opts->run.file, "campaign file (TOML)")->required();
   cmd->add_option("--slice", opts->slice,
                   "run slice i of n (job arrays): a deterministic, cost-balanced subset");
-  cmd->add_option("--output,-o", opts->run.output, "campaign directory (overrides output_dir)");
+  cmd->add_option("--output,-o", opts->run.output, "campaign directory (overrides output_dir)")
+      ->check([](const std::string& v) {
+        return v.find_first_not_of(" \t") == std::string::npos
+                   ? std::string("must name a directory (it is empty)")
+                   : std::string();
+      });
   cmd->add_option("--ranks-per-case", opts->ranks_per_case,
                   "ranks per case (overrides campaign.ranks_per_case; a sweep's own value wins)");
   cmd->add_option("--max-memory", opts->max_memory,

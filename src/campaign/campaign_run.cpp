@@ -330,7 +330,12 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   if (!opt.output.empty()) spec.output_dir = opt.output;
   if (opt.ranks_per_case > 0) spec.ranks_per_case = opt.ranks_per_case;
   const std::string dir = spec.output_dir;
+  if (std::error_code ec; fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw InputError("campaign.output_dir (or --output) = '" + dir +
+                     "' names a file, not a directory");
   const std::string bed_cache = spec.bed_cache.empty() ? dir + "/beds" : spec.bed_cache;
+  if (std::error_code ec; fs::exists(bed_cache, ec) && !fs::is_directory(bed_cache, ec))
+    throw InputError("campaign.bed_cache = '" + bed_cache + "' names a file, not a directory");
   const Expansion e = expand(spec);
   const std::vector<std::size_t> slice = slice_cases(e, opt.slice_i, opt.slice_n);
   const std::string slice_text = std::to_string(opt.slice_i) + "/" + std::to_string(opt.slice_n);

@@ -192,6 +192,8 @@ void parse_campaign_table(const Ctx& c, const toml::table& t, CampaignSpec& s,
       have_scene = true;
     } else if (name == "output_dir") {
       s.output_dir = text(c, key, node);
+      if (s.output_dir.find_first_not_of(" \t") == std::string::npos)  // ("" wrote into "/")
+        c.fail(key, "must name a directory (it is empty)");
       have_output = true;
     } else if (name == "seed") {
       s.seed = integer(c, key, node, 0, 9.0e15);

@@ -394,6 +394,29 @@ void validate_scene(const Scene& s) {
   if (s.mode == Mode::biaxial && s.theta_z + s.theta_x <= 0 && s.iterations > 0)
     fail("protocol.theta_z",
          "and protocol.theta_x are both 0: the biaxial protocol would not move");
+  // More steps than any run could take: an rpm or a time step far below the physical range (the
+  // count would overflow, or the run would never end).
+  if (const double steps = s.run_time() / s.time_step(); !(steps <= kMaxProtocolSteps)) {
+    std::ostringstream os;
+    os << "gives " << steps << " protocol steps of " << s.time_step() << " s for " << s.run_time()
+       << " s of protocol (protocol.rpm, protocol.iterations, time.dt): at most "
+       << kMaxProtocolSteps;
+    // (The key to blame: the time step when it is below any contact's scale, else the rotation.)
+    fail(s.time_step() < 1e-9 ? (s.dt > 0 ? "time.dt" : "time.dt_fraction") : "protocol.rpm",
+         os.str());
+  }
+  // The files a run writes: a name and two directories that must be usable before any work (a
+  // run found out only when it wrote, after the bed; under mpirun one rank failed alone).
+  if (s.name.find_first_not_of(" \t") == std::string::npos)
+    fail("scene.name", "must not be empty (it names the output files)");
+  for (const auto& [key, dir] :
+       {std::pair<const char*, const std::string&>{"scene.output_dir", s.output_dir},
+        {"fill.bed_cache", s.bed_cache}}) {
+    std::error_code ec;
+    if (dir.empty()) fail(key, "must name a directory (it is empty)");
+    if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
+      fail(key, "= '" + dir + "' names a file, not a directory");
+  }
   if (!s.bed_file.empty()) {
     std::error_code ec;
     if (std::filesystem::is_directory(s.bed_file, ec))

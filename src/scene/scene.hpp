@@ -94,6 +94,9 @@ double weight_overlap_fraction(const Scene& s);
 // Scenes whose estimated weight overlap exceeds this fraction of d_small are refused; a settled
 // bed may press into the wall by as much (io/bed_io.cpp).
 inline constexpr double kMaxWeightOverlap = 0.25;
+// Scenes whose protocol takes more time steps than this are refused: ~10^5 times bst_paper's
+// 8 iterations, years of any machine; below 2^63, so the count fits its integer.
+inline constexpr double kMaxProtocolSteps = 1e12;
 // Rendering of the resolved scene as TOML-like text (provenance).
 std::string scene_to_text(const Scene& s);
 

@@ -76,6 +76,14 @@ FIXTURES = {
     "c_ranks0.toml":
         "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\nranks_per_case = 0\n",
     "c_name_number.toml": "[campaign]\nname = 3\nscene = \"{scenes}/bst_tiny.toml\"\n",
+    "c_output_empty.toml":
+        "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\noutput_dir = \"\"\n",
+    "c_output_file.toml":
+        "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\noutput_dir = \"{fx}/a_file\"\n",
+    "c_bed_cache_file.toml":
+        "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\noutput_dir = \"{fx}/c_bcf\"\n"
+        "bed_cache = \"{fx}/a_file\"\n",
+    "a_file": "not a directory\n",
     "campaign_dir/": None,
     "no_partials/": None,
     "empty_partials/partials/": None,
@@ -108,7 +116,7 @@ def write_fixtures(fx, scenes):
             continue
         os.makedirs(os.path.dirname(path), exist_ok=True)
         with open(path, "w") as f:
-            f.write(text.replace("{scenes}", scenes))
+            f.write(text.replace("{scenes}", scenes).replace("{fx}", fx))
 
 
 def read_table(path):
