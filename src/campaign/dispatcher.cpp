@@ -26,6 +26,17 @@ constexpr double kRetryDelay = 5;  // seconds before a second attempt, doubling 
 // short enough to follow a pause or a busier machine.
 constexpr std::size_t kRecentReports = 11;
 constexpr double kMaxRetryDelay = 300;
+// The ranks that run cases: with one group size k, a world that is not a multiple of k leaves
+// its last ranks idle (the start line says so), and the ETA shares the work among the others;
+// with several sizes, groups are placed on any free ranks.
+int working_ranks(const ScheduleInput& in, const Expansion& e, int ranks) {
+  int lo = ranks, hi = 0;
+  for (const CaseTask& t : in.tasks) {
+    lo = std::min(lo, e.cases[t.case_index].ranks);
+    hi = std::max(hi, e.cases[t.case_index].ranks);
+  }
+  return hi > 0 && lo == hi ? std::max(1, ranks / hi * hi) : ranks;
+}
 double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -36,7 +47,7 @@ Dispatcher::Dispatcher(const CaseContext& ctx, const ScheduleInput& in,
     : ctx_(ctx),
       in_(in),
       hosts_(std::move(hosts)),
-      ranks_(ranks),
+      ranks_(working_ranks(in, *ctx.expansion, ranks)),
       queue_(in.tasks.begin(), in.tasks.end()),
       done_(in.done_before),
       failed_(in.failed_before) {}
@@ -215,24 +226,46 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
   if (o.failure == "stopped") {  // neither done nor failed: the rerun continues the same attempt
     r.status = "stopped";
     r.diagnostic = o.diagnostic;
-    stats_.stopped += 1;
+    // A held case that had not begun is not started, not stopped; a case stopped before its
+    // protocol's first report kept no checkpoint (its bed or β starts again).
+    if (o.diagnostic.rfind("not begun", 0) == 0)
+      stats_.not_started += 1;
+    else if (held.recent.empty())
+      stats_.stopped_preparing += 1;
+    else
+      stats_.stopped += 1;
     what = o.diagnostic;  // "stopped by SIGUSR1 at step ..." or "not begun: ..."
   } else if (o.ok) {
     r.status = "done";
     r.checksum = o.checksum;
     done_ += 1;
-    done_cost_ += cost(t);
-    done_rank_seconds_ += o.wall * k;
-    EtaInput::Rate& point = done_by_point_[ctx_.expansion->cases[t.case_index].point_id];
-    point.cost += cost(t);
-    point.rank_seconds += o.wall * k;
+    // The rate takes what this call ran: a case resumed from its checkpoint did only the rest of
+    // its steps in o.wall (credited with its whole cost, a case resumed at 90% made the rate ten
+    // times too fast); one whose total its leader never reported is left out of the rate.
+    double share = 1;
+    if (o.resumed_from_step > 0) {
+      const long long total = held.recent.empty() ? 0 : held.recent.back().total_steps;
+      share = total > 0 ? std::max(0.0, 1.0 - static_cast<double>(o.resumed_from_step) /
+                                                  static_cast<double>(total))
+                        : 0.0;
+    }
+    if (share > 0) {
+      done_cost_ += cost(t) * share;
+      done_rank_seconds_ += o.wall * k;
+      EtaInput::Rate& point = done_by_point_[ctx_.expansion->cases[t.case_index].point_id];
+      point.cost += cost(t) * share;
+      point.rank_seconds += o.wall * k;
+    }
     what = "done";
   } else {
     r.status = "failed";
     r.failure = o.failure;
     r.diagnostic = o.diagnostic;
-    const bool retry = o.retryable && t.attempt < ctx_.spec->max_attempts && !stopping();
-    r.final_failure = !retry;
+    // When stopping, no retry starts here; the rerun makes it (a stop loses nothing), so the
+    // failure is final only if no attempt is left.
+    const bool may_retry = o.retryable && t.attempt < ctx_.spec->max_attempts;
+    const bool retry = may_retry && !stopping();
+    r.final_failure = !may_retry;
     what = "FAILED (" + o.failure + "): " + o.diagnostic;
     if (retry) {
       const Case& c = ctx_.expansion->cases[t.case_index];
@@ -248,6 +281,8 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
               format_hms(std::min(delay, kMaxRetryDelay));
     } else {
       failed_ += 1;
+      if (may_retry)
+        what += "; the rerun retries it (attempt " + std::to_string(t.attempt + 1) + ")";
     }
   }
   in_.manifest->append(r);
@@ -273,7 +308,8 @@ void Dispatcher::stop(int signal) {
   const std::size_t n = running_cases().size();  // (a case held next in line ends "not begun")
   line(signal_name(signal) + ": stopping; no case starts any more, " +
        (n == 1 ? std::string("the running case ends") : std::to_string(n) + " running cases end") +
-       " at the next neighbour rebuild with a checkpoint; rerun the same command to go on");
+       " at the next neighbour rebuild with a checkpoint (one still settling its bed or "
+       "measuring beta keeps none: that starts again); rerun the same command to go on");
 }
 
 void Dispatcher::progress(const CaseProgress& p) {

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <csignal>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <sstream>
 #include <thread>
@@ -30,9 +31,8 @@ std::string last_counts(const std::ostringstream& out) {
   return last;
 }
 
-// Two cases of one point handed to rank 0 alike: the first runs (half its steps done), the
-// second is held next in line and its leader has already said it is preparing.
-struct HeldCase : ::testing::Test {
+// Two cases of one point (cost 1000 each) and a dispatcher for one rank, nothing handed out.
+struct TwoCases : ::testing::Test {
   CampaignSpec spec;
   Expansion ex;
   CaseContext ctx;
@@ -40,7 +40,7 @@ struct HeldCase : ::testing::Test {
   std::ostringstream out;
   ScheduleInput in;
   std::unique_ptr<Dispatcher> d;
-  const CaseTask first{0, 1, 0, false}, held{1, 1, 0, false};
+  const CaseTask first{0, 1, 0, false}, second{1, 1, 0, false};
 
   void SetUp() override {
     const std::string dir = std::string(TUMBLE_TEST_SCRATCH) + "/dispatcher_line";
@@ -58,12 +58,21 @@ struct HeldCase : ::testing::Test {
     ctx.spec = &spec;
     ctx.expansion = &ex;
     manifest = std::make_unique<ManifestWriter>(dir + "/manifest.jsonl");
-    in.tasks = {first, held};
+    in.tasks = {first, second};
     in.total = 2;
     in.manifest = manifest.get();
     in.out = &out;
     in.quiet = false;  // (a quiet campaign writes no line when a case is done)
     d = std::make_unique<Dispatcher>(ctx, in, std::vector<std::string>{"host"}, 1);
+  }
+};
+
+// The first runs (half its steps done), the second is held next in line on the same rank and
+// its leader has already said it is preparing.
+struct HeldCase : TwoCases {
+  const CaseTask& held = second;
+  void SetUp() override {
+    TwoCases::SetUp();
     ASSERT_NE(d->peek(), nullptr);  // (peek() then pop(), as the scheduler hands them out)
     d->pop();
     d->started(first, {0});
@@ -94,6 +103,95 @@ TEST_F(HeldCase, ReportingEarlyIsNotCountedAsRunning) {
 TEST_F(HeldCase, StopCountsTheGroupNotTheHeldCase) {
   d->stop(SIGUSR1);
   EXPECT_NE(out.str().find("the running case ends"), std::string::npos) << out.str();
+}
+
+// A case resumed from step 900 of 1000 that ends 10 s later did a tenth of its cost in those
+// 10 s: the queued case (cost 1000) is then 100 s away, not 10 (its whole cost was credited).
+TEST_F(TwoCases, ResumedCaseIsCreditedOnlyWithTheStepsItRan) {
+  ASSERT_NE(d->peek(), nullptr);
+  d->pop();
+  d->started(first, {0});
+  d->progress({0, 1, false, 900, 900, 1000, 0.0});  // its protocol begins at its checkpoint
+  CaseOutcome done;
+  done.ok = true;
+  done.wall = 10;
+  done.resumed_from_step = 900;
+  (void)d->finished(first, done);
+  const std::string line = last_counts(out);
+  EXPECT_NE(line.find("ETA 0:01:40"), std::string::npos) << line;
+}
+
+// A retryable failure that comes in after a stop is not retried in this invocation; its record
+// must leave the retry to the rerun (final: false), not end the case as failed for good.
+TEST_F(TwoCases, RetryableFailureDuringAStopIsLeftToTheRerun) {
+  spec.max_attempts = 2;
+  ASSERT_NE(d->peek(), nullptr);
+  d->pop();
+  d->started(first, {0});
+  d->stop(SIGUSR1);
+  CaseOutcome failed;
+  failed.failure = "run";
+  failed.diagnostic = "particle 1 left the tumbler";
+  failed.retryable = true;
+  (void)d->finished(first, failed);
+  manifest->sync();
+  std::ifstream in(manifest->path());
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  CaseRecord r;
+  ASSERT_TRUE(from_json(last, r)) << last;
+  EXPECT_EQ(r.status, "failed");
+  EXPECT_FALSE(r.final_failure) << last;
+  EXPECT_NE(out.str().find("the rerun retries it (attempt 2)"), std::string::npos) << out.str();
+}
+
+// The stop's counts: a case stopped before its protocol's first report kept no checkpoint, and
+// a held case that ends "not begun" is not started, neither "stopped at a checkpoint".
+TEST_F(HeldCase, StopCountsPreparingAndNotBegunApart) {
+  d->stop(SIGUSR1);
+  CaseOutcome stopped;
+  stopped.failure = "stopped";
+  stopped.diagnostic = "stopped by SIGUSR1 at step 600";
+  (void)d->finished(first, stopped);  // (it had reported step 500)
+  CaseOutcome not_begun;
+  not_begun.failure = "stopped";
+  not_begun.diagnostic = "not begun: SIGUSR1 came first";
+  (void)d->finished(held, not_begun);
+  EXPECT_EQ(d->stats().stopped, 1);
+  EXPECT_EQ(d->stats().stopped_preparing, 0);
+  EXPECT_EQ(d->stats().not_started, 1);
+}
+
+TEST_F(TwoCases, StopWhilePreparingIsCountedApart) {
+  ASSERT_NE(d->peek(), nullptr);
+  d->pop();
+  d->started(first, {0});
+  d->progress({0, 1, true});  // preparing: no protocol report yet
+  d->stop(SIGUSR1);
+  CaseOutcome stopped;
+  stopped.failure = "stopped";
+  stopped.diagnostic = "stopped by SIGUSR1 while measuring the repose angle";
+  (void)d->finished(first, stopped);
+  EXPECT_EQ(d->stats().stopped, 0);
+  EXPECT_EQ(d->stats().stopped_preparing, 1);
+  EXPECT_EQ(d->stats().not_started, 1);  // (the second case, still queued)
+}
+
+// Three ranks and cases of two: rank 2 stays idle, so the work left is shared by two ranks. A
+// case done in 10 s on its 2 ranks (20 rank-seconds) leaves its twin 10 s away, not 6.7.
+TEST_F(TwoCases, IdleRanksDoNotShareTheWorkLeft) {
+  for (Case& c : ex.cases) c.ranks = 2;
+  d = std::make_unique<Dispatcher>(ctx, in, std::vector<std::string>(3, "host"), 3);
+  ASSERT_NE(d->peek(), nullptr);
+  d->pop();
+  d->started(first, {0, 1});
+  CaseOutcome done;
+  done.ok = true;
+  done.wall = 10;
+  (void)d->finished(first, done);
+  const std::string line = last_counts(out);
+  EXPECT_NE(line.find("ETA 0:00:10"), std::string::npos) << line;
 }
 
 }  // namespace
