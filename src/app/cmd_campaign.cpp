@@ -51,7 +51,7 @@ void register_campaign(CLI::App& app) {
     int rc = 0;
     try {
       arm_memory_limit(opts->max_memory);
-      check_environment();  // (else each case would meet it only after its bed)
+      check_environment(MPI_COMM_WORLD);  // (else each case would meet it only after its bed)
       campaign::parse_slice(opts->slice, opts->run.slice_i, opts->run.slice_n);
       if (!opts->ranks_per_case.empty())
         opts->run.ranks_per_case = campaign::parse_ranks_per_case(opts->ranks_per_case);

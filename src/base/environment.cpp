@@ -2,7 +2,9 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 
+#include "base/comm.hpp"
 #include "base/error.hpp"
 
 namespace tumble {
@@ -39,12 +41,31 @@ std::string halo_node_ranks_error() {
          std::to_string(kMaxHaloNodeRanks) + ", the same on every rank";
 }
 
-void check_environment() {
+namespace {
+// The message of this rank's first bad value, "" if none.
+std::string environment_error() {
   for (const char* name : kSwitches)
     if (const char* text = std::getenv(name); !good_switch(text))
-      throw InputError(std::string(name) + " = \"" + text +
-                       "\": a switch, 1 (on) or 0, empty or unset (off)");
-  if (halo_node_ranks_from_environment() < 0) throw InputError(halo_node_ranks_error());
+      return std::string(name) + " = \"" + text + "\": a switch, 1 (on) or 0, empty or unset (off)";
+  return halo_node_ranks_from_environment() < 0 ? halo_node_ranks_error() : std::string();
+}
+}  // namespace
+
+void check_environment(MPI_Comm comm) {
+  std::string error = environment_error();
+  int mpi = 0;
+  MPI_Initialized(&mpi);  // (`run --check` starts no MPI)
+  if (mpi != 0 && size_of(comm) > 1) {
+    int bad = error.empty() ? std::numeric_limits<int>::max() : rank_in(comm);
+    MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MIN, comm);
+    if (bad == std::numeric_limits<int>::max()) return;
+    int n = static_cast<int>(error.size());
+    MPI_Bcast(&n, 1, MPI_INT, bad, comm);
+    error.resize(static_cast<std::size_t>(n));
+    MPI_Bcast(error.data(), n, MPI_CHAR, bad, comm);
+    error += " (in the environment of rank " + std::to_string(bad) + ")";
+  }
+  if (!error.empty()) throw InputError(error);
 }
 
 }  // namespace tumble

@@ -4,6 +4,8 @@
 // the interface. `tumble run` and `tumble campaign` check them when they start, so a bad value is
 // refused before any work (the engine and the domain read them only after a bed is made), on any
 // number of ranks.
+#include <mpi.h>
+
 #include <string>
 
 namespace tumble {
@@ -26,7 +28,10 @@ int halo_node_ranks_from_environment();
 // The message of a bad value: the variable, what it holds and the allowed range.
 std::string halo_node_ranks_error();
 
-// Throws InputError naming the first variable above that holds a bad value, and its range.
-void check_environment();
+// Throws InputError naming the first variable above that holds a bad value, and its range. On
+// a communicator of several ranks it is collective: every rank throws the message of the lowest
+// rank with a bad value (an environment can differ between ranks; a rank that refused alone
+// would leave the others waiting in the run's first collective).
+void check_environment(MPI_Comm comm = MPI_COMM_NULL);
 
 }  // namespace tumble
