@@ -507,8 +507,9 @@ void register_mcm(CLI::App& cm) {
                 args->cumulative[0] <= args->cumulative[1] && args->cumulative[1] <= 100000,
             "--cumulative", "FROM,TO with 0 <= FROM <= TO <= 1e5", args->cumulative.size());
     require(o.cumulative_stride >= 1, "--stride", ">= 1", o.cumulative_stride);
-    require(o.dt > 0 && o.dt <= 0.1, "--dt", "in (0, 0.1]", o.dt);
-    require(o.dt_ref > 0 && o.dt_ref <= 0.1, "--dt-ref", "in (0, 0.1]", o.dt_ref);
+    // (Below 1e-7 the layer crossings take more steps than any run: --dt 1e-300 never ended.)
+    require(o.dt >= 1e-7 && o.dt <= 0.1, "--dt", "in [1e-7, 0.1]", o.dt);
+    require(o.dt_ref >= 1e-7 && o.dt_ref <= 0.1, "--dt-ref", "in [1e-7, 0.1]", o.dt_ref);
     require(args->island_length > 0 && args->island_length <= 2, "--island-length", "in (0, 2]",
             args->island_length);
     o.cumulative_from = args->cumulative[0];
