@@ -209,23 +209,30 @@ Particles read_bed(const std::string& path, const Scene& scene, BedSource source
         throw InputError(at + "id " + std::to_string(id) + " appears twice");
     }
   } else {
-    H5File f(path, H5File::Mode::Read);
-    // Lengths first: a reader must never index one array by another's length.
-    const auto xs = f.shape("x"), is = f.shape("id"), ss = f.shape("species"),
-               rs = f.shape("radius");
-    if (xs.size() != 2 || xs[1] != 3 || is.size() != 1 || ss.size() != 1 || rs.size() != 1 ||
-        is[0] != xs[0] || ss[0] != xs[0] || rs[0] != xs[0])
-      refuse("bed '" + path + "': x must be (N, 3) and id, species, radius (N); they have " +
-             std::to_string(xs.empty() ? 0 : xs[0]) + ", " +
-             std::to_string(is.empty() ? 0 : is[0]) + ", " +
-             std::to_string(ss.empty() ? 0 : ss[0]) + ", " +
-             std::to_string(rs.empty() ? 0 : rs[0]) + " rows");
-    const auto x = f.read_double("x");
-    p.resize(x.size() / 3);
-    for (std::size_t i = 0; i < p.size(); ++i) p.x[i] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
-    p.id = f.read_int64("id");
-    p.species = f.read_int32("species");
-    p.radius = f.read_double("radius");
+    try {
+      H5File f(path, H5File::Mode::Read);
+      // Lengths first: a reader must never index one array by another's length.
+      const auto xs = f.shape("x"), is = f.shape("id"), ss = f.shape("species"),
+                 rs = f.shape("radius");
+      if (xs.size() != 2 || xs[1] != 3 || is.size() != 1 || ss.size() != 1 || rs.size() != 1 ||
+          is[0] != xs[0] || ss[0] != xs[0] || rs[0] != xs[0])
+        refuse("bed '" + path + "': x must be (N, 3) and id, species, radius (N); they have " +
+               std::to_string(xs.empty() ? 0 : xs[0]) + ", " +
+               std::to_string(is.empty() ? 0 : is[0]) + ", " +
+               std::to_string(ss.empty() ? 0 : ss[0]) + ", " +
+               std::to_string(rs.empty() ? 0 : rs[0]) + " rows");
+      const auto x = f.read_double("x");
+      p.resize(x.size() / 3);
+      for (std::size_t i = 0; i < p.size(); ++i) p.x[i] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
+      p.id = f.read_int64("id");
+      p.species = f.read_int32("species");
+      p.radius = f.read_double("radius");
+    } catch (const CorruptInputError& e) {
+      // A file the user named that HDF5 cannot read as a bed is bad input (exit 2), named by its
+      // key; only a cached bed, which Tumble wrote itself, is damaged (exit 3).
+      if (source == BedSource::User) throw InputError(std::string("fill.bed_file: ") + e.what());
+      throw;
+    }
   }
   const auto row_of = [&](std::size_t i) {
     return text ? "line " + std::to_string(line_of[i]) : "row " + std::to_string(i);

@@ -84,6 +84,7 @@ FIXTURES = {
         "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\noutput_dir = \"{fx}/c_bcf\"\n"
         "bed_cache = \"{fx}/a_file\"\n",
     "a_file": "not a directory\n",
+    "not_hdf5.h5": "these bytes are no HDF5 file\n",
     "campaign_dir/": None,
     "no_partials/": None,
     "empty_partials/partials/": None,
