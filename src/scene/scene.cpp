@@ -97,7 +97,11 @@ void flatten(const toml::table& t, const std::string& prefix, const std::string&
     }
     Value v;
     v.origin = origin;
-    if (auto d = node.value<double>()) {
+    if (const auto* i = node.as_integer()) {  // (any integer: value<double> refuses those beyond
+      v.numeric = true;                       // 2^53, and value<bool> then read them as 'true')
+      v.num = static_cast<double>(i->get());
+      v.text = std::to_string(i->get());
+    } else if (auto d = node.value<double>()) {
       v.numeric = true;
       v.num = *d;
       std::ostringstream os;
@@ -106,8 +110,8 @@ void flatten(const toml::table& t, const std::string& prefix, const std::string&
       v.text = os.str();
     } else if (auto s = node.value<std::string>()) {
       v.text = *s;
-    } else if (auto b = node.value<bool>()) {
-      v.text = *b ? "true" : "false";
+    } else if (const auto* b = node.as_boolean()) {
+      v.text = b->get() ? "true" : "false";
     } else {
       throw InputError("scene error (" + origin + "): key '" + key +
                        "' has an unsupported value type (use a number or a string)");

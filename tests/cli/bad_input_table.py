@@ -57,6 +57,7 @@ FIXTURES = {
     "badtoml.toml": "[scene]\nname = \"x\"\n[tumbler\nradius = 0.02\n",
     "typo.toml": "[scene]\nname = \"x\"\n[tumbler]\nradus = 0.02\n",
     "array.toml": "[scene]\nname = \"x\"\n[tumbler]\nradius = [0.02]\n",
+    "bigint.toml": "[scene]\nname = \"x\"\n[protocol]\nrepose = 9007199254740993\n",
     "adir/": None,
     "adir.toml/": None,
     "c_empty.toml": "",
