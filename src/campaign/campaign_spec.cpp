@@ -183,8 +183,10 @@ void parse_campaign_table(const Ctx& c, const toml::table& t, CampaignSpec& s,
     const std::string key = "campaign." + name;
     if (name == "name") {
       s.name = text(c, key, node);
-      if (s.name.empty() || s.name.find('/') != std::string::npos)
-        c.fail(key, "must be a non-empty name without '/'");
+      // (It names results/<name>, the default output_dir: ".." was the folder above results.)
+      if (s.name.empty() || s.name.find('/') != std::string::npos || s.name == "." ||
+          s.name == "..")
+        c.fail(key, "must be a non-empty name without '/', not '.' or '..'");
     } else if (name == "scene") {
       const std::string p = text(c, key, node);
       s.scene_path =

@@ -72,6 +72,7 @@ FIXTURES = {
     "c_unknown_key.toml":
         "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\nreplica = 2\n",
     "c_slash_name.toml": "[campaign]\nname = \"a/b\"\nscene = \"{scenes}/bst_tiny.toml\"\n",
+    "c_dotdot_name.toml": "[campaign]\nname = \"..\"\nscene = \"{scenes}/bst_tiny.toml\"\n",
     "c_badtoml.toml": "[campaign\nname = \"c\"\n",
     "c_replicas0.toml": "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\nreplicas = 0\n",
     "c_ranks0.toml":
