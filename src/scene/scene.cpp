@@ -409,6 +409,19 @@ void validate_scene(const Scene& s) {
     fail(s.time_step() < 1e-9 ? (s.dt > 0 ? "time.dt" : "time.dt_fraction") : "protocol.rpm",
          os.str());
   }
+  // A wall that moves a good part of a particle in one step: no contact can resolve it (the
+  // shipped scenes move 1e-5 to 2e-2 d_small per step; protocol.omega = 1e6 turned the cylinder
+  // ~5000 rad per step, in a run of no steps).
+  if (s.mode != Mode::rest && s.omega() > 0) {
+    const double per_step = s.omega() * s.radius * s.time_step() / s.d_small;
+    if (per_step > kMaxWallStep) {
+      std::ostringstream os;
+      os << "(or protocol.omega) moves the wall " << per_step
+         << " d_small per time step (radius x omega x dt): at most " << kMaxWallStep
+         << "; lower the rotation or the time step";
+      fail("protocol.rpm", os.str());
+    }
+  }
   // The files a run writes: a name and two directories that must be usable before any work (a
   // run found out only when it wrote, after the bed; under mpirun one rank failed alone).
   if (s.name.find_first_not_of(" \t") == std::string::npos)

@@ -97,6 +97,8 @@ inline constexpr double kMaxWeightOverlap = 0.25;
 // Scenes whose protocol takes more time steps than this are refused: ~10^5 times bst_paper's
 // 8 iterations, years of any machine; below 2^63, so the count fits its integer.
 inline constexpr double kMaxProtocolSteps = 1e12;
+// Scenes whose wall moves more than this fraction of d_small in one time step are refused.
+inline constexpr double kMaxWallStep = 0.1;
 // Rendering of the resolved scene as TOML-like text (provenance).
 std::string scene_to_text(const Scene& s);
 
