@@ -422,6 +422,17 @@ void validate_scene(const Scene& s) {
       fail("protocol.rpm", os.str());
     }
   }
+  // Snapshots are files of the whole bed: more than kMaxSnapshots of them is a typo, not a study
+  // (1e-300 wrote one per step: ~160 GB for bst_tiny's one iteration).
+  if (s.snapshot_interval > 0) {
+    const double n = s.run_time() / std::max(s.snapshot_interval, s.time_step());
+    if (n > kMaxSnapshots) {
+      std::ostringstream os;
+      os << "= " << s.snapshot_interval << " s gives " << n << " snapshots over " << s.run_time()
+         << " s of protocol: at most " << kMaxSnapshots << " (0: one per iteration)";
+      fail("output.snapshot_interval", os.str());
+    }
+  }
   // The files a run writes: a name and two directories that must be usable before any work (a
   // run found out only when it wrote, after the bed; under mpirun one rank failed alone).
   if (s.name.find_first_not_of(" \t") == std::string::npos)

@@ -99,6 +99,8 @@ inline constexpr double kMaxWeightOverlap = 0.25;
 inline constexpr double kMaxProtocolSteps = 1e12;
 // Scenes whose wall moves more than this fraction of d_small in one time step are refused.
 inline constexpr double kMaxWallStep = 0.1;
+// Scenes that would write more snapshots than this are refused (each is a file of the whole bed).
+inline constexpr double kMaxSnapshots = 1e5;
 // Rendering of the resolved scene as TOML-like text (provenance).
 std::string scene_to_text(const Scene& s);
 
