@@ -229,3 +229,16 @@ def mpiexec_command(mpiexec, np_flag, n):
     if "Open MPI" in out or "OpenRTE" in out:
         cmd.append("--oversubscribe")  # a CI machine may have fewer cores than ranks
     return cmd
+
+
+def run_campaign_or_fail(mpiexec, np_flag, n, tumble, campaign):
+    """`tumble campaign CAMPAIGN` on n ranks, its output printed; fails the test unless it exits 0.
+    Returns the completed process (stdout holds the campaign's lines)."""
+    cmd = mpiexec_command(mpiexec, np_flag, n) + [tumble, "campaign", campaign]
+    print(" ".join(cmd), flush=True)
+    run = subprocess.run(cmd, capture_output=True, text=True)
+    print(run.stdout)
+    if run.returncode != 0:
+        print(run.stderr)
+        fail("campaign failed")
+    return run

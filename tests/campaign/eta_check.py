@@ -10,7 +10,6 @@ the campaign then ends with both cases done."""
 import argparse
 import re
 import shutil
-import subprocess
 
 import campaign_checks as cc
 
@@ -23,13 +22,7 @@ a = ap.parse_args()
 
 shutil.rmtree("ci_eta", ignore_errors=True)
 shutil.rmtree("beds_eta", ignore_errors=True)
-cmd = cc.mpiexec_command(a.mpiexec, a.np_flag, 2) + [a.tumble, "campaign", a.campaign]
-print(" ".join(cmd), flush=True)
-run = subprocess.run(cmd, capture_output=True, text=True)
-print(run.stdout)
-if run.returncode != 0:
-    print(run.stderr)
-    cc.fail("campaign failed")
+run = cc.run_campaign_or_fail(a.mpiexec, a.np_flag, 2, a.tumble, a.campaign)
 
 before_first_end = []
 for line in run.stdout.splitlines():

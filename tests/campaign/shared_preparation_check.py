@@ -11,7 +11,6 @@ import argparse
 import glob
 import os
 import shutil
-import subprocess
 
 import campaign_checks as cc
 
@@ -25,13 +24,7 @@ a = ap.parse_args()
 out = "ci_shared_preparation"
 shutil.rmtree(out, ignore_errors=True)
 shutil.rmtree("beds_shared_preparation", ignore_errors=True)
-cmd = cc.mpiexec_command(a.mpiexec, a.np_flag, 2) + [a.tumble, "campaign", a.campaign]
-print(" ".join(cmd), flush=True)
-run = subprocess.run(cmd, capture_output=True, text=True)
-print(run.stdout)
-if run.returncode != 0:
-    print(run.stderr)
-    cc.fail("campaign failed")
+run = cc.run_campaign_or_fail(a.mpiexec, a.np_flag, 2, a.tumble, a.campaign)
 if run.stdout.count("[campaign] done: ") != 4:
     cc.fail("expected all four cases done")
 

@@ -31,6 +31,14 @@ std::string last_counts(const std::ostringstream& out) {
   return last;
 }
 
+// A case's outcome when a stop ended it (`diagnostic`: where, as its group reports it).
+CaseOutcome stopped_outcome(const std::string& diagnostic) {
+  CaseOutcome o;
+  o.failure = "stopped";
+  o.diagnostic = diagnostic;
+  return o;
+}
+
 // Two cases of one point (cost 1000 each) and a dispatcher for one rank, nothing handed out.
 struct TwoCases : ::testing::Test {
   CampaignSpec spec;
@@ -65,6 +73,17 @@ struct TwoCases : ::testing::Test {
     in.quiet = false;  // (a quiet campaign writes no line when a case is done)
     d = std::make_unique<Dispatcher>(ctx, in, std::vector<std::string>{"host"}, 1);
   }
+
+  // The queue's next case to `ranks`, as the scheduler hands one out (peek, pop, started);
+  // `group`: the ranks it is held on, next in line, when they run a case.
+  void hand_out(const CaseTask& t, const std::vector<int>& ranks,
+                const std::vector<int>& group = {}) {
+    const CaseTask* next = d->peek(group);
+    ASSERT_NE(next, nullptr);
+    ASSERT_EQ(next->case_index, t.case_index);
+    d->pop();
+    d->started(t, ranks);
+  }
 };
 
 // The first runs (half its steps done), the second is held next in line on the same rank and
@@ -73,12 +92,9 @@ struct HeldCase : TwoCases {
   const CaseTask& held = second;
   void SetUp() override {
     TwoCases::SetUp();
-    ASSERT_NE(d->peek(), nullptr);  // (peek() then pop(), as the scheduler hands them out)
-    d->pop();
-    d->started(first, {0});
-    ASSERT_NE(d->peek({0}), nullptr);  // (for the same group: nothing waits on its preparation)
-    d->pop();
-    d->started(held, {0});  // the same group: held until the first case ends
+    hand_out(first, {0});
+    hand_out(held, {0}, {0});  // the same group: held until the first case ends (and not
+                               // waiting for the first's preparation, which ends before it)
     d->progress({0, 1, false, 0, 500, 1000, 10.0});
     d->progress({1, 1, true});  // the held case's leader, early
   }
@@ -108,9 +124,7 @@ TEST_F(HeldCase, StopCountsTheGroupNotTheHeldCase) {
 // A case resumed from step 900 of 1000 that ends 10 s later did a tenth of its cost in those
 // 10 s: the queued case (cost 1000) is then 100 s away, not 10 (its whole cost was credited).
 TEST_F(TwoCases, ResumedCaseIsCreditedOnlyWithTheStepsItRan) {
-  ASSERT_NE(d->peek(), nullptr);
-  d->pop();
-  d->started(first, {0});
+  hand_out(first, {0});
   d->progress({0, 1, false, 900, 900, 1000, 0.0});  // its protocol begins at its checkpoint
   CaseOutcome done;
   done.ok = true;
@@ -125,9 +139,7 @@ TEST_F(TwoCases, ResumedCaseIsCreditedOnlyWithTheStepsItRan) {
 // must leave the retry to the rerun (final: false), not end the case as failed for good.
 TEST_F(TwoCases, RetryableFailureDuringAStopIsLeftToTheRerun) {
   spec.max_attempts = 2;
-  ASSERT_NE(d->peek(), nullptr);
-  d->pop();
-  d->started(first, {0});
+  hand_out(first, {0});
   d->stop(SIGUSR1);
   CaseOutcome failed;
   failed.failure = "run";
@@ -150,29 +162,18 @@ TEST_F(TwoCases, RetryableFailureDuringAStopIsLeftToTheRerun) {
 // a held case that ends "not begun" is not started, neither "stopped at a checkpoint".
 TEST_F(HeldCase, StopCountsPreparingAndNotBegunApart) {
   d->stop(SIGUSR1);
-  CaseOutcome stopped;
-  stopped.failure = "stopped";
-  stopped.diagnostic = "stopped by SIGUSR1 at step 600";
-  (void)d->finished(first, stopped);  // (it had reported step 500)
-  CaseOutcome not_begun;
-  not_begun.failure = "stopped";
-  not_begun.diagnostic = "not begun: SIGUSR1 came first";
-  (void)d->finished(held, not_begun);
+  (void)d->finished(first, stopped_outcome("stopped by SIGUSR1 at step 600"));  // (reported 500)
+  (void)d->finished(held, stopped_outcome("not begun: SIGUSR1 came first"));
   EXPECT_EQ(d->stats().stopped, 1);
   EXPECT_EQ(d->stats().stopped_preparing, 0);
   EXPECT_EQ(d->stats().not_started, 1);
 }
 
 TEST_F(TwoCases, StopWhilePreparingIsCountedApart) {
-  ASSERT_NE(d->peek(), nullptr);
-  d->pop();
-  d->started(first, {0});
+  hand_out(first, {0});
   d->progress({0, 1, true});  // preparing: no protocol report yet
   d->stop(SIGUSR1);
-  CaseOutcome stopped;
-  stopped.failure = "stopped";
-  stopped.diagnostic = "stopped by SIGUSR1 while measuring the repose angle";
-  (void)d->finished(first, stopped);
+  (void)d->finished(first, stopped_outcome("stopped by SIGUSR1 while measuring the repose angle"));
   EXPECT_EQ(d->stats().stopped, 0);
   EXPECT_EQ(d->stats().stopped_preparing, 1);
   EXPECT_EQ(d->stats().not_started, 1);  // (the second case, still queued)
@@ -183,9 +184,7 @@ TEST_F(TwoCases, StopWhilePreparingIsCountedApart) {
 TEST_F(TwoCases, IdleRanksDoNotShareTheWorkLeft) {
   for (Case& c : ex.cases) c.ranks = 2;
   d = std::make_unique<Dispatcher>(ctx, in, std::vector<std::string>(3, "host"), 3);
-  ASSERT_NE(d->peek(), nullptr);
-  d->pop();
-  d->started(first, {0, 1});
+  hand_out(first, {0, 1});
   CaseOutcome done;
   done.ok = true;
   done.wall = 10;
