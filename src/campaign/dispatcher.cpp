@@ -210,9 +210,15 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
       next.status = "running";
       next.start = utc_now();
       in_.manifest->append(next);
-      now_starting.push_back("start " + case_label(other.task) + " on rank" +
-                             (other.ranks.size() > 1 ? "s " : " ") + next.ranks + " (" +
-                             next.hosts + "), held until now");
+      const std::string start = "start " + case_label(other.task) + " on rank" +
+                                (other.ranks.size() > 1 ? "s " : " ") + next.ranks + " (" +
+                                next.hosts + "), held until now";
+      // When stopping, the held case may have begun before the stop reached its group, or end
+      // "not begun": its own result says which, and its start line waits for it.
+      if (stopping())
+        other.start_line = start;
+      else
+        now_starting.push_back(start);
     }
   const double k = static_cast<double>(held.ranks.size());
   CaseRecord r = record(t, held.ranks);
@@ -286,6 +292,8 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
     }
   }
   in_.manifest->append(r);
+  if (!in_.quiet && !held.start_line.empty() && o.diagnostic.rfind("not begun", 0) != 0)
+    line(held.start_line);  // (it began, though the stop came before its predecessor's result)
   if (!o.ok || !in_.quiet)
     line(what + ": " + case_label(t) + " on rank" + (held.ranks.size() > 1 ? "s " : " ") + r.ranks +
              " in " + format_hms(o.wall) +
@@ -293,7 +301,7 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
                   ? " (resumed at step " + std::to_string(o.resumed_from_step) + ")"
                   : ""),
          true);
-  if (!in_.quiet && !stopping())  // when stopping, the held case ends "not begun" instead
+  if (!in_.quiet)
     for (const std::string& s : now_starting) line(s);
   return held.ranks;
 }

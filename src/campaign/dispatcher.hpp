@@ -88,6 +88,8 @@ class Dispatcher {
     Clock::time_point reported_at;
     bool preparing = false;             // it said so and its protocol has not begun (bed, β)
     std::vector<std::string> prepares;  // the files it makes before its protocol (as handed out)
+    std::string start_line;  // held, and its group's last case ended while stopping: its start
+                             // line, logged with its result unless that says "not begun"
   };
   std::map<std::size_t, Held> running_;  // case index -> who runs it
   std::map<std::pair<std::size_t, std::int64_t>, std::vector<std::string>> prepares_;  // memo

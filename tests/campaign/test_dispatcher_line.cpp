@@ -193,5 +193,24 @@ TEST_F(TwoCases, IdleRanksDoNotShareTheWorkLeft) {
   EXPECT_NE(line.find("ETA 0:00:10"), std::string::npos) << line;
 }
 
+// A stop that reaches rank 0 before its group's result: the held case may still have begun
+// (its group went on to it before the stop reached it). Its start line then comes with its
+// result; one that ends "not begun" gets none.
+TEST_F(HeldCase, HeldCaseThatBeganDuringAStopHasItsStartLine) {
+  d->stop(SIGUSR1);
+  (void)d->finished(first, stopped_outcome("stopped by SIGUSR1 at step 600"));
+  const std::string start = "start " + ex.cases[1].id;
+  EXPECT_EQ(out.str().find(start), std::string::npos) << out.str();  // (not yet: it may not begin)
+  (void)d->finished(held, stopped_outcome("stopped by SIGUSR1 while settling the bed"));
+  EXPECT_NE(out.str().find(start), std::string::npos) << out.str();
+}
+
+TEST_F(HeldCase, HeldCaseNotBegunDuringAStopHasNoStartLine) {
+  d->stop(SIGUSR1);
+  (void)d->finished(first, stopped_outcome("stopped by SIGUSR1 at step 600"));
+  (void)d->finished(held, stopped_outcome("not begun: SIGUSR1 came first"));
+  EXPECT_EQ(out.str().find("start " + ex.cases[1].id), std::string::npos) << out.str();
+}
+
 }  // namespace
 }  // namespace tumble::campaign
