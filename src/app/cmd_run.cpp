@@ -65,8 +65,8 @@ void register_run(CLI::App& app) {
     }
     if (opts->scene.empty()) throw CLI::RequiredError("scene");
     arm_memory_limit(opts->max_memory);
-    check_environment(
-        MPI_COMM_WORLD);  // (the engine and domain read it only after the bed is made)
+    // (The engine and the domain read the environment only after the bed is made.)
+    check_environment(MPI_COMM_WORLD);
     const Scene scene = load_scene(opts->scene, opts->overrides);
     // A missing checkpoint is bad input (exit 2), found before the bed is made or the HDF5
     // library is asked to open it.

@@ -114,7 +114,7 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
   // does not begin (the rerun starts it). The group agrees, as its ranks may have seen it apart.
   if (const int signal = agreed_stop_signal(group); signal != 0) {
     out.failure = "stopped";
-    out.diagnostic = "not begun: " + signal_name(signal) + " came first";
+    out.diagnostic = std::string(kNotBegun) + ": " + signal_name(signal) + " came first";
     out.end = utc_now();
     return out;
   }

@@ -37,6 +37,13 @@ struct CaseOutcome {
   long long resumed_from_step = 0;
 };
 
+// A case handed to its group after a stop request reached it ends "stopped" with a diagnostic
+// that begins so: it did not begin (nothing ran, nothing was kept).
+inline constexpr const char* kNotBegun = "not begun";
+inline bool ended_not_begun(const CaseOutcome& o) {
+  return o.failure == "stopped" && o.diagnostic.rfind(kNotBegun, 0) == 0;
+}
+
 // How far a running case has come: its group's leader reports it to the dispatcher every
 // progress interval (campaign.progress_interval) while the protocol runs, so that the campaign's
 // ETA rests on the running cases' own rates before any case has finished (a case may take days).

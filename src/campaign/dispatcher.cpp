@@ -88,10 +88,9 @@ std::vector<std::string> missing_preparation_files(const CaseContext& ctx, const
   std::vector<std::string> files;
   try {
     const Scene s = case_scene(*ctx.spec, c, dir, ctx.bed_cache, t.seed);
-    if (s.bed_file.empty() && !fs::exists(io::bed_cache_path(s)))
-      files.push_back(io::bed_cache_path(s));
-    if (s.repose_pending() && !fs::exists(repose_cache_path(s)))
-      files.push_back(repose_cache_path(s));
+    const std::string bed = io::bed_cache_path(s), repose = repose_cache_path(s);
+    if (s.bed_file.empty() && !fs::exists(bed)) files.push_back(bed);
+    if (s.repose_pending() && !fs::exists(repose)) files.push_back(repose);
   } catch (const InputError&) {
     return {};
   }
@@ -234,7 +233,7 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
     r.diagnostic = o.diagnostic;
     // A held case that had not begun is not started, not stopped; a case stopped before its
     // protocol's first report kept no checkpoint (its bed or β starts again).
-    if (o.diagnostic.rfind("not begun", 0) == 0)
+    if (ended_not_begun(o))
       stats_.not_started += 1;
     else if (held.recent.empty())
       stats_.stopped_preparing += 1;
@@ -292,7 +291,7 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
     }
   }
   in_.manifest->append(r);
-  if (!in_.quiet && !held.start_line.empty() && o.diagnostic.rfind("not begun", 0) != 0)
+  if (!in_.quiet && !held.start_line.empty() && !ended_not_begun(o))
     line(held.start_line);  // (it began, though the stop came before its predecessor's result)
   if (!o.ok || !in_.quiet)
     line(what + ": " + case_label(t) + " on rank" + (held.ranks.size() > 1 ? "s " : " ") + r.ranks +
