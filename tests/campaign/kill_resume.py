@@ -1,9 +1,9 @@
 """campaign.mpi2_sigkill_resume: kill a 2-rank campaign with SIGKILL mid-run, rerun the same command.
 
 The whole job (mpiexec and both ranks) is killed at once, as a scheduler or a node failure would,
-once at least one case is done and another has written a checkpoint. The rerun must complete,
-must not recompute any case finished before the kill (no new manifest line for it, its fields
-file untouched), must resume the interrupted cases from their checkpoints, and must give
+once at least one case is done and a case begun after it has written a checkpoint. The rerun must
+complete, must not recompute any case finished before the kill (no new manifest line for it, its
+fields file untouched), must resume the interrupted cases from their checkpoints, and must give
 statistics identical, bit for bit, to an uninterrupted run of the same campaign.
 
 With --ranks-per-case K and --rerun-ranks-per-case K2 the reference and the killed run use groups
@@ -118,13 +118,21 @@ log = open(run + ".log", "w")
 proc = subprocess.Popen(base + [run], stdout=log, stderr=subprocess.STDOUT)
 killed = 0
 deadline = time.time() + 300
+# The cases of the first round run side by side with equal lengths, so when one is done the other
+# is at its last steps and may finish before a stop reaches it (the CI machine once saw exactly
+# that: nothing left to stop at a checkpoint). So the job is interrupted in a case that began
+# after the first one ended: one not yet seen running while no case was done.
+first_round = set()
 while time.time() < deadline:
     if proc.poll() is not None:
         break
     recs = latest_records()
     done = [c for c, r in recs.items() if r["status"] == "done"]
-    resumable = [c for c, r in recs.items() if r["status"] == "running"
-                 and os.path.exists(os.path.join(run, r["output"], "checkpoint.h5"))]
+    running = [c for c, r in recs.items() if r["status"] == "running"]
+    if not done:
+        first_round.update(running)
+    resumable = [c for c in running if c not in first_round
+                 and os.path.exists(os.path.join(run, recs[c]["output"], "checkpoint.h5"))]
     if done and resumable:
         if a.signal == "KILL":
             killed = kill_job(proc)  # mpiexec and every rank, without warning
