@@ -27,8 +27,9 @@ int stop_signal();
 // The signal any rank of `comm` has seen (the largest number), 0 if none. Collective over comm
 // (MPI_COMM_NULL: this process alone).
 int agreed_stop_signal(MPI_Comm comm);
-// Ends a phase that keeps nothing worth a checkpoint (settling a bed, measuring the repose angle)
-// at once with StopRequest naming `what` if any rank has seen a stop signal; collective.
+// Ends a phase that keeps nothing worth a checkpoint (settling a bed, which takes minutes; the
+// repose angle's turn keeps its own: run/repose_measure.hpp) at once with StopRequest naming
+// `what` if any rank has seen a stop signal; collective.
 void stop_if_requested(MPI_Comm comm, const std::string& what);
 // "SIGUSR1", "SIGTERM", "SIGINT", or "signal N".
 std::string signal_name(int signal);

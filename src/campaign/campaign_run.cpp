@@ -461,7 +461,9 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
         out << "[campaign] stopped by " << signal_name(stats.stop_signal) << ": " << stats.stopped
             << " case" << (stats.stopped == 1 ? "" : "s") << " stopped at a checkpoint, ";
         if (stats.stopped_preparing > 0)
-          out << stats.stopped_preparing << " while preparing (bed, beta: no checkpoint), ";
+          out << stats.stopped_preparing
+              << " while preparing (a bed starts again, a beta measurement goes on from its "
+                 "turn), ";
         out << stats.not_started << " not started; rerun the same command to go on\n";
         rc = exit_code::kWorkLeft;
       } else if (fold_statistics(spec, e, dir, slice, opt, stats, out) > 0) {

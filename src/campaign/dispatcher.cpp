@@ -232,7 +232,8 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
     r.status = "stopped";
     r.diagnostic = o.diagnostic;
     // A held case that had not begun is not started, not stopped; a case stopped before its
-    // protocol's first report kept no checkpoint (its bed or β starts again).
+    // protocol's first report kept no run checkpoint (its bed starts again; a β measurement goes
+    // on from the turn it kept).
     if (ended_not_begun(o))
       stats_.not_started += 1;
     else if (held.recent.empty())
@@ -315,8 +316,9 @@ void Dispatcher::stop(int signal) {
   const std::size_t n = running_cases().size();  // (a case held next in line ends "not begun")
   line(signal_name(signal) + ": stopping; no case starts any more, " +
        (n == 1 ? std::string("the running case ends") : std::to_string(n) + " running cases end") +
-       " at the next neighbour rebuild with a checkpoint (one still settling its bed or "
-       "measuring beta keeps none: that starts again); rerun the same command to go on");
+       " at the next neighbour rebuild with a checkpoint (one still settling its bed keeps none: "
+       "that starts again; one measuring beta keeps its turn so far); rerun the same command to "
+       "go on");
 }
 
 void Dispatcher::progress(const CaseProgress& p) {

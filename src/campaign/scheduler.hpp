@@ -34,7 +34,7 @@ struct ScheduleStats {
   long long polls = 0;            // polls made from inside those cases
   int stop_signal = 0;            // a stop request ended the invocation early (0: it did not)
   int stopped = 0;                // cases that stopped at a checkpoint on that request
-  int stopped_preparing = 0;      // cases stopped before their protocol began (no checkpoint)
+  int stopped_preparing = 0;      // cases stopped before their protocol began (no run checkpoint)
   int not_started = 0;            // cases still queued when it came
   double overhead() const;        // 1 - rank_seconds / (ranks * loop_wall): rank time not in cases
   double dispatch_share() const;  // poll_seconds / local_seconds

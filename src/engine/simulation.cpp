@@ -328,6 +328,14 @@ void Simulation::send_ghost_forces() {
   if (newton_) dom_->reverse_forces(p_, n_local_);
 }
 
+std::vector<double> Simulation::decomposition() const {
+  return dom_ ? dom_->tree().to_doubles() : std::vector<double>{};
+}
+
+void Simulation::adopt_decomposition(const std::vector<double>& tree) {
+  if (dom_) dom_->adopt_tree(tree);
+}
+
 void Simulation::restore(const neighbor::ContactHistory& history) {
   // The records as the law reads them: its width (a checkpoint of another law's width cannot be
   // matched) and its sign pattern.

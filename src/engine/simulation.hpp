@@ -57,6 +57,13 @@ class Simulation {
   // Restores contact history and forces from a checkpoint; rebuilds the list from the current
   // (already sorted) particle order without recomputing forces.
   void restore(const neighbor::ContactHistory& history);
+  // The ranks' boxes (parallel::RcbTree::to_doubles; empty when serial), and a restart on as
+  // many ranks going on in the boxes of its checkpoint: called before restore(), it makes the
+  // first distribution keep every particle where the checkpoint's rows put it, so the continued
+  // run is bitwise the uninterrupted one on a decomposed run too. Throws std::invalid_argument
+  // for numbers that are not a tree of this run's ranks; does nothing when serial.
+  std::vector<double> decomposition() const;
+  void adopt_decomposition(const std::vector<double>& tree);
   // Computes forces for the current state (initial call of a fresh run).
   void compute_forces();
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 
@@ -130,6 +132,10 @@ std::vector<int> check_contents(const CheckpointData& c, std::int64_t n, std::in
   for (std::size_t k = 0; k < c.snapshot_times.size(); ++k)
     if (!finite(c.snapshot_times[k]) || (k > 0 && c.snapshot_times[k] < c.snapshot_times[k - 1]))
       corrupt(path, "snapshots/time is not a list of increasing times");
+  if (static_cast<std::int64_t>(c.measure_samples.size()) > c.step + 1 ||
+      std::any_of(c.measure_samples.begin(), c.measure_samples.end(),
+                  [](double x) { return !finite(x); }))
+    corrupt(path, "measure/samples holds more samples than steps, or one that is not finite");
   const auto len = c.series.time.size();
   for (const auto* v : {&c.series.iteration, &c.series.shell_large_fraction,
                         &c.series.bed_large_fraction, &c.series.kinetic_energy})
@@ -164,7 +170,8 @@ void agree(MPI_Comm comm, const std::string& local_error, bool corrupt_kind) {
 
 void write_checkpoint(const std::string& path, const Simulation& sim, const Scene& scene,
                       const analysis::Series& series, const std::vector<double>& snapshot_times,
-                      const cm::DriftStatistics& drift) {
+                      const cm::DriftStatistics& drift,
+                      const std::vector<double>& measure_samples) {
   // Owned particles only (ghosts are rebuilt on restart), in memory order.
   const Particles& p = sim.particles();
   const std::size_t n = sim.local_count();
@@ -196,6 +203,10 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   f.write_rows("contacts/pair_ids", pairs, 2);
   f.write_rows("contacts/spring", springs, static_cast<hsize_t>(width));
   f.write_rows("contacts/anchor", anchors, 3);
+  if (sim.domain()) {  // which rows each rank wrote, and its box (engine_from_checkpoint)
+    f.write_rows("domain/rows", std::vector<std::int64_t>{static_cast<std::int64_t>(n)});
+    f.write("domain/tree", sim.decomposition());
+  }
   write_series(f, series);
   if (!drift.empty()) {  // rank 0's sums (the others hold none: the meter samples the gathered bed)
     f.write("drift/count", drift.count);
@@ -206,6 +217,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   f.set_attr("/", "step", static_cast<std::int64_t>(sim.step_count()));
   f.set_attr("/", "snapshots_written", static_cast<std::int64_t>(snapshot_times.size()));
   if (!snapshot_times.empty()) f.write("snapshots/time", snapshot_times);
+  if (!measure_samples.empty()) f.write("measure/samples", measure_samples);
   f.set_attr("/", "kind", std::string("tumble checkpoint"));
   write_provenance(f, scene);
   out.commit();
@@ -231,8 +243,24 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
     // A count beyond 2^31 (a 100 GB checkpoint) is a damaged shape, not a bed.
     if (n <= 0 || n >= (std::int64_t{1} << 31))
       corrupt(path, "particles/id has " + std::to_string(n) + " rows");
-    const auto b0 = static_cast<hsize_t>(n * rank / size),
-               b1 = static_cast<hsize_t>(n * (rank + 1) / size);
+    auto b0 = static_cast<hsize_t>(n * rank / size),
+         b1 = static_cast<hsize_t>(n * (rank + 1) / size);
+    // Written on as many ranks: each takes the rows it wrote, and the boxes it had.
+    const std::vector<std::int64_t> rows = size > 1 && f.exists("domain/rows")
+                                               ? f.read_int64("domain/rows")
+                                               : std::vector<std::int64_t>{};
+    if (rows.size() == static_cast<std::size_t>(size)) {
+      std::int64_t before = 0, total = 0;
+      for (int r = 0; r < size; ++r) {
+        if (rows[r] < 0 || rows[r] > n) corrupt(path, "domain/rows does not split the particles");
+        if (r < rank) before += rows[r];
+        total += rows[r];
+      }
+      if (total != n) corrupt(path, "domain/rows does not add up to the particles' rows");
+      b0 = static_cast<hsize_t>(before);
+      b1 = b0 + static_cast<hsize_t>(rows[rank]);
+      c.domain_tree = f.read_double("domain/tree");
+    }
     Particles& p = c.particles;
     p.resize(b1 - b0);  // fields not in checkpoints start value-initialised
     // Fields added after a checkpoint was written start value-initialised when marked optional.
@@ -291,6 +319,7 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
     c.step = f.attr_int64("/", "step");
     c.snapshots_written = f.attr_int64("/", "snapshots_written");
     if (f.exists("snapshots/time")) c.snapshot_times = f.read_double("snapshots/time");
+    if (f.exists("measure/samples")) c.measure_samples = f.read_double("measure/samples");
     c.scene_text = f.attr_string("/", "scene");
     seen = check_contents(c, n, static_cast<std::int64_t>(b0), path);
   } catch (const CorruptInputError& e) {
@@ -305,6 +334,22 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
   for (std::size_t k = 0; k < seen.size(); ++k)
     if (seen[k] > 1) corrupt(path, "particle id " + std::to_string(k) + " appears twice");
   return c;
+}
+
+std::unique_ptr<Simulation> engine_from_checkpoint(CheckpointData& c, const Scene& scene,
+                                                   const geometry::Protocol& protocol,
+                                                   const std::string& path, MPI_Comm comm) {
+  auto sim =
+      std::make_unique<Simulation>(scene, std::move(c.particles), protocol, c.time, c.step, comm);
+  if (!c.domain_tree.empty()) {
+    try {  // (every rank holds the same numbers: all throw alike)
+      sim->adopt_decomposition(c.domain_tree);
+    } catch (const std::invalid_argument& e) {
+      corrupt(path, e.what());
+    }
+  }
+  sim->restore(c.history);
+  return sim;
 }
 
 void check_checkpoint_fits(const CheckpointData& c, const Scene& s, const std::string& path,

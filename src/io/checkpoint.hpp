@@ -12,6 +12,7 @@
 // any number of ranks can read it (each takes a block of rows; the engine moves them to their
 // owners), so a checkpoint written on 2 ranks restarts on 1 or 3 and vice versa. Each contact
 // record carries an anchor (where the pair was) that routes it to the ranks near the pair.
+#include <memory>
 #include <string>
 
 #include "analysis/radial_segregation.hpp"
@@ -33,11 +34,18 @@ struct CheckpointData {
   // Each snapshot's simulated time, for the resumed run's list (snapshots.xdmf); empty in files
   // written before 2026-11-28, whose times are rebuilt from the snapshot interval.
   std::vector<double> snapshot_times;
+  // The samples a measurement that runs the engine before a protocol has taken so far (the
+  // repose angle's, run/repose_measure.cpp); empty in a run's checkpoint.
+  std::vector<double> measure_samples;
+  // The boxes of the ranks that wrote it (Simulation::decomposition), when it is read on as many
+  // ranks (each rank then holds the rows it wrote, in their order); empty otherwise.
+  std::vector<double> domain_tree;
 };
 
 void write_checkpoint(const std::string& path, const Simulation& sim, const Scene& scene,
                       const analysis::Series& series, const std::vector<double>& snapshot_times,
-                      const cm::DriftStatistics& drift = {});
+                      const cm::DriftStatistics& drift = {},
+                      const std::vector<double>& measure_samples = {});
 // Whole checkpoint (serial), or with `comm` of more than one rank this rank's block of the
 // particle rows and of the contact records (collective).
 // Refuses (CorruptInputError, naming file and dataset) a file whose checksums fail or whose
@@ -50,5 +58,12 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm = MPI_COMM
 // every centre lies inside the tumbler within one d_large, and the time agrees with step x dt.
 void check_checkpoint_fits(const CheckpointData& c, const Scene& scene, const std::string& path,
                            MPI_Comm comm = MPI_COMM_NULL);
+// The engine that goes on from `c` (read by read_checkpoint on `comm`): its particles (moved out of
+// `c`), its springs, and on as many ranks as wrote it their boxes, so that the run continues bit
+// for bit. Collective; CorruptInputError (naming `path`) for boxes that are not a decomposition.
+std::unique_ptr<Simulation> engine_from_checkpoint(CheckpointData& c, const Scene& scene,
+                                                   const geometry::Protocol& protocol,
+                                                   const std::string& path,
+                                                   MPI_Comm comm = MPI_COMM_NULL);
 
 }  // namespace tumble::io

@@ -201,6 +201,11 @@ void Domain::distribute(Particles& p, std::vector<neighbor::SavedSpring>& record
   route_records(records, reach, history_width, true);
 }
 
+void Domain::adopt_tree(const std::vector<double>& tree) {
+  tree_ = RcbTree::from_doubles(root_, tree, size_);
+  have_tree_ = true;
+}
+
 void Domain::migrate_owned(Particles& p) {
   const double t0 = MPI_Wtime();
   if (!have_tree_) {

@@ -47,6 +47,10 @@ class Domain {
   // route_records(): each record to every other rank whose domain lies within `reach` of its
   // anchor; `records` becomes what arrived, after the rank's own records if `keep_own`.
   void migrate_owned(Particles& p);
+  // A restart on as many ranks as its checkpoint's: the first migrate_owned() uses the boxes the
+  // run had (RcbTree::to_doubles) instead of bisecting afresh. Throws std::invalid_argument for
+  // numbers that are not a tree of this many ranks. Not collective (every rank passes the same).
+  void adopt_tree(const std::vector<double>& tree);
   void route_records(std::vector<neighbor::SavedSpring>& records, double reach, int history_width,
                      bool keep_own);
   // Collective. Appends to `p` (after its `n_local` owned particles) a ghost copy of every other

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace tumble::parallel {
 
@@ -113,6 +115,63 @@ RcbTree RcbTree::build(MPI_Comm comm, const Box& root, const std::vector<Vec3>& 
     }
     level = std::move(next);
   }
+  t.collect_boxes();
+  return t;
+}
+
+std::vector<double> RcbTree::to_doubles() const {
+  std::vector<double> out;
+  out.reserve(nodes_.size() * kNodeDoubles);
+  for (const Node& nd : nodes_) {
+    out.insert(out.end(), {static_cast<double>(nd.dim), nd.cut, static_cast<double>(nd.r0),
+                           static_cast<double>(nd.r1), static_cast<double>(nd.lo),
+                           static_cast<double>(nd.hi)});
+    for (int d = 0; d < 3; ++d) out.push_back(nd.box.lo[d]);
+    for (int d = 0; d < 3; ++d) out.push_back(nd.box.hi[d]);
+  }
+  return out;
+}
+
+RcbTree RcbTree::from_doubles(const Box& root, const std::vector<double>& data, int ranks) {
+  const std::size_t n = data.size() / kNodeDoubles;
+  auto bad = [](const std::string& why) {
+    throw std::invalid_argument("the decomposition's tree " + why);
+  };
+  if (n == 0 || data.size() % kNodeDoubles != 0 || n > 4 * static_cast<std::size_t>(ranks))
+    bad("has " + std::to_string(data.size()) + " numbers");
+  RcbTree t;
+  t.root_ = root;
+  auto whole = [](double v, double lo, double hi) {
+    return std::isfinite(v) && v == std::floor(v) && v >= lo && v <= hi;
+  };
+  std::vector<int> leaf_of(static_cast<std::size_t>(ranks), 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double* v = &data[k * kNodeDoubles];
+    const auto last = static_cast<double>(n - 1);
+    if (!whole(v[0], -1, 2) || !std::isfinite(v[1]) || !whole(v[2], 0, ranks - 1) ||
+        !whole(v[3], v[2] + 1, ranks) || !whole(v[4], -1, last) || !whole(v[5], -1, last))
+      bad("node " + std::to_string(k) + " is not a node");
+    Node nd{static_cast<int>(v[0]),
+            v[1],
+            static_cast<int>(v[2]),
+            static_cast<int>(v[3]),
+            static_cast<int>(v[4]),
+            static_cast<int>(v[5]),
+            {}};
+    for (int d = 0; d < 3; ++d) {
+      nd.box.lo[d] = v[6 + d];
+      nd.box.hi[d] = v[9 + d];
+    }
+    // A leaf holds one rank; an inner node two children after it.
+    if (nd.dim < 0 ? nd.r1 != nd.r0 + 1
+                   : nd.lo <= static_cast<int>(k) || nd.hi <= static_cast<int>(k))
+      bad("node " + std::to_string(k) + " is not a node");
+    if (nd.dim < 0) leaf_of[static_cast<std::size_t>(nd.r0)] += 1;
+    t.nodes_.push_back(nd);
+  }
+  if (t.nodes_[0].r0 != 0 || t.nodes_[0].r1 != ranks ||
+      std::count(leaf_of.begin(), leaf_of.end(), 1) != ranks)
+    bad("is not one of " + std::to_string(ranks) + " ranks");
   t.collect_boxes();
   return t;
 }

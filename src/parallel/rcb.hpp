@@ -34,6 +34,15 @@ class RcbTree {
   static RcbTree build(MPI_Comm comm, const Box& root, const std::vector<Vec3>& x,
                        std::size_t count, const double* weight = nullptr);
 
+  // The tree as numbers (kNodeDoubles per node), and back, for checkpoints: a decomposed run
+  // that restarts on as many ranks goes on in the same boxes (a tree built afresh where the bed
+  // is at the restart would cut elsewhere, and the run would differ from the uninterrupted one
+  // in round-off). from_doubles() throws std::invalid_argument for numbers that are not a tree
+  // of `ranks` leaves.
+  static constexpr int kNodeDoubles = 12;
+  std::vector<double> to_doubles() const;
+  static RcbTree from_doubles(const Box& root, const std::vector<double>& data, int ranks);
+
   // Owner rank of a point (points outside the root box go to the nearest leaf along each cut).
   int owner(const Vec3& p) const;
   // Ranks whose box lies within `reach` of p (periodic in z with `period_z` > 0); p's own owner

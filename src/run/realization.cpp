@@ -103,9 +103,7 @@ Started restart_from(const std::string& path, const Scene& scene,
     *log << "[run] restarting from " << path << " at t = " << c.time << " s (step " << c.step
          << ")\n";
   Started st;
-  st.sim =
-      std::make_unique<Simulation>(scene, std::move(c.particles), protocol, c.time, c.step, comm);
-  st.sim->restore(c.history);
+  st.sim = io::engine_from_checkpoint(c, scene, protocol, path, comm);
   st.state = std::make_unique<RunState>(scene, *st.sim, comm, log);
   st.state->series = std::move(c.series);
   if (scene.drift_grid == OnOff::on) st.state->drift = std::move(c.drift);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <memory>
 #include <ostream>
 #include <sstream>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "engine/simulation.hpp"
 #include "h5/hdf5_file.hpp"
 #include "io/bed_io.hpp"
+#include "io/checkpoint.hpp"
 #include "io/snapshot.hpp"
 #include "run/settled_bed.hpp"
 
@@ -24,42 +26,122 @@ namespace tumble {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-ReposeMeasurement measure_repose(const Scene& scene, const Particles& bed, std::ostream* log,
-                                 MPI_Comm comm, const std::function<void()>& between_blocks) {
+namespace {
+
+// The turn so far: the engine and the samples, resumed from a file written at a stop or by the
+// wall clock (nullopt: none, or one that does not fit this measurement, with the reason logged).
+struct Turn {
+  std::unique_ptr<Simulation> sim;
+  std::vector<double> angles;
+};
+
+bool resume_turn(const Scene& dynamic, const std::string& path, Turn& turn, std::ostream* log,
+                 MPI_Comm comm) {
+  int have = rank_in(comm) == 0 && !path.empty() && fs::exists(path) ? 1 : 0;
+  if (size_of(comm) > 1) MPI_Bcast(&have, 1, MPI_INT, 0, comm);
+  if (!have) return false;
+  try {
+    io::CheckpointData c = io::read_checkpoint(path, comm);  // collective; same error on all
+    if (repose_key(parse_scene(c.scene_text, {}, "repose turn " + path)) != repose_key(dynamic))
+      throw InputError("it was written for another bed, speed or contact law");
+    io::check_checkpoint_fits(c, dynamic, path, comm);
+    turn.sim = io::engine_from_checkpoint(
+        c, dynamic, geometry::Protocol::single_axis('z', dynamic.omega()), path, comm);
+    turn.angles = std::move(c.measure_samples);
+  } catch (const InputError& e) {  // (CorruptInputError among them) the turn starts again
+    if (log)
+      *log << "[repose] not going on from " << path << ": " << e.what()
+           << "; turning from the start" << std::endl;
+    return false;
+  }
+  if (log)
+    *log << "[repose] going on from " << path << " at " << std::setprecision(3)
+         << rad2deg(dynamic.omega() * turn.sim->time()) << " of " << kReposeEndDeg << " degrees ("
+         << turn.angles.size() << " samples)" << std::endl;
+  return true;
+}
+
+}  // namespace
+
+ReposeMeasurement measure_repose(const Scene& scene, const std::function<Particles()>& bed,
+                                 const std::string& turn_path, std::ostream* log, MPI_Comm comm,
+                                 const std::function<void()>& between_blocks) {
   const double w = scene.omega();
   const double dt = scene.time_step();
   const auto steps_per_degree = std::max<std::int64_t>(1, std::llround(deg2rad(1.0) / w / dt));
   const auto first = static_cast<std::int64_t>(kReposeSpinUpDeg) * steps_per_degree;
   const auto last = static_cast<std::int64_t>(kReposeEndDeg) * steps_per_degree;
-  if (log)
-    *log << "[repose] protocol.repose = 'measured': turning the settled bed " << kReposeEndDeg
-         << " degrees about z at " << std::setprecision(4) << w << " rad/s (" << last
-         << " steps), sampling the free surface once a degree from " << kReposeSpinUpDeg
-         << " degrees" << std::endl;
   // The dynamic bed's angle, whatever fidelity.bulk: β is cached by a key that does not hold it.
   Scene dynamic = scene;
   dynamic.bulk = Bulk::dynamic;
-  Simulation sim(dynamic, share_of(bed, comm), geometry::Protocol::single_axis('z', w), 0, 0, comm);
-  sim.compute_forces();
+  Turn turn;
+  if (!resume_turn(dynamic, turn_path, turn, log, comm)) {
+    if (log)
+      *log << "[repose] protocol.repose = 'measured': turning the settled bed " << kReposeEndDeg
+           << " degrees about z at " << std::setprecision(4) << w << " rad/s (" << last
+           << " steps), sampling the free surface once a degree from " << kReposeSpinUpDeg
+           << " degrees" << std::endl;
+    turn.sim = std::make_unique<Simulation>(dynamic, share_of(bed(), comm),
+                                            geometry::Protocol::single_axis('z', w), 0, 0, comm);
+    turn.sim->compute_forces();
+  }
+  Simulation& sim = *turn.sim;
+  std::vector<double>& angles = turn.angles;
   analysis::FlowFrame frame;  // as the series observer's flow measure (run/series_observer.cpp)
   frame.axis = Vec3{0, 0, 1};
   frame.radius = scene.radius;
   frame.bin = 2 * scene.d_large;
   frame.depth = scene.d_large;
-  std::vector<double> angles;
+  const bool lead = rank_in(comm) == 0;
   const auto t0 = Clock::now();
-  auto shown = t0;
+  auto shown = t0, saved = t0;
+  // The turn is kept as a run keeps its protocol (run/checkpoint_observer.hpp): after a step in
+  // which the engine rebuilt its list by itself, so that going on from the file repeats the
+  // uninterrupted turn bit for bit (a still bed gets a forced rebuild after kStopWait steps).
+  // Asked for by a stop signal, or by output.checkpoint_wall of wall time since the last; the
+  // ranks agree every kAgree steps (rank 0's clock decides).
+  constexpr std::int64_t kAgree = 200, kStopWait = 1000;
+  int stop = 0;
+  bool keep = false;
+  std::int64_t asked = 0;
+  std::uint64_t rebuilds = sim.rebuilds();
   while (sim.step_count() < last) {
+    if (keep && sim.step_count() + 1 - asked >= kStopWait) sim.request_rebuild();
     sim.step();
     const std::int64_t k = sim.step_count();
-    if (k % 200 == 0) {
-      if (between_blocks) between_blocks();
-      stop_if_requested(comm, "measuring the repose angle");
-    }
+    const bool rebuilt = sim.rebuilds() != rebuilds;
+    rebuilds = sim.rebuilds();
     if (k >= first && k % steps_per_degree == 0) {
       const Particles all = sim.gather_all();  // collective
       const double a = analysis::flow_profile(all, all.size(), frame).repose_deg;
       if (std::isfinite(a)) angles.push_back(a);
+    }
+    if (k % kAgree == 0) {
+      if (between_blocks) between_blocks();
+      int ask[2] = {
+          stop_signal(),
+          lead && scene.checkpoint_wall > 0 &&
+              std::chrono::duration<double>(Clock::now() - saved).count() >= scene.checkpoint_wall};
+      if (size_of(comm) > 1) MPI_Allreduce(MPI_IN_PLACE, ask, 2, MPI_INT, MPI_MAX, comm);
+      if (turn_path.empty() && ask[0] != 0)  // nowhere to keep it
+        stop_if_requested(comm, "measuring the repose angle");
+      if (stop == 0) stop = ask[0];
+      if ((stop != 0 || ask[1] != 0) && !keep) {
+        keep = true;
+        asked = k;
+      }
+    }
+    if (keep && rebuilt && k < last) {
+      io::write_checkpoint(turn_path, sim, dynamic, {}, {}, {}, angles);  // collective
+      saved = Clock::now();
+      keep = false;
+      const std::string at =
+          short_number(rad2deg(w * sim.time())) + " of " + short_number(kReposeEndDeg) + " degrees";
+      if (stop != 0)
+        throw StopRequest(
+            "stopped by " + signal_name(stop) + " while measuring the repose angle, at " + at +
+            ": the turn so far is kept in " + turn_path + " (the next run goes on from it)");
+      if (log) *log << "[repose] turn kept at " << at << " in " << turn_path << std::endl;
     }
     if (log &&
         std::chrono::duration<double>(Clock::now() - shown).count() > scene.progress_interval) {
@@ -108,6 +190,10 @@ std::string repose_key(const Scene& s) {
 
 std::string repose_cache_path(const Scene& s) {
   return s.bed_cache + "/repose_" + hex16(fnv1a64(repose_key(s))) + ".h5";
+}
+
+std::string repose_turn_path(const Scene& s) {
+  return s.bed_cache + "/repose_" + hex16(fnv1a64(repose_key(s))) + ".turn.h5";
 }
 
 namespace {
@@ -168,11 +254,14 @@ Scene with_repose_resolved(const Scene& scene, const std::string& checkpoint, st
       *log << "[repose] beta = " << std::setprecision(6) << deg << " degrees (measured, " << source
            << ")" << std::endl;
   } else {
-    const Particles bed = settled_bed(scene, log, nullptr, comm, between_blocks);
-    const ReposeMeasurement m = measure_repose(scene, bed, log, comm, between_blocks);
+    const std::string turn = repose_turn_path(scene);
+    const ReposeMeasurement m = measure_repose(
+        scene, [&] { return settled_bed(scene, log, nullptr, comm, between_blocks); }, turn, log,
+        comm, between_blocks);
     deg = m.mean_deg;
     if (lead) {
       write_cached_repose(cache, scene, m);
+      fs::remove(turn);  // (none if the turn was never kept)
       if (log) *log << "[repose] saved in " << cache << std::endl;
     }
     if (size_of(comm) > 1) MPI_Barrier(comm);

@@ -13,6 +13,14 @@
 // The value is a property of the bed (its seed included: every replica measures its own, so the
 // result never depends on which case ran first) and is kept beside the cached bed; a run that
 // resumes takes it from its checkpoint, whose scene text holds the number.
+//
+// The turn itself (hours on the paper's bed: 2 h of a core for bst_paper at `standard`) is kept
+// like a run's protocol: on a stop signal and every output.checkpoint_wall of wall time, the
+// engine and the samples so far go to a checkpoint beside the cached value (repose_turn_path),
+// written after a step that rebuilt its neighbour list by itself, so the next run goes on from it
+// and ends with the number the uninterrupted turn gives, bit for bit (on the same ranks). The file
+// is removed once the value is cached; one that does not fit (another bed, damaged) is ignored
+// with a line in the log and the turn starts again.
 #include <mpi.h>
 
 #include <functional>
@@ -35,9 +43,12 @@ struct ReposeMeasurement {
   int samples = 0;
 };
 
-// The measurement on `bed` (the whole bed, on every rank of `comm`; collective). Throws RunError
-// when no free surface is found (the key to set is named).
-ReposeMeasurement measure_repose(const Scene& scene, const Particles& bed, std::ostream* log,
+// The measurement on the settled bed that `bed` gives (the whole bed, on every rank of `comm`;
+// called only when there is no turn to go on from), kept in and resumed from `turn_path` ("":
+// nowhere; a stop then keeps nothing). Collective. Throws RunError when no free surface is found
+// (the key to set is named), StopRequest on a stop signal once the turn is kept.
+ReposeMeasurement measure_repose(const Scene& scene, const std::function<Particles()>& bed,
+                                 const std::string& turn_path, std::ostream* log,
                                  MPI_Comm comm = MPI_COMM_NULL,
                                  const std::function<void()>& between_blocks = nullptr);
 
@@ -45,6 +56,8 @@ ReposeMeasurement measure_repose(const Scene& scene, const Particles& bed, std::
 // the code version; its hash names the cached value (beside the bed, in fill.bed_cache).
 std::string repose_key(const Scene& scene);
 std::string repose_cache_path(const Scene& scene);
+// The turn so far of a measurement stopped or still running (beside the cached value).
+std::string repose_turn_path(const Scene& scene);
 
 // The scene with β known. A given number, or a scene that is not biaxial: unchanged. Otherwise
 // the number in the scene text of `checkpoint` (the file the run resumes from; "" for none), else

@@ -1,0 +1,177 @@
+"""cli.repose_stop_resume: the repose angle's turn (protocol.repose = "measured") is kept, not lost,
+when the run is stopped or killed in it, and going on from it gives the uninterrupted number bit for
+bit (run/repose_measure.hpp).
+
+bst_tiny turned at 20 rpm (80 degrees in seconds), its bed settled once and copied into each
+run's own bed cache, so that every run below measures beta on the same bed:
+  R1, R2  uninterrupted, on 1 and 2 ranks: the reference betas (the cached value's repose_deg);
+  K   serial, output.checkpoint_wall = 1 s, SIGKILL once it says it kept its turn: the turn file
+      holds the engine and the samples so far, and the rerun goes on from it to R1's beta;
+  S   2 ranks under mpiexec, SIGUSR1 to mpiexec past 45 degrees (samples taken): exit code 10, one
+      line saying where the turn is kept, no value cached yet; the rerun goes on to R2's beta,
+      bit for bit, and removes the turn file;
+  D   a damaged turn file: the rerun says it does not go on from it, turns from the start and
+      still gives R1's beta.
+The signals go when the run's own lines say so, not after a fixed time.
+
+usage: repose_stop_check.py TUMBLE SCENE WORK MPIEXEC NP_FLAG"""
+import glob
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import threading
+
+import h5py
+
+tumble, scene, work, mpiexec, np_flag = sys.argv[1:6]
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+
+
+def fail(msg):
+    print("FAIL: " + msg)
+    sys.exit(1)
+
+
+def cmd(name, ranks, extra=()):
+    launch = [mpiexec, np_flag, str(ranks)] if ranks > 1 else []
+    return launch + [tumble, "run", scene, "--set", "protocol.repose=measured",
+                     "--set", "protocol.rpm=20", "--set", "protocol.iterations=0.002",
+                     "--set", "output.progress_interval=0.2", "--set", "output.checkpoint_wall=0",
+                     "--set", "output.snapshot_interval=1000",
+                     "--set", "output.checkpoint_interval=1000",
+                     "--set", "scene.output_dir=" + os.path.join(work, name),
+                     "--set", "fill.bed_cache=" + os.path.join(work, "beds_" + name)] + list(extra)
+
+
+def run(name, ranks, extra=()):
+    r = subprocess.run(cmd(name, ranks, extra), capture_output=True, text=True)
+    if r.returncode != 0:
+        fail("%s: exit %d\n%s%s" % (name, r.returncode, r.stdout, r.stderr))
+    return r.stdout + r.stderr
+
+
+def files(name, pattern):
+    return sorted(glob.glob(os.path.join(work, "beds_" + name, pattern)))
+
+
+def beta(name):
+    values = [f for f in files(name, "repose_*.h5") if not f.endswith(".turn.h5")]
+    if len(values) != 1:
+        fail("%s: expected one cached repose value, found %s" % (name, values))
+    with h5py.File(values[0], "r") as f:
+        return float(f.attrs["repose_deg"])
+
+
+def with_bed(name):  # the reference's settled bed, without its repose value
+    os.makedirs(os.path.join(work, "beds_" + name))
+    for f in files("R1", "bed_*.h5"):
+        shutil.copy(f, os.path.join(work, "beds_" + name))
+
+
+def interrupted(name, ranks, sig, when, extra=()):
+    """Starts the run, sends `sig` once a line for which `when` holds is out, returns (exit code,
+    output)."""
+    proc = subprocess.Popen(cmd(name, ranks, extra), stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    lines, seen = [], threading.Event()
+
+    def read():
+        for line in proc.stdout:
+            lines.append(line)
+            if when(line):
+                seen.set()
+
+    reader = threading.Thread(target=read)
+    reader.start()
+    if not seen.wait(120) or proc.poll() is not None:
+        proc.kill()
+        reader.join()
+        fail("%s: the run ended or said nothing to signal it at within 120 s\n%s" % (name, "".join(lines)))
+    proc.send_signal(sig)
+    try:
+        rc = proc.wait(timeout=120)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        fail("%s: still running 120 s after %s" % (name, sig.name))
+    reader.join()
+    return rc, "".join(lines)
+
+
+def past(degrees):
+    def when(line):
+        m = re.match(r"\[repose\] ([0-9.]+) of 80 degrees", line)
+        return m is not None and float(m.group(1)) >= degrees
+    return when
+
+
+def resumed_to(name, ranks, reference, what):
+    text = run(name, ranks)
+    if "[repose] going on from " not in text:
+        fail("%s: the rerun did not go on from the kept turn\n%s" % (name, text))
+    got = beta(name)
+    if got != reference:
+        fail("%s: beta %r after %s, %r uninterrupted" % (name, got, what, reference))
+    if files(name, "*.turn.h5"):
+        fail("%s: the turn file is still there once the value is cached" % name)
+    line = [l for l in text.splitlines() if "[repose] going on from " in l][0]
+    print("OK: %s: %s; the rerun %s; beta %.10g = the uninterrupted turn's, bit for bit"
+          % (name, what, line.split("] ")[1], got), flush=True)
+
+
+run("R1", 1)
+beta1 = beta("R1")
+with_bed("R2")
+run("R2", 2)
+beta2 = beta("R2")
+print("references: beta %.10g (1 rank), %.10g (2 ranks)" % (beta1, beta2), flush=True)
+
+# K: killed after a wall-clock keep (nothing warns it).
+with_bed("K")
+rc, text = interrupted("K", 1, signal.SIGKILL, lambda l: l.startswith("[repose] turn kept at "),
+                       ["--set", "output.checkpoint_wall=1"])
+turn = files("K", "*.turn.h5")
+if len(turn) != 1:
+    fail("K: expected one turn file after the kill, found %s\n%s" % (turn, text))
+with h5py.File(turn[0], "r") as f:
+    kept_at = int(f.attrs["step"])
+if kept_at <= 0:
+    fail("K: the turn file is at step %d" % kept_at)
+shutil.copy(turn[0], os.path.join(work, "turn_K.h5"))
+resumed_to("K", 1, beta1, "SIGKILL after a keep by output.checkpoint_wall (step %d)" % kept_at)
+
+# S: a stop signal on 2 ranks, once samples are being taken (from 40 degrees).
+with_bed("S")
+rc, text = interrupted("S", 2, signal.SIGUSR1, past(45))
+said = [l for l in text.splitlines() if "stopped by SIGUSR1 while measuring the repose angle, at " in l]
+if rc != 10 or len(said) != 1 or "the turn so far is kept in " not in said[0]:
+    fail("S: exit %d, expected 10 and one line 'stopped by SIGUSR1 while measuring the repose "
+         "angle, at ...: the turn so far is kept in ...'\n%s" % (rc, text))
+turn = files("S", "*.turn.h5")
+if len(turn) != 1 or turn[0] not in said[0]:
+    fail("S: the line names no turn file there is: %s, %s" % (turn, said[0]))
+with h5py.File(turn[0], "r") as f:
+    samples = len(f["measure/samples"][...]) if "measure/samples" in f else 0
+if samples < 1:
+    fail("S: the turn past 45 degrees kept no samples")
+if [f for f in files("S", "repose_*.h5") if not f.endswith(".turn.h5")]:
+    fail("S: a repose value was cached although the turn was stopped")
+resumed_to("S", 2, beta2, "SIGUSR1 on 2 ranks, exit 10, turn kept with %d samples" % samples)
+
+# D: a damaged turn file is not gone on from; the turn starts again.
+with_bed("D")
+damaged = os.path.join(work, "beds_D", os.path.basename(files("K", "repose_*.h5")[0])[:-3] + ".turn.h5")
+with open(os.path.join(work, "turn_K.h5"), "rb") as f:
+    data = bytearray(f.read())
+with open(damaged, "wb") as f:
+    f.write(data[: len(data) // 2])
+text = run("D", 1)
+if "[repose] not going on from " not in text or "turning from the start" not in text:
+    fail("D: no line that the damaged turn is not gone on from\n%s" % text)
+if beta("D") != beta1 or files("D", "*.turn.h5"):
+    fail("D: beta %r (uninterrupted %r), turn files %s" % (beta("D"), beta1, files("D", "*.turn.h5")))
+print("OK: D: a damaged turn file: not gone on from, the turn started again, beta = the "
+      "uninterrupted one's", flush=True)
