@@ -22,18 +22,14 @@ import shutil
 import signal
 import subprocess
 import sys
-import threading
 
 import h5py
+
+from signalled_run import fail, signalled
 
 tumble, scene, work, mpiexec, np_flag = sys.argv[1:6]
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-
-
-def fail(msg):
-    print("FAIL: " + msg)
-    sys.exit(1)
 
 
 def cmd(name, ranks, extra=()):
@@ -73,32 +69,7 @@ def with_bed(name):  # the reference's settled bed, without its repose value
 
 
 def interrupted(name, ranks, sig, when, extra=()):
-    """Starts the run, sends `sig` once a line for which `when` holds is out, returns (exit code,
-    output)."""
-    proc = subprocess.Popen(cmd(name, ranks, extra), stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
-    lines, seen = [], threading.Event()
-
-    def read():
-        for line in proc.stdout:
-            lines.append(line)
-            if when(line):
-                seen.set()
-
-    reader = threading.Thread(target=read)
-    reader.start()
-    if not seen.wait(120) or proc.poll() is not None:
-        proc.kill()
-        reader.join()
-        fail("%s: the run ended or said nothing to signal it at within 120 s\n%s" % (name, "".join(lines)))
-    proc.send_signal(sig)
-    try:
-        rc = proc.wait(timeout=120)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        fail("%s: still running 120 s after %s" % (name, sig.name))
-    reader.join()
-    return rc, "".join(lines)
+    return signalled(name, cmd(name, ranks, extra), sig, when)
 
 
 def past(degrees):

@@ -18,22 +18,16 @@ import shutil
 import signal
 import subprocess
 import sys
-import threading
-import time
 
 import h5py
 
 import results_series
+from signalled_run import fail, signalled
 
 tumble, scene, work, mpiexec, np_flag = sys.argv[1:6]
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
 beds = os.path.join(work, "beds")
-
-
-def fail(msg):
-    print("FAIL: " + msg)
-    sys.exit(1)
 
 
 def cmd(name, ranks, extra=()):
@@ -51,34 +45,10 @@ def same(a, b, what):  # runs a and b (folders under work) ended with the same s
 
 
 def stopped_run(name, ranks, sig, extra=(), when=lambda line: line.startswith("[run] ") and " particles, dt = " in line):
-    """Starts the run, signals it once a line for which `when` holds is out (by default the
-    header printed after the set-up, when the stop handlers are in place), and returns (exit
-    code, its output)."""
-    proc = subprocess.Popen(cmd(name, ranks, extra), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    lines, header = [], threading.Event()
-
-    def read():
-        for line in proc.stdout:
-            lines.append(line)
-            if when(line):
-                header.set()
-
-    reader = threading.Thread(target=read)
-    reader.start()
-    if not header.wait(120):
-        proc.kill()
-        fail("%s: no header line within 120 s" % name)
-    time.sleep(0.2)  # into the step loop
-    if proc.poll() is not None:
-        fail("%s: the run ended before it could be signalled: make it longer" % name)
-    proc.send_signal(sig)
-    try:
-        rc = proc.wait(timeout=120)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        fail("%s: still running 120 s after %s" % (name, sig.name))
-    reader.join()
-    return rc, "".join(lines)
+    """Signals the run once a line for which `when` holds is out (by default the header printed
+    after the set-up, when the stop handlers are in place) and 0.2 s more (into the step loop);
+    returns (exit code, its output)."""
+    return signalled(name, cmd(name, ranks, extra), sig, when, settle=0.2)
 
 
 for ranks, sig in ((1, signal.SIGTERM), (2, signal.SIGUSR1)):
