@@ -2,6 +2,8 @@
 // validate every option against its allowed range, every input file against this run's protocol
 // and the memory the run's arrays need against what is available, all before any work; call
 // src/cm with a progress line for long runs; say where the results went.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +12,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "app/commands.hpp"
@@ -123,9 +126,21 @@ std::string tag(double a, double b) {
   return s.str();
 }
 
+// The output file's folder, made; a path that cannot become the file is refused here, before the
+// computation (minutes for an mcm run), not when the file is renamed into place after it.
 void prepare_output(const std::string& path) {
-  const auto dir = std::filesystem::path(path).parent_path();
-  if (!dir.empty()) std::filesystem::create_directories(dir);
+  namespace fs = std::filesystem;
+  if (path.empty()) throw InputError("-o/--output is empty: give the HDF5 file's path");
+  if (fs::is_directory(path))
+    throw InputError("-o/--output '" + path + "' is a directory: give the HDF5 file's path, e.g. " +
+                     (fs::path(path) / "out.h5").string());
+  const fs::path dir = fs::path(path).parent_path();
+  std::error_code ec;
+  if (!dir.empty()) fs::create_directories(dir, ec);
+  if (ec || ::access(dir.empty() ? "." : dir.c_str(), W_OK) != 0)
+    throw InputError("-o/--output '" + path + "': cannot write into the folder '" +
+                     (dir.empty() ? std::string(".") : dir.string()) + "'" +
+                     (ec ? " (" + ec.message() + ")" : std::string()));
 }
 
 // Options every subcommand shares: the protocol and the flow model.
