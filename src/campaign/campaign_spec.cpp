@@ -326,9 +326,11 @@ void parse_collect(const Ctx& c, const toml::table& t, CollectSpec& cs) {
       cs.concentration = cs.displacement = cs.series = false;
       for (const auto& item : *arr) {
         const std::string f = text(c, key, item, {"concentration", "displacement", "series"});
-        (f == "concentration"  ? cs.concentration
-         : f == "displacement" ? cs.displacement
-                               : cs.series) = true;
+        bool& on = f == "concentration"  ? cs.concentration
+                   : f == "displacement" ? cs.displacement
+                                         : cs.series;
+        if (on) c.fail(key, "lists '" + f + "' twice");
+        on = true;
       }
       if (!cs.any()) c.fail(key, "is empty: nothing would be collected");
     } else if (key == "collect.iterations") {

@@ -85,6 +85,8 @@ FIXTURES = {
     "c_bed_cache_file.toml":
         "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\noutput_dir = \"{fx}/c_bcf\"\n"
         "bed_cache = \"{fx}/a_file\"\n",
+    "c_fields_twice.toml": "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\n"
+        "[collect]\nfields = [\"series\", \"series\"]\n",
     "a_file": "not a directory\n",
     "not_hdf5.h5": "these bytes are no HDF5 file\n",
     "campaign_dir/": None,
