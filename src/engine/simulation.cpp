@@ -340,7 +340,10 @@ void Simulation::restore(const neighbor::ContactHistory& history) {
   // The records as the law reads them: its width (a checkpoint of another law's width cannot be
   // matched) and its sign pattern.
   const neighbor::HistoryLayout& layout = list_.history_layout();
-  if (!history.records().empty() && history.width() != layout.width)
+  // (Agreed: a rank holding no record must not go on into the collective rebuild alone.)
+  int mismatch = !history.records().empty() && history.width() != layout.width ? 1 : 0;
+  if (dom_) MPI_Allreduce(MPI_IN_PLACE, &mismatch, 1, MPI_INT, MPI_MAX, dom_->comm());
+  if (mismatch)
     throw InputError("the contact history has " + std::to_string(history.width()) +
                      " doubles per contact; this scene's contact law keeps " +
                      std::to_string(layout.width));

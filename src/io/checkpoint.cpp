@@ -145,26 +145,34 @@ std::vector<int> check_contents(const CheckpointData& c, std::int64_t n, std::in
   return seen;
 }
 
+// What a rank's read failed with: a damaged file, a file Tumble cannot use, or anything else (a
+// file that went away between the ranks' opens, an I/O error).
+enum ReadFailure : int { kBadFile = 0, kCorruptFile = 1, kOtherFailure = 2 };
+
+[[noreturn]] void throw_read_failure(const std::string& msg, int kind) {
+  if (kind == kCorruptFile) throw CorruptInputError(msg);
+  if (kind == kBadFile) throw InputError(msg);
+  throw std::runtime_error(msg);
+}
+
 // A rank that finds the file damaged must not leave the others waiting in a collective: every
 // rank learns the lowest failing rank's message and throws it.
-void agree(MPI_Comm comm, const std::string& local_error, bool corrupt_kind) {
+void agree(MPI_Comm comm, const std::string& local_error, int failure) {
   if (size_of(comm) <= 1) {
     if (local_error.empty()) return;
-    if (corrupt_kind) throw CorruptInputError(local_error);
-    throw InputError(local_error);
+    throw_read_failure(local_error, failure);
   }
   const int size = size_of(comm), mine = local_error.empty() ? size : rank_in(comm);
   int first = size;
   MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
   if (first == size) return;
   std::string msg = local_error;
-  int len = static_cast<int>(msg.size()), kind = corrupt_kind ? 1 : 0;
+  int len = static_cast<int>(msg.size()), kind = failure;
   MPI_Bcast(&len, 1, MPI_INT, first, comm);
   MPI_Bcast(&kind, 1, MPI_INT, first, comm);
   msg.resize(static_cast<std::size_t>(len));
   MPI_Bcast(msg.data(), len, MPI_CHAR, first, comm);
-  if (kind) throw CorruptInputError(msg);
-  throw InputError(msg);
+  throw_read_failure(msg, kind);
 }
 }  // namespace
 
@@ -231,7 +239,7 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
   }
   CheckpointData c;
   std::string error;
-  bool corrupt_kind = true;
+  int failure = kCorruptFile;
   std::vector<int> seen;  // occurrences of each id in this rank's block
   try {
     H5File f(path, H5File::Mode::Read);  // every rank reads its own rows independently
@@ -326,9 +334,12 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
     error = e.what();
   } catch (const InputError& e) {
     error = e.what();
-    corrupt_kind = false;
+    failure = kBadFile;
+  } catch (const std::exception& e) {
+    error = e.what();
+    failure = kOtherFailure;
   }
-  agree(comm, error, corrupt_kind);
+  agree(comm, error, failure);
   if (size_of(comm) > 1)
     MPI_Allreduce(MPI_IN_PLACE, seen.data(), static_cast<int>(seen.size()), MPI_INT, MPI_SUM, comm);
   for (std::size_t k = 0; k < seen.size(); ++k)
@@ -383,7 +394,7 @@ void check_checkpoint_fits(const CheckpointData& c, const Scene& s, const std::s
   } catch (const CorruptInputError& e) {
     error = e.what();
   }
-  agree(comm, error, true);
+  agree(comm, error, kCorruptFile);
 }
 
 }  // namespace tumble::io

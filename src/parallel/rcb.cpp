@@ -137,17 +137,18 @@ RcbTree RcbTree::from_doubles(const Box& root, const std::vector<double>& data, 
   auto bad = [](const std::string& why) {
     throw std::invalid_argument("the decomposition's tree " + why);
   };
-  if (n == 0 || data.size() % kNodeDoubles != 0 || n > 4 * static_cast<std::size_t>(ranks))
-    bad("has " + std::to_string(data.size()) + " numbers");
-  RcbTree t;
-  t.root_ = root;
+  // build() makes 2 ranks - 1 nodes.
+  if (ranks < 1 || data.size() % kNodeDoubles != 0 || n != 2 * static_cast<std::size_t>(ranks) - 1)
+    bad("has " + std::to_string(data.size()) + " numbers, not the " +
+        std::to_string(2 * ranks - 1) + " nodes of " + std::to_string(ranks) + " ranks");
   auto whole = [](double v, double lo, double hi) {
     return std::isfinite(v) && v == std::floor(v) && v >= lo && v <= hi;
   };
-  std::vector<int> leaf_of(static_cast<std::size_t>(ranks), 0);
+  RcbTree t;
+  t.root_ = root;
+  const auto last = static_cast<double>(n - 1);
   for (std::size_t k = 0; k < n; ++k) {
     const double* v = &data[k * kNodeDoubles];
-    const auto last = static_cast<double>(n - 1);
     if (!whole(v[0], -1, 2) || !std::isfinite(v[1]) || !whole(v[2], 0, ranks - 1) ||
         !whole(v[3], v[2] + 1, ranks) || !whole(v[4], -1, last) || !whole(v[5], -1, last))
       bad("node " + std::to_string(k) + " is not a node");
@@ -161,17 +162,37 @@ RcbTree RcbTree::from_doubles(const Box& root, const std::vector<double>& data, 
     for (int d = 0; d < 3; ++d) {
       nd.box.lo[d] = v[6 + d];
       nd.box.hi[d] = v[9 + d];
+      if (!std::isfinite(nd.box.lo[d]) || !std::isfinite(nd.box.hi[d]) ||
+          nd.box.lo[d] > nd.box.hi[d])
+        bad("node " + std::to_string(k) + " has no box");
     }
-    // A leaf holds one rank; an inner node two children after it.
-    if (nd.dim < 0 ? nd.r1 != nd.r0 + 1
-                   : nd.lo <= static_cast<int>(k) || nd.hi <= static_cast<int>(k))
-      bad("node " + std::to_string(k) + " is not a node");
-    if (nd.dim < 0) leaf_of[static_cast<std::size_t>(nd.r0)] += 1;
     t.nodes_.push_back(nd);
   }
-  if (t.nodes_[0].r0 != 0 || t.nodes_[0].r1 != ranks ||
-      std::count(leaf_of.begin(), leaf_of.end(), 1) != ranks)
-    bad("is not one of " + std::to_string(ranks) + " ranks");
+  // From the root down, as build() splits: every node reached once, an inner node's rank range
+  // halved between two children of its own (the lower n/2 ranks low), a leaf one rank.
+  std::vector<int> reached(n, 0);
+  std::vector<int> todo{0};
+  reached[0] = 1;
+  const Node& top = t.nodes_[0];
+  if (top.r0 != 0 || top.r1 != ranks) bad("does not hold the ranks 0 to " + std::to_string(ranks));
+  while (!todo.empty()) {
+    const Node& nd = t.nodes_[static_cast<std::size_t>(todo.back())];
+    todo.pop_back();
+    if (nd.dim < 0) {
+      if (nd.r1 != nd.r0 + 1 || nd.lo != -1 || nd.hi != -1) bad("has a leaf of several ranks");
+      continue;
+    }
+    if (nd.lo < 0 || nd.hi < 0 || nd.lo == nd.hi || reached[nd.lo]++ || reached[nd.hi]++)
+      bad("has a node that is not one node's child");
+    const Node &lo = t.nodes_[nd.lo], &hi = t.nodes_[nd.hi];
+    const int half = nd.r0 + (nd.r1 - nd.r0) / 2;
+    if (lo.r0 != nd.r0 || lo.r1 != half || hi.r0 != half || hi.r1 != nd.r1)
+      bad("does not halve a node's ranks between its children");
+    todo.push_back(nd.lo);
+    todo.push_back(nd.hi);
+  }
+  if (std::count(reached.begin(), reached.end(), 1) != static_cast<std::ptrdiff_t>(n))
+    bad("has nodes that no path reaches");
   t.collect_boxes();
   return t;
 }

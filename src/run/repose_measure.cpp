@@ -48,7 +48,7 @@ bool resume_turn(const Scene& dynamic, const std::string& path, Turn& turn, std:
     turn.sim = io::engine_from_checkpoint(
         c, dynamic, geometry::Protocol::single_axis('z', dynamic.omega()), path, comm);
     turn.angles = std::move(c.measure_samples);
-  } catch (const InputError& e) {  // (CorruptInputError among them) the turn starts again
+  } catch (const std::runtime_error& e) {  // (every rank alike: the reads agree their errors)
     if (log)
       *log << "[repose] not going on from " << path << ": " << e.what()
            << "; turning from the start" << std::endl;
@@ -106,7 +106,9 @@ ReposeMeasurement measure_repose(const Scene& scene, const std::function<Particl
   std::int64_t asked = 0;
   std::uint64_t rebuilds = sim.rebuilds();
   while (sim.step_count() < last) {
-    if (keep && sim.step_count() + 1 - asked >= kStopWait) sim.request_rebuild();
+    // (Only for a stop: a keep by the clock that forced a rebuild would make β depend on the
+    // machine's speed.)
+    if (keep && stop != 0 && sim.step_count() + 1 - asked >= kStopWait) sim.request_rebuild();
     sim.step();
     const std::int64_t k = sim.step_count();
     const bool rebuilt = sim.rebuilds() != rebuilds;
@@ -132,6 +134,7 @@ ReposeMeasurement measure_repose(const Scene& scene, const std::function<Particl
       }
     }
     if (keep && rebuilt && k < last) {
+      sim.check_health();  // (a blown-up state is not kept)
       io::write_checkpoint(turn_path, sim, dynamic, {}, {}, {}, angles);  // collective
       saved = Clock::now();
       keep = false;

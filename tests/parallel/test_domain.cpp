@@ -12,6 +12,7 @@
 #include <numeric>
 #include <random>
 #include <set>
+#include <stdexcept>
 
 #include "analysis/radial_segregation.hpp"
 #include "engine/simulation.hpp"
@@ -600,6 +601,36 @@ TEST(Domain, BisectionWeightedByWorkSharesTheWeight) {
   EXPECT_GT(spread(by_count, true), 1.3);
   EXPECT_LT(spread(by_work, true), 1.01);
   EXPECT_GT(spread(by_work, false), 1.3);
+}
+
+// A checkpoint keeps the tree as numbers (io/checkpoint.cpp: domain/tree): read back, it sends
+// every point to the same rank; numbers that are not a tree of this many ranks are refused (a
+// node that is its own child would make the queries loop, a leaf of two ranks leave one out).
+TEST(Domain, TreeReadBackFromItsNumbers) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const parallel::Box root{{-1, -1, -1}, {1, 1, 1}};
+  std::vector<Vec3> x;
+  for (int k = rank; k < 3000; k += size)
+    x.push_back({std::sin(1.3 * k), std::cos(0.7 * k), std::sin(0.31 * k)});
+  const parallel::RcbTree t = parallel::RcbTree::build(MPI_COMM_WORLD, root, x, x.size());
+  const std::vector<double> numbers = t.to_doubles();
+  const parallel::RcbTree back = parallel::RcbTree::from_doubles(root, numbers, size);
+  ASSERT_EQ(back.to_doubles(), numbers);
+  int moved = 0;
+  for (const Vec3& p : x) moved += back.owner(p) != t.owner(p);
+  EXPECT_EQ(moved, 0);
+  EXPECT_THROW(parallel::RcbTree::from_doubles(root, numbers, size + 1), std::invalid_argument);
+  std::vector<double> own_child = numbers;
+  own_child[4] = 0;  // the root's low child: the root
+  EXPECT_THROW(parallel::RcbTree::from_doubles(root, own_child, size), std::invalid_argument);
+  std::vector<double> wide_leaf = numbers;
+  wide_leaf[parallel::RcbTree::kNodeDoubles + 3] += 1;  // the first child's ranks: one more
+  EXPECT_THROW(parallel::RcbTree::from_doubles(root, wide_leaf, size), std::invalid_argument);
+  std::vector<double> no_box = numbers;
+  no_box[7] = std::nan("");
+  EXPECT_THROW(parallel::RcbTree::from_doubles(root, no_box, size), std::invalid_argument);
 }
 
 // fidelity.bulk = "rigid" on P ranks against 1: the frozen state migrates with its particles and
