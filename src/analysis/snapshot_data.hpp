@@ -21,6 +21,9 @@ struct SnapshotData {
   std::string scene_text;  // the resolved scene (provenance)
   // From the scene: tumbler radius, protocol angles [deg], density ratio rho_large / rho_small.
   double R = 0, theta_z = 0, theta_x = 0, density_ratio = 1;
+  // tumbler.shape and protocol.mode as the scene file writes them: the maps of the sphere and the
+  // islands of the biaxial protocol are not those of a cylinder or of another protocol.
+  std::string shape = "sphere", mode = "biaxial";
 
   std::size_t size() const { return id.size(); }
   // The particles in the layout of the engine (positions, radii, species only), for the analyses

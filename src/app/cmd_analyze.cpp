@@ -11,6 +11,7 @@
 
 #include "analysis/light_concentration.hpp"
 #include "app/commands.hpp"
+#include "base/error.hpp"
 #include "cm/cm_io.hpp"
 #include "islands/analysis_io.hpp"
 #include "islands/campaign_analysis.hpp"
@@ -33,6 +34,19 @@ void require(bool ok, const std::string& option, const std::string& allowed, T v
 void prepare_output(const std::string& path) {
   const auto dir = std::filesystem::path(path).parent_path();
   if (!dir.empty()) std::filesystem::create_directories(dir);
+}
+
+// The analyses of this file map the spherical tumbler (Lambert maps, the shell near its wall), and
+// all but `light` the islands of the biaxial protocol's (θz, θx): a snapshot of a cylinder, or of
+// another protocol, gave numbers that mean nothing (or ran minutes for them). Refused, naming it.
+void require_sphere(const SnapshotData& s, bool biaxial) {
+  if (s.shape != "sphere")
+    throw InputError("'" + s.path + "' is a snapshot of tumbler.shape = " + s.shape +
+                     ": this analysis maps the spherical tumbler (the cylinder's segregation, "
+                     "S_a and S_r, is in its run's results.h5 and `tumble analyze campaign`)");
+  if (biaxial && s.mode != "biaxial")
+    throw InputError("'" + s.path + "' is a snapshot of protocol.mode = " + s.mode +
+                     ": the islands are those of the biaxial protocol's (theta_z, theta_x)");
 }
 
 // Where the islands come from: a given orbits file, or the protocol of the snapshot (computed
@@ -75,6 +89,8 @@ void register_classify(CLI::App& an) {
   cmd->callback([a] {
     a->islands.validate();
     const SnapshotData s0 = read_snapshot(a->from), s1 = read_snapshot(a->to);
+    require_sphere(s0, true);
+    require_sphere(s1, true);
     const IslandMask mask(shell_polygons(a->islands.all(s0, false), a->islands.r));
     const FateResult r = classify_fates(s0, s1, mask);
     const auto& c = r.counts;
@@ -133,7 +149,10 @@ void register_section(CLI::App& an) {
               "two different island indices >= 0",
               std::to_string(a->pair[0]) + " " + std::to_string(a->pair[1]));
     std::vector<SnapshotData> snaps;
-    for (const auto& p : a->snaps) snaps.push_back(read_snapshot(p));
+    for (const auto& p : a->snaps) {
+      snaps.push_back(read_snapshot(p));
+      require_sphere(snaps.back(), true);
+    }
     const auto all = a->islands.all(snaps.front(), true);
     const auto shell = cm::islands_on_shell(all, a->islands.r);
     require(shell.size() >= 2, "--islands", "a protocol with at least two islands", shell.size());
@@ -183,7 +202,10 @@ void register_light(CLI::App& an) {
     require(a->grid >= 2 && a->grid <= 1000, "--grid", "in [2, 1000]", a->grid);
     require(a->inner >= 0 && a->inner < 1, "--inner", "in [0, 1)", a->inner);
     std::vector<SnapshotData> snaps;
-    for (const auto& p : a->snaps) snaps.push_back(read_snapshot(p));
+    for (const auto& p : a->snaps) {
+      snaps.push_back(read_snapshot(p));
+      require_sphere(snaps.back(), false);
+    }
     const int light = lighter_species(snaps.front().density_ratio);
     require(light >= 0, "SNAPSHOTS", "of a density-bidisperse bed (particles.density_ratio != 1)",
             snaps.front().density_ratio);
@@ -220,6 +242,7 @@ void register_enrichment(CLI::App& an) {
     std::vector<double> v;
     for (const auto& p : a->snaps) {
       const SnapshotData s = read_snapshot(p);
+      require_sphere(s, true);
       const IslandMask mask(shell_polygons(a->islands.all(s, false), a->islands.r));
       values.push_back(enrichment_from_particles(s, mask, a->inner));
       v.push_back(values.back().value);

@@ -102,12 +102,19 @@ TUMBLE_FIXTURES = {
     "orbits_68.h5": "cm orbits --theta-z 68 --theta-x 68 --max-period 1 --grid 8 --no-kam -o OUT",
     "mcm_57.h5": "cm mcm --theta-z 57 --theta-x 57 --islands {fx}/orbits_57.h5 --tracers 10 "
                  "--snapshot 1 --cumulative 1,1 -o OUT",
+    # Snapshots of step 0 of a cylinder run and of a single-axis sphere run (the island analyses
+    # refuse them).
+    "cyl_run": "run {scenes}/rapaport/mini/E.toml --max-steps 1 --set scene.output_dir=OUT "
+               "--set fill.bed_cache={fx}/beds",
+    "single_run": "run {scenes}/bst_tiny.toml --max-steps 1 --set protocol.mode=single_axis "
+                  "--set scene.output_dir=OUT --set fill.bed_cache={fx}/beds",
 }
 
 
-def make_tumble_fixtures(tumble, fx, limit):
+def make_tumble_fixtures(tumble, fx, scenes, limit):
     for name, cmd in TUMBLE_FIXTURES.items():
-        args = shlex.split(cmd.replace("{fx}", fx).replace("OUT", os.path.join(fx, name)))
+        args = shlex.split(cmd.replace("{fx}", fx).replace("{scenes}", scenes)
+                           .replace("OUT", os.path.join(fx, name)))
         rc, out, _ = run(tumble, args, limit)
         if rc != 0:
             sys.exit("fixture %s: tumble %s failed (rc %s):\n%s" % (name, " ".join(args), rc, out))
@@ -181,7 +188,7 @@ def main():
     fx = os.path.join(work, "fx")
     os.makedirs(fx, exist_ok=True)
     write_fixtures(fx, scenes)
-    make_tumble_fixtures(a.tumble, fx, 60)
+    make_tumble_fixtures(a.tumble, fx, scenes, 60)
     failures = []
 
     # Controls: good input is still accepted (a binary that refuses everything must not pass).
