@@ -40,7 +40,14 @@ void register_run(CLI::App& app) {
   cmd->add_option("--set,-s", opts->overrides, "override a key: section.key=value (repeatable)");
   cmd->add_option("--restart", opts->restart, "continue from this checkpoint file");
   cmd->add_flag("--resume", opts->resume, "continue from OUTPUT_DIR/checkpoint.h5 if present");
-  cmd->add_option("--max-steps", opts->max_steps, "stop after this many protocol steps");
+  cmd->add_option("--max-steps", opts->max_steps,
+                  "stop after this many protocol steps (default: at the protocol's end)")
+      ->check(CLI::Validator(  // (-1 meant "no limit", and -5 silently so)
+          [](std::string& v) {
+            return v.rfind('-', 0) == 0 ? "must be >= 0 (leave it out to run to the protocol's end)"
+                                        : std::string();
+          },
+          "STEPS >= 0"));
   cmd->add_option("--max-memory", opts->max_memory,
                   "refuse a scene estimated to need more memory than this (e.g. 2G; default: the "
                   "machine's available memory)");
