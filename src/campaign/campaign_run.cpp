@@ -24,6 +24,7 @@
 #include "campaign/manifest.hpp"
 #include "campaign/scheduler.hpp"
 #include "h5/hdf5_file.hpp"
+#include "run/repose_measure.hpp"
 #include "scene/scene.hpp"
 
 namespace tumble::campaign {
@@ -141,6 +142,28 @@ std::string checkpoint_progress(const std::string& campaign_dir, const Case& c) 
     os << "checkpoint at step " << step << " of " << total << ", " << std::fixed
        << std::setprecision(1) << 100.0 * static_cast<double>(step) / static_cast<double>(total)
        << "%";
+    return os.str();
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+// How far a case's repose-angle turn is, when it has no checkpoint yet and a turn is kept for its
+// bed ("beta turn kept at 46.6 of 80 degrees"; "" otherwise): a stop in the hours of a paper
+// bed's turn keeps it (run/repose_measure.hpp), and the status says so.
+std::string repose_turn_progress(const CampaignSpec& spec, const Case& c,
+                                 const std::string& campaign_dir, const std::string& bed_cache,
+                                 std::int64_t seed) {
+  try {
+    if (!c.scene_error.empty()) return "";
+    const Scene s = case_scene(spec, c, case_dir(campaign_dir, c.id), bed_cache, seed);
+    const std::string path = repose_turn_path(s);
+    if (!s.repose_pending() || !fs::exists(path)) return "";
+    io::H5File f(path, io::H5File::Mode::Read);
+    std::ostringstream os;
+    os << "beta turn kept at " << std::fixed << std::setprecision(1)
+       << rad2deg(s.omega() * f.attr_double("/", "time")) << " of "
+       << static_cast<int>(kReposeEndDeg) << " degrees";
     return os.str();
   } catch (const std::exception&) {
     return "";
@@ -402,9 +425,11 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
                    (runner > 0 ? "process " + std::to_string(runner) : "another process") +
                    " runs this campaign";
           // (A retry with a new seed starts afresh: its folder's checkpoint is not its own.)
-          if (const std::string at = checkpoint_progress(dir, e.cases[slice[k]]);
-              !at.empty() && !states[k].next.fresh)
-            note += (note.empty() ? "" : ", ") + at;
+          std::string at = checkpoint_progress(dir, e.cases[slice[k]]);
+          if (states[k].next.fresh) at.clear();
+          if (at.empty())
+            at = repose_turn_progress(spec, e.cases[slice[k]], dir, bed_cache, states[k].next.seed);
+          if (!at.empty()) note += (note.empty() ? "" : ", ") + at;
           out << "  to run: " << e.cases[slice[k]].id << " [" << e.cases[slice[k]].params_text
               << "] attempt " << states[k].next.attempt << (note.empty() ? "" : " (" + note + ")")
               << "\n";

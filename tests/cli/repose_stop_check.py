@@ -11,7 +11,9 @@ run's own bed cache, so that every run below measures beta on the same bed:
       line saying where the turn is kept, no value cached yet; the rerun goes on to R2's beta,
       bit for bit, and removes the turn file;
   D   a damaged turn file: the rerun says it does not go on from it, turns from the start and
-      still gives R1's beta.
+      still gives R1's beta;
+  C   a one-case campaign sent SIGUSR1 while its case measures beta: exit 10, `--status` says how
+      far the kept turn is, and the rerun's case goes on from it.
 The signals go when the run's own lines say so, not after a fixed time.
 
 usage: repose_stop_check.py TUMBLE SCENE WORK MPIEXEC NP_FLAG"""
@@ -22,6 +24,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import time
 
 import h5py
 
@@ -146,3 +149,47 @@ if beta("D") != beta1 or files("D", "*.turn.h5"):
     fail("D: beta %r (uninterrupted %r), turn files %s" % (beta("D"), beta1, files("D", "*.turn.h5")))
 print("OK: D: a damaged turn file: not gone on from, the turn started again, beta = the "
       "uninterrupted one's", flush=True)
+
+# C: a campaign stopped while its case measures beta.
+camp = os.path.join(work, "C.toml")
+with open(camp, "w") as f:
+    f.write('[campaign]\nname = "c"\nscene = "%s"\noutput_dir = "%s"\nbed_cache = "%s"\n'
+            'replicas = 1\nprogress_interval = 0.2\n[overrides]\n"protocol.repose" = "measured"\n"protocol.rpm" = 20\n'
+            '"protocol.iterations" = 0.01\n"output.progress_interval" = 0.2\n'
+            '"output.checkpoint_wall" = 0\n"fill.settle_rms_speed" = 0.005\n'
+            '[[sweep]]\ntheta_z = 57\ntheta_x = 57\n[collect]\niterations = [0, 0.01]\n'
+            'samples_per_iteration = 1000\ndisplacement_periods = 0.003\ngrid = 8\n'
+            % (scene, os.path.join(work, "C"), os.path.join(work, "beds_C")))
+with open(os.path.join(work, "C.log"), "w") as log:
+    proc = subprocess.Popen([tumble, "campaign", camp], stdout=log, stderr=subprocess.STDOUT)
+    deadline, turned = time.time() + 120, None
+    while time.time() < deadline and proc.poll() is None and turned is None:
+        for case_log in glob.glob(os.path.join(work, "C", "cases", "*", "log.txt")):
+            with open(case_log) as f:
+                at = [float(m.group(1)) for m in re.finditer(r"\[repose\] ([0-9.]+) of 80", f.read())]
+            if at and at[-1] >= 45:
+                turned = case_log
+        time.sleep(0.05)
+    if turned is None:
+        proc.kill()
+        fail("C: the campaign's case said nothing past 45 degrees of its turn within 120 s")
+    proc.send_signal(signal.SIGUSR1)
+    rc = proc.wait(timeout=120)
+with open(os.path.join(work, "C.log")) as f:
+    text = f.read()
+if rc != 10 or "keeps its turn so far" not in text:
+    fail("C: exit %d after SIGUSR1 (expected 10, and the stop line saying a beta turn is kept)\n%s"
+         % (rc, text))
+status = subprocess.run([tumble, "campaign", camp, "--status"], capture_output=True, text=True)
+m = re.search(r"beta turn kept at ([0-9.]+) of 80 degrees", status.stdout)
+if status.returncode != 10 or not m or float(m.group(1)) < 45:
+    fail("C: --status (exit %d) does not say how far the kept turn is:\n%s%s"
+         % (status.returncode, status.stdout, status.stderr))
+r = subprocess.run([tumble, "campaign", camp], capture_output=True, text=True)
+with open(turned) as f:
+    case_text = f.read()
+if r.returncode != 0 or "[repose] going on from " not in case_text:
+    fail("C: the rerun (exit %d) did not go on from the kept turn\n%s%s%s"
+         % (r.returncode, r.stdout, r.stderr, case_text))
+print("OK: C: a campaign stopped in its case's turn: exit 10, --status '%s', the rerun went on "
+      "from it and finished" % m.group(0), flush=True)
