@@ -170,7 +170,7 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
       };
     const std::unique_ptr<Observer> fault = fault_injection_for(c.id);
     if (fault) ro.observers.push_back(fault.get());
-    (void)run_realization(scene, ro);
+    out.protocol_wall = run_realization(scene, ro).wall_seconds;
 
     on_leader(group, [&] {
       const std::string missing = collector->missing();
@@ -227,6 +227,7 @@ std::string encode(const CaseTask& t, const CaseOutcome& o) {
       .add("start", o.start)
       .add("end", o.end)
       .add("wall", o.wall)
+      .add("protocol_wall", o.protocol_wall)
       .add("resumed_from_step", o.resumed_from_step);
   return w.str();
 }
@@ -246,6 +247,7 @@ bool decode(const std::string& line, CaseTask& t, CaseOutcome& o) {
   o.start = j["start"].text;
   o.end = j["end"].text;
   o.wall = j["wall"].number;
+  o.protocol_wall = j["protocol_wall"].number;
   o.resumed_from_step = static_cast<long long>(j["resumed_from_step"].number);
   return true;
 }

@@ -34,6 +34,10 @@ struct CaseOutcome {
   std::string checksum;    // of fields.h5
   std::string start, end;  // UTC
   double wall = 0;         // seconds
+  // Of them, the protocol loop's (run_realization's RunResult::wall_seconds; 0: not reached): the
+  // rate the ETA takes, as it takes the running cases' (their progress reports count the loop
+  // only), not the bed's settling and β's hours of turn.
+  double protocol_wall = 0;
   long long resumed_from_step = 0;
 };
 

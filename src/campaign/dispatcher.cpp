@@ -255,12 +255,15 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
                                                   static_cast<double>(total))
                         : 0.0;
     }
+    // And the protocol's wall time (a case that settled its bed and measured β took hours more
+    // on a paper bed, which the running cases' rates do not count either).
+    const double ran = o.protocol_wall > 0 ? o.protocol_wall : o.wall;
     if (share > 0) {
       done_cost_ += cost(t) * share;
-      done_rank_seconds_ += o.wall * k;
+      done_rank_seconds_ += ran * k;
       EtaInput::Rate& point = done_by_point_[ctx_.expansion->cases[t.case_index].point_id];
       point.cost += cost(t) * share;
-      point.rank_seconds += o.wall * k;
+      point.rank_seconds += ran * k;
     }
     what = "done";
   } else {

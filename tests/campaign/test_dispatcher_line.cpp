@@ -135,6 +135,20 @@ TEST_F(TwoCases, ResumedCaseIsCreditedOnlyWithTheStepsItRan) {
   EXPECT_NE(line.find("ETA 0:01:40"), std::string::npos) << line;
 }
 
+// A finished case's rate is its protocol's: the hours it spent settling its bed and measuring β
+// (60 of its 100 s here) are not steps, and a running case's reports do not count them either.
+TEST_F(TwoCases, FinishedCaseRateLeavesItsPreparationOut) {
+  hand_out(first, {0});
+  d->progress({0, 1, false, 0, 0, 1000, 0.0});
+  CaseOutcome done;
+  done.ok = true;
+  done.wall = 100;
+  done.protocol_wall = 40;
+  (void)d->finished(first, done);
+  const std::string line = last_counts(out);
+  EXPECT_NE(line.find("ETA 0:00:40"), std::string::npos) << line;
+}
+
 // A retryable failure that comes in after a stop is not retried in this invocation; its record
 // must leave the retry to the rerun (final: false), not end the case as failed for good.
 TEST_F(TwoCases, RetryableFailureDuringAStopIsLeftToTheRerun) {
