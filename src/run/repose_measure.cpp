@@ -28,8 +28,9 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// The turn so far: the engine and the samples, resumed from a file written at a stop or by the
-// wall clock (nullopt: none, or one that does not fit this measurement, with the reason logged).
+// The turn so far: the engine and the samples. resume_turn() fills it from the file written at a
+// stop or by the wall clock, or returns false: no file, or one that does not fit this measurement
+// (the reason logged).
 struct Turn {
   std::unique_ptr<Simulation> sim;
   std::vector<double> angles;
@@ -127,8 +128,9 @@ ReposeMeasurement measure_repose(const Scene& scene, const std::function<Particl
       if (size_of(comm) > 1) MPI_Allreduce(MPI_IN_PLACE, ask, 2, MPI_INT, MPI_MAX, comm);
       if (turn_path.empty() && ask[0] != 0)  // nowhere to keep it
         stop_if_requested(comm, "measuring the repose angle");
-      if (stop == 0) stop = ask[0];
-      if ((stop != 0 || ask[1] != 0) && !keep) {
+      const bool stop_now = stop == 0 && ask[0] != 0;
+      if (stop_now) stop = ask[0];
+      if (stop_now || (ask[1] != 0 && !keep)) {  // (a stop waits its kStopWait from here)
         keep = true;
         asked = k;
       }
