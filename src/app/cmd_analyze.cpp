@@ -11,6 +11,7 @@
 
 #include "analysis/light_concentration.hpp"
 #include "app/commands.hpp"
+#include "app/output_file.hpp"
 #include "base/error.hpp"
 #include "cm/cm_io.hpp"
 #include "islands/analysis_io.hpp"
@@ -31,11 +32,6 @@ void require(bool ok, const std::string& option, const std::string& allowed, T v
   throw CLI::ValidationError(option, msg.str());
 }
 
-void prepare_output(const std::string& path) {
-  const auto dir = std::filesystem::path(path).parent_path();
-  if (!dir.empty()) std::filesystem::create_directories(dir);
-}
-
 // The analyses of this file map the spherical tumbler (Lambert maps, the shell near its wall), and
 // all but `light` the islands of the biaxial protocol's (θz, θx): a snapshot of a cylinder, or of
 // another protocol, gave numbers that mean nothing (or ran minutes for them). Refused, naming it.
@@ -43,7 +39,7 @@ void require_sphere(const SnapshotData& s, bool biaxial) {
   if (s.shape != "sphere")
     throw InputError("'" + s.path + "' is a snapshot of tumbler.shape = " + s.shape +
                      ": this analysis maps the spherical tumbler (the cylinder's segregation, "
-                     "S_a and S_r, is in its run's results.h5 and `tumble analyze campaign`)");
+                     "S_a and S_r, is in its run's results.h5: postproc/plot_cylinder.py)");
   if (biaxial && s.mode != "biaxial")
     throw InputError("'" + s.path + "' is a snapshot of protocol.mode = " + s.mode +
                      ": the islands are those of the biaxial protocol's (theta_z, theta_x)");
@@ -88,6 +84,7 @@ void register_classify(CLI::App& an) {
   cmd->add_option("-o,--output", a->out, "HDF5 output (per-particle fates and the counts)");
   cmd->callback([a] {
     a->islands.validate();
+    if (!a->out.empty()) prepare_output_file(a->out);
     const SnapshotData s0 = read_snapshot(a->from), s1 = read_snapshot(a->to);
     require_sphere(s0, true);
     require_sphere(s1, true);
@@ -108,7 +105,6 @@ void register_classify(CLI::App& an) {
         static_cast<long long>(c.other), e.persistent, e.switched, e.captured, e.dispersed,
         e.other);
     if (!a->out.empty()) {
-      prepare_output(a->out);
       write_fates(a->out, s0, s1, r);
       std::printf("wrote %s\n", a->out.c_str());
     }
@@ -148,6 +144,7 @@ void register_section(CLI::App& an) {
       require(a->pair[0] >= 0 && a->pair[1] >= 0 && a->pair[0] != a->pair[1], "--pair",
               "two different island indices >= 0",
               std::to_string(a->pair[0]) + " " + std::to_string(a->pair[1]));
+    prepare_output_file(a->out);
     std::vector<SnapshotData> snaps;
     for (const auto& p : a->snaps) {
       snaps.push_back(read_snapshot(p));
@@ -175,7 +172,6 @@ void register_section(CLI::App& an) {
     SectionMap map(a->grid);
     for (const auto& s : snaps) map.add(s, plane, hw);
     const auto tubes = tube_crossings(all, plane);
-    prepare_output(a->out);
     write_section(a->out, a->snaps, map, plane, hw, tubes, ia, ib);
     std::printf("plane through islands %d and %d; %zu tube boundary points; wrote %s\n", ia, ib,
                 tubes.size(), a->out.c_str());
@@ -201,6 +197,7 @@ void register_light(CLI::App& an) {
   cmd->callback([a] {
     require(a->grid >= 2 && a->grid <= 1000, "--grid", "in [2, 1000]", a->grid);
     require(a->inner >= 0 && a->inner < 1, "--inner", "in [0, 1)", a->inner);
+    prepare_output_file(a->out);
     std::vector<SnapshotData> snaps;
     for (const auto& p : a->snaps) {
       snaps.push_back(read_snapshot(p));
@@ -210,7 +207,6 @@ void register_light(CLI::App& an) {
     require(light >= 0, "SNAPSHOTS", "of a density-bidisperse bed (particles.density_ratio != 1)",
             snaps.front().density_ratio);
     const auto c = light_concentration(snaps, LambertGrid(a->grid), a->inner);
-    prepare_output(a->out);
     write_light(a->out, a->snaps, c, a->grid, light, a->inner);
     std::printf("lighter species %d over %zu snapshots; wrote %s\n", light, snaps.size(),
                 a->out.c_str());
@@ -238,11 +234,17 @@ void register_enrichment(CLI::App& an) {
   cmd->callback([a] {
     require(a->inner >= 0 && a->inner < 1, "--inner", "in [0, 1)", a->inner);
     a->islands.validate();
+    if (!a->out.empty()) prepare_output_file(a->out);
+    // Every snapshot checked before the first islands are computed (minutes).
+    std::vector<SnapshotData> snaps;
+    for (const auto& p : a->snaps) {
+      snaps.push_back(read_snapshot(p));
+      require_sphere(snaps.back(), true);
+    }
     std::vector<Enrichment> values;
     std::vector<double> v;
-    for (const auto& p : a->snaps) {
-      const SnapshotData s = read_snapshot(p);
-      require_sphere(s, true);
+    for (const SnapshotData& s : snaps) {
+      const std::string& p = s.path;
       const IslandMask mask(shell_polygons(a->islands.all(s, false), a->islands.r));
       values.push_back(enrichment_from_particles(s, mask, a->inner));
       v.push_back(values.back().value);
@@ -253,7 +255,6 @@ void register_enrichment(CLI::App& an) {
     const MeanCI m = mean_ci95(v);
     std::printf("mean %.4f +- %.4f (95%% CI, N = %d)\n", m.mean, m.ci95, m.n);
     if (!a->out.empty()) {
-      prepare_output(a->out);
       write_enrichment(a->out, a->snaps, values, m, a->inner);
       std::printf("wrote %s\n", a->out.c_str());
     }
@@ -311,6 +312,7 @@ void register_campaign_analysis(CLI::App& an) {
     require(a->opt.fates_to < 0 || a->opt.fates_from <= a->opt.fates_to, "--from",
             "<= --to (iterations)", a->opt.fates_from);
     const std::string out = a->out.empty() ? a->dir + "/analysis.h5" : a->out;
+    prepare_output_file(out);
     const auto points = analyze_campaign(a->dir, a->opt);
     require(!points.empty(), "DIR", "a campaign directory with finished cases (cases/*/fields.h5)",
             a->dir);
@@ -414,7 +416,6 @@ void register_campaign_analysis(CLI::App& an) {
         if (qid != p.point_id)
           std::printf("point %s against the islands of %s: enrichment %.3f +- %.3f (N = %d)\n",
                       p.point_id.c_str(), qid.c_str(), m.mean, m.ci95, m.n);
-    prepare_output(out);
     write_campaign_analysis(out, a->dir, points);
     std::printf("wrote %s\n", out.c_str());
   });

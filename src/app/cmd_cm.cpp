@@ -2,8 +2,6 @@
 // validate every option against its allowed range, every input file against this run's protocol
 // and the memory the run's arrays need against what is available, all before any work; call
 // src/cm with a progress line for long runs; say where the results went.
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,10 +10,10 @@
 #include <memory>
 #include <sstream>
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include "app/commands.hpp"
+#include "app/output_file.hpp"
 #include "app/progress_line.hpp"
 #include "base/error.hpp"
 #include "base/memory.hpp"
@@ -126,23 +124,6 @@ std::string tag(double a, double b) {
   return s.str();
 }
 
-// The output file's folder, made; a path that cannot become the file is refused here, before the
-// computation (minutes for an mcm run), not when the file is renamed into place after it.
-void prepare_output(const std::string& path) {
-  namespace fs = std::filesystem;
-  if (path.empty()) throw InputError("-o/--output is empty: give the HDF5 file's path");
-  if (fs::is_directory(path))
-    throw InputError("-o/--output '" + path + "' is a directory: give the HDF5 file's path, e.g. " +
-                     (fs::path(path) / "out.h5").string());
-  const fs::path dir = fs::path(path).parent_path();
-  std::error_code ec;
-  if (!dir.empty()) fs::create_directories(dir, ec);
-  if (ec || ::access(dir.empty() ? "." : dir.c_str(), W_OK) != 0)
-    throw InputError("-o/--output '" + path + "': cannot write into the folder '" +
-                     (dir.empty() ? std::string(".") : dir.string()) + "'" +
-                     (ec ? " (" + ec.message() + ")" : std::string()));
-}
-
 // Options every subcommand shares: the protocol and the flow model.
 struct ProtocolArgs {
   double theta_z = 0, theta_x = 0, eps = 0.15;
@@ -226,7 +207,7 @@ void register_poincare(CLI::App& cm) {
         args->out.empty()
             ? "results/cm/poincare_" + tag(args->proto.theta_z, args->proto.theta_x) + ".h5"
             : args->out;
-    prepare_output(out);
+    prepare_output_file(out);
     ProgressLine progress("cm poincare", args->run.progress_interval);
     const auto sets = poincare_section(pr, o, progress.stage("iterating the seeds"));
     write_poincare(out, pr, o, sets);
@@ -325,7 +306,7 @@ void register_orbits(CLI::App& cm) {
         args->out.empty()
             ? "results/cm/orbits_" + tag(args->proto.theta_z, args->proto.theta_x) + ".h5"
             : args->out;
-    prepare_output(out);
+    prepare_output_file(out);
     ProgressLine progress("cm orbits", args->run.progress_interval);
     const SectionMap map(pr, ShellChart(args->r, pr.layer_eps()));
     const auto points =
@@ -417,7 +398,7 @@ void register_manifolds(CLI::App& cm) {
         args->out.empty()
             ? "results/cm/manifolds_" + tag(args->proto.theta_z, args->proto.theta_x) + ".h5"
             : args->out;
-    prepare_output(out);
+    prepare_output_file(out);
     ProgressLine progress("cm manifolds", args->run.progress_interval);
     const SectionMap map(pr, ShellChart(args->r, pr.layer_eps()));
     const auto points = args->orbits_file.empty()
@@ -564,7 +545,7 @@ void register_mcm(CLI::App& cm) {
         args->out.empty() ? "results/cm/mcm_" + tag(args->proto.theta_z, args->proto.theta_x) +
                                 "_c" + c.str() + (o.drift ? "" : "_nodrift") + ".h5"
                           : args->out;
-    prepare_output(out);
+    prepare_output_file(out);
     ProgressLine progress("cm mcm", args->run.progress_interval);
     const ShellChart chart(o.r, pr.layer_eps());
     if (args->islands_file.empty()) {
@@ -631,7 +612,7 @@ void register_drift(CLI::App& cm) {
         source += " " + path;
       }
       const DriftGrid merged = merge_drift_grids(grids, source);
-      prepare_output(args->out);
+      prepare_output_file(args->out);
       write_drift_grid(args->out, merged);
       std::printf(
           "%zu grids, %.0f samples; <|v_ax|> = %.4g, <sigma_ax> = %.4g (omega R); wrote %s\n",
@@ -647,7 +628,7 @@ void register_drift(CLI::App& cm) {
     require(s.sigma >= 0 && s.sigma <= 100, "--sigma", "in [0, 100]", s.sigma);
     require(s.eps > 0 && s.eps <= 0.5, "--eps", "in (0, 0.5]", s.eps);
     args->run.require_memory({{drift_grid_memory_bytes(s.n), "--n", "the n x n grid"}});
-    prepare_output(args->out);
+    prepare_output_file(args->out);
     const auto grid = synthetic_drift(s);
     write_drift_grid(args->out, grid);
     std::printf("<|v_ax|> = %.4g, <sigma_ax> = %.4g (omega R); wrote %s\n", grid.mean_abs_v(),

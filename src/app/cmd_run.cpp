@@ -40,21 +40,23 @@ void register_run(CLI::App& app) {
   cmd->add_option("--set,-s", opts->overrides, "override a key: section.key=value (repeatable)");
   cmd->add_option("--restart", opts->restart, "continue from this checkpoint file");
   cmd->add_flag("--resume", opts->resume, "continue from OUTPUT_DIR/checkpoint.h5 if present");
-  cmd->add_option("--max-steps", opts->max_steps,
-                  "stop after this many protocol steps (default: at the protocol's end)")
-      ->check(CLI::Validator(  // (-1 meant "no limit", and -5 silently so)
-          [](std::string& v) {
-            return v.rfind('-', 0) == 0 ? "must be >= 0 (leave it out to run to the protocol's end)"
-                                        : std::string();
-          },
-          "STEPS >= 0"));
+  auto* max_steps = cmd->add_option("--max-steps", opts->max_steps,
+                                    "stop after this many protocol steps (default: at the "
+                                    "protocol's end)");
   cmd->add_option("--max-memory", opts->max_memory,
                   "refuse a scene estimated to need more memory than this (e.g. 2G; default: the "
                   "machine's available memory)");
   cmd->add_flag("--check", opts->check, "validate the scene, print it resolved, and exit");
   cmd->add_flag("--list-keys", opts->list_keys,
                 "list every scene key with its range or choices, default and meaning, and exit");
-  cmd->callback([opts]() {
+  cmd->callback([opts, max_steps]() {
+    // The value as read (" -1" passes a test of the text): -1, the default, meant "no limit",
+    // and a given -5 silently so.
+    if (max_steps->count() > 0 && opts->max_steps < 0)
+      throw CLI::ValidationError("--max-steps",
+                                 "must be >= 0 (leave it out to run to the "
+                                 "protocol's end), not " +
+                                     std::to_string(opts->max_steps));
     if (opts->list_keys) {
       for (const auto& k : scene_schema()) {
         std::cout << k.key << "  ";

@@ -418,6 +418,14 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
         // A case whose last record says "running" may be running now if a campaign holds the
         // directory (its record cannot tell this invocation from one that died before it).
         const int runner = DirectoryLock::running_process(dir);
+        // A kept β turn is looked for case by case (a scene each) only if the bed cache has one.
+        bool any_turn = false;
+        std::error_code ec;
+        for (fs::directory_iterator it(bed_cache, ec), end; !ec && it != end && !any_turn;
+             it.increment(ec)) {
+          const std::string name = it->path().filename().string();
+          any_turn = name.size() > 8 && name.compare(name.size() - 8, 8, ".turn.h5") == 0;
+        }
         for (std::size_t k : pending) {
           std::string note = states[k].note;
           if (runner != 0 && note == "interrupted")
@@ -427,7 +435,7 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
           // (A retry with a new seed starts afresh: its folder's checkpoint is not its own.)
           std::string at = checkpoint_progress(dir, e.cases[slice[k]]);
           if (states[k].next.fresh) at.clear();
-          if (at.empty())
+          if (at.empty() && any_turn)
             at = repose_turn_progress(spec, e.cases[slice[k]], dir, bed_cache, states[k].next.seed);
           if (!at.empty()) note += (note.empty() ? "" : ", ") + at;
           out << "  to run: " << e.cases[slice[k]].id << " [" << e.cases[slice[k]].params_text

@@ -10,6 +10,7 @@
 #include "analysis/light_concentration.hpp"
 #include "analysis/radial_segregation.hpp"
 #include "analysis/snapshot_data.hpp"
+#include "base/error.hpp"
 #include "base/text_util.hpp"
 #include "base/version.hpp"
 #include "cm/cm_io.hpp"
@@ -92,6 +93,14 @@ std::vector<CaseFields> read_cases(const std::string& dir) {
     c.point_id = f.attr_string("/", "point_id");
     c.params = f.attr_string("/", "params");
     c.scene_text = f.attr_string("/", "scene");
+    // A cylinder campaign's fields are its S_a, S_r series (no Lambert maps, no islands): refused
+    // by name, not as a file without grid_n.
+    if (parse_scene(c.scene_text).cylinder())
+      throw InputError("'" + dir +
+                       "' is a campaign of tumbler.shape = cylinder: `tumble analyze "
+                       "campaign` maps the spherical tumbler's cases; the cylinder's S_a and S_r "
+                       "are in its ensemble.h5 (series/Sa, series/Sr) and each case's results.h5 "
+                       "(postproc/plot_cylinder.py)");
     c.replica = f.attr_int64("/", "replica");
     c.grid_n = static_cast<int>(f.attr_int64("/", "grid_n"));
     if (f.has_attr("/", "window_first_iteration")) {

@@ -90,3 +90,11 @@ for c, r in done2.items():
 print("OK: 2 cylinder cases; fields = the runs' series; ensemble = recomputation "
       "(largest relative difference %.3g); on groups of 2 ranks the first %d samples agree to %.3g"
       % (worst, EARLY, group_worst))
+
+# `tumble analyze campaign` maps the spherical tumbler's cases: a cylinder campaign is refused by
+# name (exit 2), not read as a damaged file (it has no Lambert grid).
+r = subprocess.run([a.tumble, "analyze", "campaign", a.out], capture_output=True, text=True)
+if r.returncode != 2 or "tumbler.shape = cylinder" not in r.stderr:
+    cc.fail("analyze campaign on the cylinder campaign: exit %d, expected 2 naming tumbler.shape:\n%s%s"
+            % (r.returncode, r.stdout, r.stderr))
+print("OK: analyze campaign refuses the cylinder campaign by name")

@@ -103,11 +103,13 @@ TUMBLE_FIXTURES = {
     "mcm_57.h5": "cm mcm --theta-z 57 --theta-x 57 --islands {fx}/orbits_57.h5 --tracers 10 "
                  "--snapshot 1 --cumulative 1,1 -o OUT",
     # Snapshots of step 0 of a cylinder run and of a single-axis sphere run (the island analyses
-    # refuse them).
+    # refuse them), and of a biaxial one (they take it).
     "cyl_run": "run {scenes}/rapaport/mini/E.toml --max-steps 1 --set scene.output_dir=OUT "
                "--set fill.bed_cache={fx}/beds",
     "single_run": "run {scenes}/bst_tiny.toml --max-steps 1 --set protocol.mode=single_axis "
                   "--set scene.output_dir=OUT --set fill.bed_cache={fx}/beds",
+    "sphere_run": "run {scenes}/bst_tiny.toml --max-steps 1 --set scene.output_dir=OUT "
+                  "--set fill.bed_cache={fx}/beds",
 }
 
 
@@ -141,6 +143,8 @@ def read_table(path):
             if len(parts) != 4:
                 sys.exit("%s:%d: need 4 tab-separated columns (id, exit code, word, command), got %d"
                          % (path, lineno, len(parts)))
+            if any(r[0] == parts[0] for r in rows):
+                sys.exit("%s:%d: row id %s is used twice" % (path, lineno, parts[0]))
             rows.append((parts[0], int(parts[1]), parts[2], parts[3], lineno))
     return rows
 

@@ -177,9 +177,12 @@ with open(os.path.join(work, "C.log"), "w") as log:
     rc = proc.wait(timeout=120)
 with open(os.path.join(work, "C.log")) as f:
     text = f.read()
-if rc != 10 or "keeps its turn so far" not in text:
-    fail("C: exit %d after SIGUSR1 (expected 10, and the stop line saying a beta turn is kept)\n%s"
-         % (rc, text))
+with open(turned) as f:
+    case_text = f.read()
+kept = [f for f in glob.glob(os.path.join(work, "beds_C", "*.turn.h5"))]
+if rc != 10 or "the turn so far is kept in " not in case_text or len(kept) != 1:
+    fail("C: exit %d after SIGUSR1 (expected 10, the case's line that its turn is kept, and the "
+         "turn file: %s)\n%s\n%s" % (rc, kept, text, case_text))
 status = subprocess.run([tumble, "campaign", camp, "--status"], capture_output=True, text=True)
 m = re.search(r"beta turn kept at ([0-9.]+) of 80 degrees", status.stdout)
 if status.returncode != 10 or not m or float(m.group(1)) < 45:
