@@ -39,6 +39,16 @@ CaseOutcome stopped_outcome(const std::string& diagnostic) {
   return o;
 }
 
+// A finished case's outcome: `wall` seconds in all, `protocol_wall` of them its protocol loop's.
+CaseOutcome done_outcome(double wall, double protocol_wall = 0, long long resumed_from_step = 0) {
+  CaseOutcome o;
+  o.ok = true;
+  o.wall = wall;
+  o.protocol_wall = protocol_wall;
+  o.resumed_from_step = resumed_from_step;
+  return o;
+}
+
 // Two cases of one point (cost 1000 each) and a dispatcher for one rank, nothing handed out.
 struct TwoCases : ::testing::Test {
   CampaignSpec spec;
@@ -126,11 +136,7 @@ TEST_F(HeldCase, StopCountsTheGroupNotTheHeldCase) {
 TEST_F(TwoCases, ResumedCaseIsCreditedOnlyWithTheStepsItRan) {
   hand_out(first, {0});
   d->progress({0, 1, false, 900, 900, 1000, 0.0});  // its protocol begins at its checkpoint
-  CaseOutcome done;
-  done.ok = true;
-  done.wall = 10;
-  done.resumed_from_step = 900;
-  (void)d->finished(first, done);
+  (void)d->finished(first, done_outcome(10, 0, 900));
   const std::string line = last_counts(out);
   EXPECT_NE(line.find("ETA 0:01:40"), std::string::npos) << line;
 }
@@ -140,11 +146,7 @@ TEST_F(TwoCases, ResumedCaseIsCreditedOnlyWithTheStepsItRan) {
 TEST_F(TwoCases, FinishedCaseRateLeavesItsPreparationOut) {
   hand_out(first, {0});
   d->progress({0, 1, false, 0, 0, 1000, 0.0});
-  CaseOutcome done;
-  done.ok = true;
-  done.wall = 100;
-  done.protocol_wall = 40;
-  (void)d->finished(first, done);
+  (void)d->finished(first, done_outcome(100, 40));
   const std::string line = last_counts(out);
   EXPECT_NE(line.find("ETA 0:00:40"), std::string::npos) << line;
 }
