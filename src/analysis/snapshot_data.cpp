@@ -35,14 +35,8 @@ SnapshotData read_snapshot(const std::string& path) {
   s.theta_z = sc.theta_z;
   s.theta_x = sc.theta_x;
   s.density_ratio = sc.density_ratio;
-  // (The resolved values are TOML: a string keeps its quotes.)
-  const auto word = [&](const char* key) {
-    std::string v = sc.resolved.at(key);
-    v.erase(std::remove(v.begin(), v.end(), '"'), v.end());
-    return v;
-  };
-  s.shape = word("tumbler.shape");
-  s.mode = word("protocol.mode");
+  s.shape = name_of(sc.shape);
+  s.mode = name_of(sc.mode);
   return s;
 }
 

@@ -193,13 +193,14 @@ std::string repose_key(const Scene& s) {
   return os.str();
 }
 
-std::string repose_cache_path(const Scene& s) {
-  return s.bed_cache + "/repose_" + hex16(fnv1a64(repose_key(s))) + ".h5";
+// The two files of one measurement: its value (.h5) and its turn so far (.turn.h5).
+static std::string repose_stem(const Scene& s) {
+  return s.bed_cache + "/repose_" + hex16(fnv1a64(repose_key(s)));
 }
 
-std::string repose_turn_path(const Scene& s) {
-  return s.bed_cache + "/repose_" + hex16(fnv1a64(repose_key(s))) + ".turn.h5";
-}
+std::string repose_cache_path(const Scene& s) { return repose_stem(s) + ".h5"; }
+
+std::string repose_turn_path(const Scene& s) { return repose_stem(s) + ".turn.h5"; }
 
 namespace {
 
