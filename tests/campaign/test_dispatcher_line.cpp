@@ -61,7 +61,11 @@ struct TwoCases : ::testing::Test {
   const CaseTask first{0, 1, 0, false}, second{1, 1, 0, false};
 
   void SetUp() override {
-    const std::string dir = std::string(TUMBLE_TEST_SCRATCH) + "/dispatcher_line";
+    // A folder per test: ctest runs this fixture's tests side by side, and one test's SetUp
+    // must not remove (or lock) another's manifest.
+    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    const std::string dir = std::string(TUMBLE_TEST_SCRATCH) + "/dispatcher_line/" +
+                            test->test_suite_name() + "." + test->name();
     fs::remove_all(dir);
     fs::create_directories(dir);
     spec.progress_interval = 1;  // tick() writes a line at most once a second
