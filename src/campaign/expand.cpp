@@ -95,7 +95,12 @@ Expansion expand(const CampaignSpec& spec) {
   if (sweeps.empty()) sweeps.emplace_back();  // no sweep: the template itself, replicated
   std::set<std::string> seen;
   std::map<std::string, std::size_t> point_index;
-  for (const auto& sw : sweeps) {
+  for (std::size_t sweep_index = 0; sweep_index < sweeps.size(); ++sweep_index) {
+    const Sweep& sw = sweeps[sweep_index];
+    // A point given twice by one sweep is a value listed twice (a typo, or 57 and 57.0): it
+    // would run once, and the campaign would have fewer points than the lists say. Two sweeps
+    // may share a point (it runs once), one sweep may not repeat one.
+    std::set<std::string> points_of_this_sweep;
     for (const Combo& combo : combos(sw)) {
       std::map<std::string, ParamValue> given(combo.begin(), combo.end());
       auto named_value = [&](const char* name, double fallback) {
@@ -145,6 +150,10 @@ Expansion expand(const CampaignSpec& spec) {
         if (!after_bed) c.bed_text += p.name + "=" + p.value.text + ";";
       }
       canon += ";scene=" + e.base_hash + ";collect=" + spec.collect.canonical();
+      if (!points_of_this_sweep.insert(canon).second)
+        throw InputError("campaign error (" + spec.file + "): sweep[" +
+                         std::to_string(sweep_index) + "] gives the point " + shown +
+                         " twice (a value listed twice in one list?); list each value once");
       c.params_text = shown;
       c.time_limit = sw.time_limit >= 0 ? sw.time_limit : spec.time_limit;
       c.ranks = sw.ranks_per_case > 0 ? sw.ranks_per_case : spec.ranks_per_case;

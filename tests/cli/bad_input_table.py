@@ -87,6 +87,10 @@ FIXTURES = {
         "bed_cache = \"{fx}/a_file\"\n",
     "c_fields_twice.toml": "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\n"
         "[collect]\nfields = [\"series\", \"series\"]\n",
+    "c_value_twice.toml": "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\n"
+        "[sweep]\ntheta_z = [57, 30, 57.0]\ntheta_x = [57]\n",
+    "c_zip_pair_twice.toml": "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\n"
+        "[sweep]\nzip = true\ntheta_z = [57, 30, 57]\ntheta_x = [57, 57, 57]\n",
     "a_file": "not a directory\n",
     "not_hdf5.h5": "these bytes are no HDF5 file\n",
     "campaign_dir/": None,
