@@ -51,7 +51,14 @@ double parse_memory_size(const std::string& text, const std::string& option) {
     scale = 1024.0 * 1024 * 1024 * 1024;
   else
     bad();
-  return v * scale;
+  // Above an exbibyte no machine has it: a slip of the unit (or a number beyond double's range),
+  // which would turn the check off without saying so.
+  const double bytes = v * scale, most = 1024.0 * 1024 * 1024 * 1024 * 1024 * 1024;
+  if (!(bytes <= most))
+    throw InputError(option + " '" + text +
+                     "' is above 1 EiB (1048576T), more than any machine has (left out, the "
+                     "check is against the memory available)");
+  return bytes;
 }
 
 std::string format_bytes(double bytes) {
