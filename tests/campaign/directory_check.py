@@ -1,15 +1,16 @@
 """campaign.one_directory_one_campaign: a campaign directory is run by one slicing at a time and
 holds one campaign.
 
-1. While the whole campaign (kill_campaign.toml, 1 rank, ~30 s) runs, `--slice 1/2` of it into
-   the same directory is refused at once (exit 2, "another slicing"), as is a second whole run
-   (exit 2, "already running"), and `--status` names the running process (not after it is
-   killed); the first run is then stopped.
+1. While the whole campaign (kill_campaign.toml, 1 rank, frozen by SIGSTOP once its manifest is
+   there) runs, `--slice 1/2` of it into the same directory is refused at once (exit 2,
+   "another slicing"), as is a second whole run (exit 2, "already running"), and `--status`
+   names the running process (not after it is killed); the first run is then killed.
 2. Another campaign (groups_campaign.toml) into that directory is refused (exit 2, "holds another
    campaign") without touching its campaign.toml; with --force it runs (exit 0)."""
 import argparse
 import os
 import shutil
+import signal
 import subprocess
 import time
 
@@ -30,6 +31,9 @@ while not os.path.exists(os.path.join(out, "manifest", "slice_1_of_1.jsonl")):
     if time.time() > deadline or whole.poll() is not None:
         cc.fail("the whole campaign did not start")
     time.sleep(0.05)
+# Frozen while the checks run (it keeps its lock and its process): on a fast machine its few
+# seconds of cases could end between two checks, which would then prove nothing.
+os.kill(whole.pid, signal.SIGSTOP)
 try:
     for extra, word in ((["--slice", "1/2"], "another slicing"), ([], "already running")):
         r = subprocess.run([a.tumble, "campaign", a.kill_campaign, "--output", out] + extra,
