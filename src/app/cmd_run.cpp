@@ -4,8 +4,11 @@
 
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
+#include "app/agreed_input.hpp"
 #include "app/commands.hpp"
+#include "base/comm.hpp"
 #include "base/environment.hpp"
 #include "base/error.hpp"
 #include "base/exit_codes.hpp"
@@ -73,14 +76,25 @@ void register_run(CLI::App& app) {
       return;
     }
     if (opts->scene.empty()) throw CLI::RequiredError("scene");
-    arm_memory_limit(opts->max_memory);
-    // (The engine and the domain read the environment only after the bed is made.)
-    check_environment(MPI_COMM_WORLD);
-    const Scene scene = load_scene(opts->scene, opts->overrides);
-    // A missing checkpoint is bad input (exit 2), found before the bed is made or the HDF5
-    // library is asked to open it.
-    if (!opts->restart.empty() && !std::filesystem::is_regular_file(opts->restart))
-      throw InputError("--restart '" + opts->restart + "': no such checkpoint file");
+    // The same arguments and files on every rank: a bad one is said once, by rank 0.
+    std::optional<Scene> loaded;
+    agreed_input(MPI_COMM_WORLD, [&] {
+      arm_memory_limit(opts->max_memory);
+      loaded = load_scene(opts->scene, opts->overrides);
+      // A missing checkpoint is bad input (exit 2), found before the bed is made or the HDF5
+      // library is asked to open it.
+      if (!opts->restart.empty() && !std::filesystem::is_regular_file(opts->restart))
+        throw InputError("--restart '" + opts->restart + "': no such checkpoint file");
+    });
+    const Scene& scene = *loaded;
+    // (The engine and the domain read the environment only after the bed is made.) Its error
+    // is agreed over the ranks already: rank 0 says it for all.
+    try {
+      check_environment(MPI_COMM_WORLD);
+    } catch (const InputError&) {
+      if (rank_in(MPI_COMM_WORLD) != 0) std::cerr.setstate(std::ios::badbit);
+      throw;
+    }
     if (opts->check) {
       std::cout << scene_to_text(scene);
       if (scene.bed_file.empty()) {

@@ -1,0 +1,53 @@
+#include "app/agreed_input.hpp"
+
+#include <iostream>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "base/comm.hpp"
+#include "base/error.hpp"
+
+namespace tumble::app {
+namespace {
+enum Kind : int { kFine = 0, kInput = 1, kCorrupt = 2, kOther = 3 };
+}  // namespace
+
+void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
+  int mpi = 0;
+  MPI_Initialized(&mpi);
+  if (mpi == 0 || size_of(comm) == 1) {
+    check();
+    return;
+  }
+  int kind = kFine;
+  std::string message;
+  try {
+    check();
+  } catch (const CorruptInputError& e) {  // (before InputError, its base)
+    kind = kCorrupt, message = e.what();
+  } catch (const InputError& e) {
+    kind = kInput, message = e.what();
+  } catch (const std::exception& e) {
+    kind = kOther, message = e.what();
+  }
+  const int rank = rank_in(comm), ranks = size_of(comm);
+  int first = kind == kFine ? std::numeric_limits<int>::max() : rank;
+  int failed = kind == kFine ? 0 : 1;
+  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm);
+  if (first == std::numeric_limits<int>::max()) return;
+  MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_SUM, comm);
+  int head[2] = {kind, static_cast<int>(message.size())};
+  MPI_Bcast(head, 2, MPI_INT, first, comm);
+  message.resize(static_cast<std::size_t>(head[1]));
+  MPI_Bcast(message.data(), head[1], MPI_CHAR, first, comm);
+  if (failed < ranks)
+    message += " (on rank " + std::to_string(first) + "; " + std::to_string(ranks - failed) +
+               " of the " + std::to_string(ranks) + " ranks read their input without error)";
+  if (rank != 0) std::cerr.setstate(std::ios::badbit);  // rank 0 says it for all
+  if (head[0] == kCorrupt) throw CorruptInputError(message);
+  if (head[0] == kInput) throw InputError(message);
+  throw std::runtime_error(message);
+}
+
+}  // namespace tumble::app

@@ -1,0 +1,20 @@
+#pragma once
+// The checks of a command's input (arguments, scene file, paths) under mpirun, agreed over the
+// ranks. Every rank reads the same files and arguments, so a bad key fails on all of them: each
+// printed the same message, once per rank (64 copies under mpirun -n 64). Only where a file
+// differs between nodes (a scene missing on one node's disk) does one rank fail alone; then the
+// others would wait for it in the run's first collective call. Agreed, every rank leaves with
+// the same error and rank 0 alone says it, naming the rank that failed when not all did.
+#include <mpi.h>
+
+#include <functional>
+
+namespace tumble::app {
+
+// Runs `check` on every rank of `comm` (it must make no MPI call) and, if it threw on any rank,
+// throws on every rank the error of the lowest one that failed (InputError, CorruptInputError,
+// or std::runtime_error for anything else), after silencing std::cerr on ranks other than 0.
+// Without MPI (`run --check`) or on one rank, `check` runs as it is.
+void agreed_input(MPI_Comm comm, const std::function<void()>& check);
+
+}  // namespace tumble::app
