@@ -6,7 +6,7 @@
 #include <iostream>
 #include <optional>
 
-#include "app/agreed_input.hpp"
+#include "base/agreed_input.hpp"
 #include "app/commands.hpp"
 #include "base/comm.hpp"
 #include "base/environment.hpp"

@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "base/agreed_input.hpp"
 #include "base/error.hpp"
 #include "base/exit_codes.hpp"
 #include "base/hash.hpp"
@@ -349,18 +350,33 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   int rank = 0, size = 1;
   MPI_Comm_rank(world, &rank);
   MPI_Comm_size(world, &size);
-  CampaignSpec spec = load_campaign(opt.file);
-  if (!opt.output.empty()) spec.output_dir = opt.output;
-  if (opt.ranks_per_case > 0) spec.ranks_per_case = opt.ranks_per_case;
+  // The campaign file and what it expands to, read on every rank and agreed before any work: a
+  // file one node cannot read is refused on all ranks, naming that rank, instead of rank 0
+  // waiting for it in the first collective call.
+  CampaignSpec spec;
+  Expansion e;
+  std::vector<std::size_t> slice;
+  agreed_input(world, [&] {
+    spec = load_campaign(opt.file);
+    if (!opt.output.empty()) spec.output_dir = opt.output;
+    if (opt.ranks_per_case > 0) spec.ranks_per_case = opt.ranks_per_case;
+    const std::string& out_dir = spec.output_dir;
+    if (std::error_code ec; fs::exists(out_dir, ec) && !fs::is_directory(out_dir, ec))
+      throw InputError("campaign.output_dir (or --output) = '" + out_dir +
+                       "' names a file, not a directory");
+    const std::string cache = spec.bed_cache.empty() ? out_dir + "/beds" : spec.bed_cache;
+    if (std::error_code ec; fs::exists(cache, ec) && !fs::is_directory(cache, ec))
+      throw InputError("campaign.bed_cache = '" + cache + "' names a file, not a directory");
+    e = expand(spec);
+    slice = slice_cases(e, opt.slice_i, opt.slice_n);
+    // Every case's scene is valid, or nothing runs (--list and --status show the invalid ones).
+    if (!opt.list && !opt.status) check_cases_valid(spec, e);
+    // Every case's group must fit in this run's world (checked on every rank alike, before any
+    // work); a world that is not a multiple of the group size leaves its last ranks idle.
+    if (!opt.list && !opt.status) check_groups_fit(spec, e, slice, size, opt.ranks_per_case > 0);
+  });
   const std::string dir = spec.output_dir;
-  if (std::error_code ec; fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    throw InputError("campaign.output_dir (or --output) = '" + dir +
-                     "' names a file, not a directory");
   const std::string bed_cache = spec.bed_cache.empty() ? dir + "/beds" : spec.bed_cache;
-  if (std::error_code ec; fs::exists(bed_cache, ec) && !fs::is_directory(bed_cache, ec))
-    throw InputError("campaign.bed_cache = '" + bed_cache + "' names a file, not a directory");
-  const Expansion e = expand(spec);
-  const std::vector<std::size_t> slice = slice_cases(e, opt.slice_i, opt.slice_n);
   const std::string slice_text = std::to_string(opt.slice_i) + "/" + std::to_string(opt.slice_n);
 
   if (opt.list) {
@@ -377,13 +393,6 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
     }
     return 0;
   }
-
-  // Every case's scene is valid, or nothing runs (--list and --status show the invalid ones).
-  if (!opt.list && !opt.status) check_cases_valid(spec, e);
-
-  // Every case's group must fit in this run's world (checked on every rank alike, before any
-  // work); a world that is not a multiple of the group size leaves its last ranks idle.
-  if (!opt.status) check_groups_fit(spec, e, slice, size, opt.ranks_per_case > 0);
 
   // Rank 0 decides what is left and takes the slice's manifest lock; the others wait for its word
   // so that a refusal (e.g. the slice is already running) ends every rank the same way.

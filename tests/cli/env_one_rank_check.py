@@ -11,7 +11,9 @@ message on the output, once.
 
 `tumble run` also: a scene file rank 1 alone cannot read (its own arguments, MPMD) is refused on
 both ranks, once, naming rank 1 (before: rank 0 went on to make the bed while rank 1 had left);
-a bad key (both ranks) is said once, not once per rank.
+a bad key (both ranks) is said once, not once per rank. `tumble campaign` likewise for a
+campaign file rank 1 cannot read (before: rank 1's message was lost, and rank 0 began the
+campaign and waited for rank 1 for ever).
 
 usage: env_one_rank_check.py TUMBLE MPIEXEC SCENE CAMPAIGN WORKDIR
 """
@@ -34,6 +36,9 @@ checks = (
       os.path.join(work, "campaign"), "--status"], "TUMBLE_PLAIN_KERNELS"),
     ("run file", [tumble] + run, [tumble, "run", missing, "--max-steps", "5"],
      "cannot read scene file '%s' (on rank 1; 1 of the 2 ranks" % missing),
+    ("camp file", [tumble, "campaign", campaign, "-o", os.path.join(work, "campaign"), "--list"],
+     [tumble, "campaign", missing, "-o", os.path.join(work, "campaign"), "--list"],
+     "cannot read campaign file '%s' (on rank 1; 1 of the 2 ranks" % missing),
     ("run key", [tumble] + run + ["--set", "bogus.key=1"],
      [tumble] + run + ["--set", "bogus.key=1"], "unknown key 'bogus.key'"),
 )

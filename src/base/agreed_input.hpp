@@ -9,7 +9,7 @@
 
 #include <functional>
 
-namespace tumble::app {
+namespace tumble {
 
 // Runs `check` on every rank of `comm` (it must make no MPI call) and, if it threw on any rank,
 // throws on every rank the error of the lowest one that failed (InputError, CorruptInputError,
@@ -17,4 +17,4 @@ namespace tumble::app {
 // Without MPI (`run --check`) or on one rank, `check` runs as it is.
 void agreed_input(MPI_Comm comm, const std::function<void()>& check);
 
-}  // namespace tumble::app
+}  // namespace tumble

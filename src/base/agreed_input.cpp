@@ -1,4 +1,4 @@
-#include "app/agreed_input.hpp"
+#include "base/agreed_input.hpp"
 
 #include <iostream>
 #include <limits>
@@ -8,7 +8,7 @@
 #include "base/comm.hpp"
 #include "base/error.hpp"
 
-namespace tumble::app {
+namespace tumble {
 namespace {
 enum Kind : int { kFine = 0, kInput = 1, kCorrupt = 2, kOther = 3 };
 }  // namespace
@@ -50,4 +50,4 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
   throw std::runtime_error(message);
 }
 
-}  // namespace tumble::app
+}  // namespace tumble
