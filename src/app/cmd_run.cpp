@@ -6,9 +6,8 @@
 #include <iostream>
 #include <optional>
 
-#include "base/agreed_input.hpp"
 #include "app/commands.hpp"
-#include "base/comm.hpp"
+#include "base/agreed_input.hpp"
 #include "base/environment.hpp"
 #include "base/error.hpp"
 #include "base/exit_codes.hpp"
@@ -92,7 +91,7 @@ void register_run(CLI::App& app) {
     try {
       check_environment(MPI_COMM_WORLD);
     } catch (const InputError&) {
-      if (rank_in(MPI_COMM_WORLD) != 0) std::cerr.setstate(std::ios::badbit);
+      say_once(MPI_COMM_WORLD);
       throw;
     }
     if (opts->check) {

@@ -13,6 +13,12 @@ namespace {
 enum Kind : int { kFine = 0, kInput = 1, kCorrupt = 2, kOther = 3 };
 }  // namespace
 
+void say_once(MPI_Comm comm) {
+  int mpi = 0;
+  MPI_Initialized(&mpi);
+  if (mpi != 0 && rank_in(comm) != 0) std::cerr.setstate(std::ios::badbit);
+}
+
 void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
   int mpi = 0;
   MPI_Initialized(&mpi);
@@ -31,7 +37,7 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
   } catch (const std::exception& e) {
     kind = kOther, message = e.what();
   }
-  const int rank = rank_in(comm), ranks = size_of(comm);
+  const int rank = rank_in(comm), ranks = size_of(comm);  // (MPI is on here)
   int first = kind == kFine ? std::numeric_limits<int>::max() : rank;
   int failed = kind == kFine ? 0 : 1;
   MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm);
@@ -44,7 +50,7 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
   if (failed < ranks)
     message += " (on rank " + std::to_string(first) + "; " + std::to_string(ranks - failed) +
                " of the " + std::to_string(ranks) + " ranks read their input without error)";
-  if (rank != 0) std::cerr.setstate(std::ios::badbit);  // rank 0 says it for all
+  say_once(comm);
   if (head[0] == kCorrupt) throw CorruptInputError(message);
   if (head[0] == kInput) throw InputError(message);
   throw std::runtime_error(message);
