@@ -36,6 +36,8 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
     kind = kInput, message = e.what();
   } catch (const std::exception& e) {
     kind = kOther, message = e.what();
+  } catch (...) {  // (this rank leaving alone would leave the others in the Allreduce below)
+    kind = kOther, message = "an error of no standard type";
   }
   const int rank = rank_in(comm), ranks = size_of(comm);  // (MPI is on here)
   int first = kind == kFine ? std::numeric_limits<int>::max() : rank;
@@ -49,7 +51,7 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
   MPI_Bcast(message.data(), head[1], MPI_CHAR, first, comm);
   if (failed < ranks)
     message += " (on rank " + std::to_string(first) + "; " + std::to_string(ranks - failed) +
-               " of the " + std::to_string(ranks) + " ranks read their input without error)";
+               " of the " + std::to_string(ranks) + " ranks passed these checks)";
   say_once(comm);
   if (head[0] == kCorrupt) throw CorruptInputError(message);
   if (head[0] == kInput) throw InputError(message);

@@ -1,10 +1,10 @@
 #pragma once
 // The checks of a command's input (arguments, scene file, paths) under mpirun, agreed over the
 // ranks. Every rank reads the same files and arguments, so a bad key fails on all of them: each
-// printed the same message, once per rank (64 copies under mpirun -n 64). Only where a file
-// differs between nodes (a scene missing on one node's disk) does one rank fail alone; then the
-// others would wait for it in the run's first collective call. Agreed, every rank leaves with
-// the same error and rank 0 alone says it, naming the rank that failed when not all did.
+// printed the same message, once per rank (64 copies under mpirun -n 64). Where a node differs
+// (a scene missing on its disk, less memory available for the estimate) one rank fails alone;
+// then the others would wait for it in the run's first collective call. Agreed, every rank leaves
+// with the same error and rank 0 alone says it, naming the rank that failed when not all did.
 #include <mpi.h>
 
 #include <functional>

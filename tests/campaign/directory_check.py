@@ -1,8 +1,8 @@
 """campaign.one_directory_one_campaign: a campaign directory is run by one slicing at a time and
 holds one campaign.
 
-1. While the whole campaign (kill_campaign.toml, 1 rank, frozen by SIGSTOP once its manifest is
-   there) runs, `--slice 1/2` of it into the same directory is refused at once (exit 2,
+1. While the whole campaign (kill_campaign.toml, 1 rank, frozen by SIGSTOP once its manifest
+   records a case running) runs, `--slice 1/2` of it into the same directory is refused at once (exit 2,
    "another slicing"), as is a second whole run (exit 2, "already running"), and `--status`
    names the running process (not after it is killed); the first run is then killed.
 2. Another campaign (groups_campaign.toml) into that directory is refused (exit 2, "holds another
@@ -27,9 +27,21 @@ shutil.rmtree(out, ignore_errors=True)
 whole = subprocess.Popen([a.tumble, "campaign", a.kill_campaign, "--output", out],
                          stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
 deadline = time.time() + 60
-while not os.path.exists(os.path.join(out, "manifest", "slice_1_of_1.jsonl")):
+manifest = os.path.join(out, "manifest", "slice_1_of_1.jsonl")
+
+
+def a_case_runs():
+    # The file is made before its first case is recorded: --status names the running process
+    # beside a case recorded as running, so the freeze waits for that record.
+    try:
+        return '"running"' in open(manifest).read()
+    except OSError:
+        return False
+
+
+while not a_case_runs():
     if time.time() > deadline or whole.poll() is not None:
-        cc.fail("the whole campaign did not start")
+        cc.fail("the whole campaign did not start a case")
     time.sleep(0.05)
 # Frozen while the checks run (it keeps its lock and its process): on a fast machine its few
 # seconds of cases could end between two checks, which would then prove nothing.
