@@ -86,14 +86,8 @@ void register_run(CLI::App& app) {
         throw InputError("--restart '" + opts->restart + "': no such checkpoint file");
     });
     const Scene& scene = *loaded;
-    // (The engine and the domain read the environment only after the bed is made.) Its error
-    // is agreed over the ranks already: rank 0 says it for all.
-    try {
-      check_environment(MPI_COMM_WORLD);
-    } catch (const InputError&) {
-      say_once(MPI_COMM_WORLD);
-      throw;
-    }
+    // (The engine and the domain read the environment only after the bed is made.)
+    check_environment(MPI_COMM_WORLD);
     if (opts->check) {
       std::cout << scene_to_text(scene);
       if (scene.bed_file.empty()) {

@@ -13,12 +13,6 @@ namespace {
 enum Kind : int { kFine = 0, kInput = 1, kCorrupt = 2, kOther = 3 };
 }  // namespace
 
-void say_once(MPI_Comm comm) {
-  int mpi = 0;
-  MPI_Initialized(&mpi);
-  if (mpi != 0 && rank_in(comm) != 0) std::cerr.setstate(std::ios::badbit);
-}
-
 void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
   int mpi = 0;
   MPI_Initialized(&mpi);
@@ -52,7 +46,7 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
   if (failed < ranks)
     message += " (on rank " + std::to_string(first) + "; " + std::to_string(ranks - failed) +
                " of the " + std::to_string(ranks) + " ranks passed these checks)";
-  say_once(comm);
+  if (rank != 0) std::cerr.setstate(std::ios::badbit);  // rank 0 says it for all
   if (head[0] == kCorrupt) throw CorruptInputError(message);
   if (head[0] == kInput) throw InputError(message);
   throw std::runtime_error(message);

@@ -17,8 +17,4 @@ namespace tumble {
 // Without MPI (`run --check`) or on one rank, `check` runs as it is.
 void agreed_input(MPI_Comm comm, const std::function<void()>& check);
 
-// For an error every rank of `comm` leaves with, agreed already (check_environment): silences
-// std::cerr on ranks other than 0, so that it is said once. Nothing without MPI.
-void say_once(MPI_Comm comm);
-
 }  // namespace tumble

@@ -2,8 +2,8 @@
 
 #include <cstdlib>
 #include <cstring>
-#include <limits>
 
+#include "base/agreed_input.hpp"
 #include "base/comm.hpp"
 #include "base/error.hpp"
 
@@ -52,20 +52,17 @@ std::string environment_error() {
 }  // namespace
 
 void check_environment(MPI_Comm comm) {
-  std::string error = environment_error();
+  // Agreed over the ranks: a bad value on one rank only (a wrapper that does not pass the
+  // environment) is refused on every rank, said once by rank 0.
   int mpi = 0;
   MPI_Initialized(&mpi);  // (`run --check` starts no MPI)
-  if (mpi != 0 && size_of(comm) > 1) {
-    int bad = error.empty() ? std::numeric_limits<int>::max() : rank_in(comm);
-    MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MIN, comm);
-    if (bad == std::numeric_limits<int>::max()) return;
-    int n = static_cast<int>(error.size());
-    MPI_Bcast(&n, 1, MPI_INT, bad, comm);
-    error.resize(static_cast<std::size_t>(n));
-    MPI_Bcast(error.data(), n, MPI_CHAR, bad, comm);
-    error += " (in the environment of rank " + std::to_string(bad) + ")";
-  }
-  if (!error.empty()) throw InputError(error);
+  const bool ranks = mpi != 0 && size_of(comm) > 1;
+  agreed_input(comm, [comm, ranks] {
+    if (const std::string error = environment_error(); !error.empty())
+      throw InputError(ranks ? error + " (in the environment of rank " +
+                                   std::to_string(rank_in(comm)) + ")"
+                             : error);
+  });
 }
 
 }  // namespace tumble
