@@ -2,9 +2,9 @@
 holds one campaign.
 
 1. While the whole campaign (kill_campaign.toml, 1 rank, frozen by SIGSTOP once its manifest
-   records a case running) runs, `--slice 1/2` of it into the same directory is refused at once (exit 2,
-   "another slicing"), as is a second whole run (exit 2, "already running"), and `--status`
-   names the running process (not after it is killed); the first run is then killed.
+   records a case running) runs, `--slice 1/2` of it into the same directory is refused at once
+   (exit 2, "another slicing"), as is a second whole run (exit 2, "already running"), and
+   `--status` names the running process (not after it is killed); the first run is then killed.
 2. Another campaign (groups_campaign.toml) into that directory is refused (exit 2, "holds another
    campaign") without touching its campaign.toml; with --force it runs (exit 0)."""
 import argparse
