@@ -42,23 +42,23 @@ void register_run(CLI::App& app) {
   cmd->add_option("--set,-s", opts->overrides, "override a key: section.key=value (repeatable)");
   cmd->add_option("--restart", opts->restart, "continue from this checkpoint file");
   cmd->add_flag("--resume", opts->resume, "continue from OUTPUT_DIR/checkpoint.h5 if present");
-  auto* max_steps = cmd->add_option("--max-steps", opts->max_steps,
-                                    "stop after this many protocol steps (default: at the "
-                                    "protocol's end)");
+  // The value as CLI11 will read it (" -1" passes a test of the text): -1, the default, meant
+  // "no limit", and a given -5 silently so. A check, not the command's own test, so that mpirun
+  // agrees on it with the other refusals of the command line (app/command_line.hpp).
+  cmd->add_option("--max-steps", opts->max_steps,
+                  "stop after this many protocol steps (default: at the protocol's end)")
+      ->check([](const std::string& text) {
+        long long n = 0;
+        if (!CLI::detail::lexical_cast(text, n) || n >= 0) return std::string();
+        return "must be >= 0 (leave it out to run to the protocol's end), not " + std::to_string(n);
+      });
   cmd->add_option("--max-memory", opts->max_memory,
                   "refuse a scene estimated to need more memory than this (e.g. 2G; default: the "
                   "machine's available memory)");
   cmd->add_flag("--check", opts->check, "validate the scene, print it resolved, and exit");
   cmd->add_flag("--list-keys", opts->list_keys,
                 "list every scene key with its range or choices, default and meaning, and exit");
-  cmd->callback([opts, max_steps]() {
-    // The value as read (" -1" passes a test of the text): -1, the default, meant "no limit",
-    // and a given -5 silently so.
-    if (max_steps->count() > 0 && opts->max_steps < 0)
-      throw CLI::ValidationError("--max-steps",
-                                 "must be >= 0 (leave it out to run to the "
-                                 "protocol's end), not " +
-                                     std::to_string(opts->max_steps));
+  cmd->callback([opts]() {
     if (opts->list_keys) {
       for (const auto& k : scene_schema()) {
         std::cout << k.key << "  ";
@@ -74,10 +74,11 @@ void register_run(CLI::App& app) {
       }
       return;
     }
-    if (opts->scene.empty()) throw CLI::RequiredError("scene");
     // The same arguments and files on every rank: a bad one is said once, by rank 0.
     std::optional<Scene> loaded;
     agreed_input(MPI_COMM_WORLD, [&] {
+      if (opts->scene.empty())
+        throw InputError("scene: a scene file is required (or --list-keys to list the keys)");
       arm_memory_limit(opts->max_memory);
       loaded = load_scene(opts->scene, opts->overrides);
       // A missing checkpoint is bad input (exit 2), found before the bed is made or the HDF5

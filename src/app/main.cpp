@@ -3,13 +3,14 @@
 
 #include <cstdlib>
 #include <iostream>
+#include <memory>
 #include <string>
 
-#include "app/campaign_commands.hpp"
-#include "app/commands.hpp"
+#include "app/command_line.hpp"
+#include "base/agreed_input.hpp"
+#include "base/comm.hpp"
 #include "base/error.hpp"
 #include "base/exit_codes.hpp"
-#include "base/version.hpp"
 #include "contact/laws.hpp"
 #include "h5/hdf5_file.hpp"
 
@@ -36,22 +37,19 @@ int main(int argc, char** argv) {
   if (mpi) MPI_Init(&argc, &argv);
   std::cout.setf(std::ios::unitbuf);  // progress lines reach logs and pipes at once
   tumble::contact::register_laws();   // before any scene is read (scene/law_registry.hpp)
-  CLI::App app{"Tumble: DEM campaigns of granular segregation in tumblers"};
-  app.set_version_flag("--version", std::string(tumble::kVersion) + " (" + tumble::kGitHash + ")");
-  app.require_subcommand(1);
-  tumble::app::register_run(app);
-  tumble::app::register_campaign(app);
-  tumble::app::register_merge(app);
-  tumble::app::register_cm(app);
-  tumble::app::register_analyze(app);
+  const std::unique_ptr<CLI::App> app = tumble::app::make_command_line();
   int rc = 0;
   try {
-    app.parse(argc, argv);
+    // Under mpirun the command line is checked on every rank and agreed before any command runs
+    // (app/command_line.hpp): a refusal is said once, by rank 0, and on every rank.
+    if (mpi && tumble::size_of(MPI_COMM_WORLD) > 1)
+      tumble::agreed_input(MPI_COMM_WORLD, [&] { tumble::app::check_command_line(argc, argv); });
+    app->parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     // CLI11 prints --help and --version (exit 0) and its own message for a bad option; its codes
     // (104-109) are replaced by the one for bad input. A subcommand's own exit code reaches here
     // as a RuntimeError (`campaign --status`: work left) and is kept.
-    const int cli_rc = app.exit(e);
+    const int cli_rc = app->exit(e);
     namespace ec = tumble::exit_code;
     rc = e.get_name() == "RuntimeError" || cli_rc == ec::kOk ? cli_rc : ec::kBadInput;
   } catch (const tumble::CorruptInputError& e) {  // before InputError, its base

@@ -1,5 +1,6 @@
 #include "base/agreed_input.hpp"
 
+#include <algorithm>
 #include <iostream>
 #include <limits>
 #include <stdexcept>
@@ -43,9 +44,13 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
   MPI_Bcast(head, 2, MPI_INT, first, comm);
   message.resize(static_cast<std::size_t>(head[1]));
   MPI_Bcast(message.data(), head[1], MPI_CHAR, first, comm);
-  if (failed < ranks)
-    message += " (on rank " + std::to_string(first) + "; " + std::to_string(ranks - failed) +
-               " of the " + std::to_string(ranks) + " ranks passed these checks)";
+  if (failed < ranks) {
+    // (At the end of the message's first line: a second one is a hint, CLI11's "Run with --help")
+    const std::size_t eol = std::min(message.find('\n'), message.size());
+    message.insert(eol, " (on rank " + std::to_string(first) + "; " +
+                            std::to_string(ranks - failed) + " of the " + std::to_string(ranks) +
+                            " ranks passed these checks)");
+  }
   if (rank != 0) std::cerr.setstate(std::ios::badbit);  // rank 0 says it for all
   if (head[0] == kCorrupt) throw CorruptInputError(message);
   if (head[0] == kInput) throw InputError(message);

@@ -11,7 +11,9 @@ message on the output, once.
 
 `tumble run` also: a scene file rank 1 alone cannot read (its own arguments, MPMD) is refused on
 both ranks, once, naming rank 1 (before: rank 0 went on to make the bed while rank 1 had left);
-a bad key (both ranks) is said once, not once per rank. `tumble campaign` likewise for a
+a bad key (both ranks) is said once, not once per rank. So are CLI11's refusals of the command line
+(`--max-steps -5` on both ranks); an option rank 1 alone is given (`--bogus`) is refused on both,
+naming rank 1 (before: rank 1 left alone and rank 0 made the bed and waited for ever). `tumble campaign` likewise for a
 campaign file rank 1 cannot read (before: rank 1's message was lost, and rank 0 began the
 campaign and waited for rank 1 for ever).
 
@@ -41,6 +43,13 @@ checks = (
      "cannot read campaign file '%s' (on rank 1; 1 of the 2 ranks" % missing),
     ("run key", [tumble] + run + ["--set", "bogus.key=1"],
      [tumble] + run + ["--set", "bogus.key=1"], "unknown key 'bogus.key'"),
+    ("run opt", [tumble] + run + ["--max-steps", "-5"], [tumble] + run + ["--max-steps", "-5"],
+     "--max-steps: must be >= 0"),
+    ("opt one", [tumble] + run, [tumble] + run + ["--bogus"],
+     "not expected: --bogus (on rank 1; 1 of the 2 ranks"),
+    ("camp opt", [tumble, "campaign", campaign, "-o", os.path.join(work, "campaign"), "--list"],
+     [tumble, "campaign", campaign, "-o", os.path.join(work, "campaign"), "--list", "--slice"],
+     "--slice: 1 required TEXT missing (on rank 1; 1 of the 2 ranks"),
 )
 for name, first, second, said in checks:
     cmd = [mpiexec, "-n", "1"] + first + [":", "-n", "1"] + second
