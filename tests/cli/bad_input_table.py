@@ -23,6 +23,7 @@ import argparse
 import os
 import re
 import shlex
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -165,13 +166,13 @@ def split_env(args):
     return env, args
 
 
-def run(tumble, args, limit, extra_env=None):
+def run(tumble, args, limit, extra_env=None, cwd=None):
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1", **(extra_env or {}))
     t0 = time.monotonic()
     try:
         p = subprocess.run([tumble] + args, capture_output=True, text=True, timeout=limit,
-                           env=env, stdin=subprocess.DEVNULL)
+                           env=env, stdin=subprocess.DEVNULL, cwd=cwd)
         return p.returncode, p.stdout + p.stderr, time.monotonic() - t0
     except subprocess.TimeoutExpired as e:
         out = (e.stdout or b"").decode(errors="replace") + (e.stderr or b"").decode(errors="replace")
@@ -191,10 +192,15 @@ def main():
     ap.add_argument("--row-limit", type=float, default=10.0,
                     help="seconds after which a row counts as a hang")
     a = ap.parse_args()
+    a.tumble, a.source = os.path.abspath(a.tumble), os.path.abspath(a.source)
     scenes = os.path.join(a.source, "scenes")
-    work = a.work or tempfile.mkdtemp(prefix="tumble_bad_input_")
+    work = os.path.abspath(a.work or tempfile.mkdtemp(prefix="tumble_bad_input_"))
     fx = os.path.join(work, "fx")
     os.makedirs(fx, exist_ok=True)
+    # Every row runs in an empty folder of its own: a refusal writes nothing, and a row accepted
+    # by mistake leaves its default outputs (relative paths) there, not in the caller's folder.
+    cwd = os.path.join(work, "cwd")
+    shutil.rmtree(cwd, ignore_errors=True)
     write_fixtures(fx, scenes)
     make_tumble_fixtures(a.tumble, fx, scenes, 60)
     failures = []
@@ -214,7 +220,13 @@ def main():
     for rid, want_rc, word, cmd, lineno in rows:
         row_env, args = split_env(shlex.split(
             cmd.replace("{scenes}", scenes).replace("{fx}", fx).replace("{source}", a.source)))
-        rc, out, dt = run(a.tumble, args, a.row_limit, row_env)
+        row_cwd = os.path.join(cwd, rid)
+        os.makedirs(row_cwd)
+        rc, out, dt = run(a.tumble, args, a.row_limit, row_env, row_cwd)
+        left = sorted(os.listdir(row_cwd))
+        if left:  # (refused before any work: nothing written)
+            failures.append("row %s (line %d): left %s in its working directory %s"
+                            % (rid, lineno, ", ".join(left), row_cwd))
         if rc is None or rc < 0 or rc >= 128 or any(w in out for w in CRASH_WORDS):
             kind = "crash"
         elif rc == 0:
