@@ -10,10 +10,10 @@ namespace tumble::app {
 // "tumble: <CLI11's message>", the prefix of every other refusal.
 std::unique_ptr<CLI::App> make_command_line();
 
-// Parses argv with a second app whose subcommands run nothing, and throws InputError with the
-// message the real parse would print when CLI11 refuses it. Under mpirun main runs it through
-// agreed_input before the real parse: every rank parses the same arguments, so a mistyped
-// option was printed once per rank (64 copies under mpirun -n 64); and a rank given other
+// Parses and checks argv with a second app that stops before any subcommand runs, and throws
+// InputError with the message the real parse would print when CLI11 refuses it. Under mpirun main
+// runs it through agreed_input before the real parse: every rank parses the same arguments, so a
+// mistyped option was printed once per rank (64 copies under mpirun -n 64); and a rank given other
 // arguments (Open MPI's MPMD syntax, a wrapper) refused alone while the others ran the command
 // and waited for it in its first collective call for ever.
 void check_command_line(int argc, char** argv);
