@@ -57,4 +57,15 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
   throw std::runtime_error(message);
 }
 
+void thrown_together(MPI_Comm comm, const std::function<void()>& work) {
+  try {
+    work();
+  } catch (...) {
+    int mpi = 0;
+    MPI_Initialized(&mpi);
+    if (mpi != 0 && rank_in(comm) != 0) std::cerr.setstate(std::ios::badbit);
+    throw;
+  }
+}
+
 }  // namespace tumble

@@ -8,6 +8,7 @@
 #include <memory>
 #include <ostream>
 
+#include "base/agreed_input.hpp"
 #include "base/comm.hpp"
 #include "base/error.hpp"
 #include "base/memory.hpp"
@@ -93,9 +94,13 @@ struct Started {
 Started restart_from(const std::string& path, const Scene& scene,
                      const geometry::Protocol& protocol, double snap_steps, MPI_Comm comm,
                      std::ostream* log) {
-  io::CheckpointData c = io::read_checkpoint(path, comm);
-  check_restart_compatible(scene, c.scene_text);
-  io::check_checkpoint_fits(c, scene, path, comm);
+  // (A damaged checkpoint or one of another scene: every rank refuses it together; rank 0 says so.)
+  io::CheckpointData c;
+  thrown_together(comm, [&] {
+    c = io::read_checkpoint(path, comm);
+    check_restart_compatible(scene, c.scene_text);
+    io::check_checkpoint_fits(c, scene, path, comm);
+  });
   double rows = static_cast<double>(c.particles.size());
   if (comm != MPI_COMM_NULL) MPI_Allreduce(MPI_IN_PLACE, &rows, 1, MPI_DOUBLE, MPI_SUM, comm);
   const auto n = static_cast<std::size_t>(rows);
@@ -103,7 +108,8 @@ Started restart_from(const std::string& path, const Scene& scene,
     *log << "[run] restarting from " << path << " at t = " << c.time << " s (step " << c.step
          << ")\n";
   Started st;
-  st.sim = io::engine_from_checkpoint(c, scene, protocol, path, comm);
+  thrown_together(comm,
+                  [&] { st.sim = io::engine_from_checkpoint(c, scene, protocol, path, comm); });
   st.state = std::make_unique<RunState>(scene, *st.sim, comm, log);
   st.state->series = std::move(c.series);
   if (scene.drift_grid == OnOff::on) st.state->drift = std::move(c.drift);

@@ -7,6 +7,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "base/agreed_input.hpp"
 #include "base/comm.hpp"
 #include "base/error.hpp"
 #include "base/stop_request.hpp"
@@ -116,19 +117,25 @@ Particles fill_and_settle(const Scene& scene, std::ostream* log, MPI_Comm comm,
 Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_Comm comm,
                       const std::function<void()>& between_blocks) {
   if (reused) *reused = true;
+  // Every rank reads the bed itself, agreed (base/agreed_input.hpp): a damaged file is said once,
+  // and a node that lacks the file (a bed cache on a node's own disk) ends every rank, named,
+  // where the other ranks went on and waited for it for ever.
+  Particles bed;
   if (!scene.bed_file.empty()) {
     if (log) *log << "[fill] starting from bed file " << scene.bed_file << "\n";
-    return io::read_bed(scene.bed_file, scene);
+    agreed_input(comm, [&] { bed = io::read_bed(scene.bed_file, scene); });
+    return bed;
   }
   const std::string cached = io::bed_cache_path(scene);
   int have = fs::exists(cached) ? 1 : 0;  // rank 0 decides for all
   if (size_of(comm) > 1) MPI_Bcast(&have, 1, MPI_INT, 0, comm);
   if (have) {
     if (log) *log << "[fill] reusing settled bed " << cached << "\n";
-    return io::read_bed(cached, scene, io::BedSource::Cache);
+    agreed_input(comm, [&] { bed = io::read_bed(cached, scene, io::BedSource::Cache); });
+    return bed;
   }
   if (reused) *reused = false;
-  Particles bed = fill_and_settle(scene, log, comm, between_blocks);
+  bed = fill_and_settle(scene, log, comm, between_blocks);
   if (rank_in(comm) == 0) {
     fs::create_directories(scene.bed_cache);
     io::write_bed(cached, bed, scene);

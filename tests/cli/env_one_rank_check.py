@@ -13,7 +13,11 @@ message on the output, once.
 both ranks, once, naming rank 1 (before: rank 0 went on to make the bed while rank 1 had left);
 a bad key (both ranks) is said once, not once per rank. So are CLI11's refusals of the command line
 (`--max-steps -5` on both ranks); an option rank 1 alone is given (`--bogus`) is refused on both,
-naming rank 1 (before: rank 1 left alone and rank 0 made the bed and waited for ever). `tumble campaign` likewise for a
+naming rank 1 (before: rank 1 left alone and rank 0 made the bed and waited for ever).
+
+Files read after the checks: a cached bed that rank 1's node lacks (its own bed cache) ends both
+ranks naming rank 1 (before: rank 0 waited for ever); a damaged bed file or checkpoint, read on
+both ranks, is said once (before: once per rank). `tumble campaign` likewise for a
 campaign file rank 1 cannot read (before: rank 1's message was lost, and rank 0 began the
 campaign and waited for rank 1 for ever).
 
@@ -51,7 +55,32 @@ checks = (
      [tumble, "campaign", campaign, "-o", os.path.join(work, "campaign"), "--list", "--slice"],
      "--slice: 1 required TEXT missing (on rank 1; 1 of the 2 ranks"),
 )
-for name, first, second, said in checks:
+checks = [c + (2,) for c in checks]  # (the exit code each must end with: bad input)
+
+# Files read after the checks: a bed cache on a node's own disk that lacks the bed rank 0 has
+# (rank 0 decides the bed is cached; rank 1 cannot open it: before, rank 1 left alone and rank 0
+# waited for ever), and a damaged bed file or checkpoint, read on both ranks (said twice before).
+cached, empty = os.path.join(work, "beds_node0"), os.path.join(work, "beds_node1")
+os.makedirs(empty, exist_ok=True)
+made = subprocess.run([tumble] + run[:2] + ["--max-steps", "1", "--set", "fill.bed_cache=" + cached,
+                                            "--set", "scene.output_dir=" + os.path.join(work, "bed")],
+                      capture_output=True, text=True, env=env, stdin=subprocess.DEVNULL)
+if made.returncode != 0:
+    print("could not make the cached bed: exit %d\n%s%s" % (made.returncode, made.stdout, made.stderr))
+    sys.exit(1)
+damaged = os.path.join(work, "damaged.h5")
+with open(damaged, "w") as f:
+    f.write("not an HDF5 file")
+checks += [
+    ("bed node", [tumble] + run + ["--set", "fill.bed_cache=" + cached],
+     [tumble] + run + ["--set", "fill.bed_cache=" + empty],
+     "beds_node1/bed_", 1),
+    ("bad bed", [tumble] + run + ["--set", "fill.bed_file=" + damaged],
+     [tumble] + run + ["--set", "fill.bed_file=" + damaged], "the file is damaged", 2),
+    ("bad ckpt", [tumble] + run + ["--restart", damaged], [tumble] + run + ["--restart", damaged],
+     "the file is damaged", 3),
+]
+for name, first, second, said, want_rc in checks:
     cmd = [mpiexec, "-n", "1"] + first + [":", "-n", "1"] + second
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=60, env=env,
@@ -59,9 +88,11 @@ for name, first, second, said in checks:
         rc, out = p.returncode, p.stdout + p.stderr
     except subprocess.TimeoutExpired:
         rc, out = None, "(killed after 60 s: a hang)"
-    ok = rc == 2 and out.count(said) == 1
+    ok = rc == want_rc and out.count(said) == 1
     if said == "TUMBLE_PLAIN_KERNELS":
         ok = ok and "environment of rank 1" in out
+    if name == "bed node":
+        ok = ok and "(on rank 1; 1 of the 2 ranks" in out
     print("%-8s rc %s, said %d time(s): %s" % (name, rc, out.count(said), "ok" if ok else "FAIL"))
     if not ok:
         failures.append("%s: rc %s, expected '%s' once, output:\n%s"
