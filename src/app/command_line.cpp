@@ -50,6 +50,9 @@ void check_command_line(int argc, char** argv) {
   } catch (const ParsedOnly&) {
     return;
   } catch (const CLI::ParseError& e) {
+    // (--help and --version, bundled where main's look for them misses them, `-qh`: the real
+    // parse prints them)
+    if (e.get_exit_code() == 0) return;
     std::string message = CLI::FailureMessage::simple(&app, e);
     while (!message.empty() && message.back() == '\n') message.pop_back();
     throw InputError(message);  // (main prints it after "tumble: ", as the real parse would)

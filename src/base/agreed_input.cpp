@@ -58,12 +58,20 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
 }
 
 void thrown_together(MPI_Comm comm, const std::function<void()>& work) {
-  try {
-    work();
-  } catch (...) {
+  // Only the errors the contract covers: one of one rank alone (memory, std::bad_alloc) is still
+  // said by the rank that has it.
+  const auto rank_0_says_it = [&] {
     int mpi = 0;
     MPI_Initialized(&mpi);
     if (mpi != 0 && rank_in(comm) != 0) std::cerr.setstate(std::ios::badbit);
+  };
+  try {
+    work();
+  } catch (const InputError&) {  // (CorruptInputError among them)
+    rank_0_says_it();
+    throw;
+  } catch (const RunError&) {
+    rank_0_says_it();
     throw;
   }
 }

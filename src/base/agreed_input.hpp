@@ -18,8 +18,9 @@ namespace tumble {
 void agreed_input(MPI_Comm comm, const std::function<void()>& check);
 
 // Runs `work`, collective over `comm`, whose errors every rank throws together by its own
-// contract (io::read_checkpoint and the checks after it agree before they throw): if it throws,
-// std::cerr is silenced on ranks other than 0 and the error goes on, so rank 0 alone says it.
+// contract (io::read_checkpoint and the checks after it agree before they throw): if it throws
+// InputError, CorruptInputError or RunError, std::cerr is silenced on ranks other than 0 and the
+// error goes on, so rank 0 alone says it; any other error each rank that has it says.
 void thrown_together(MPI_Comm comm, const std::function<void()>& work);
 
 }  // namespace tumble

@@ -47,7 +47,7 @@ checks = (
      "cannot read campaign file '%s' (on rank 1; 1 of the 2 ranks" % missing),
     ("run key", [tumble] + run + ["--set", "bogus.key=1"],
      [tumble] + run + ["--set", "bogus.key=1"], "unknown key 'bogus.key'"),
-    ("run opt", [tumble] + run + ["--max-steps", "-5"], [tumble] + run + ["--max-steps", "-5"],
+    ("run opt", [tumble, "run", scene, "--max-steps", "-5"], [tumble, "run", scene, "--max-steps", "-5"],
      "--max-steps: must be >= 0"),
     ("opt one", [tumble] + run, [tumble] + run + ["--bogus"],
      "not expected: --bogus (on rank 1; 1 of the 2 ranks"),
@@ -64,7 +64,8 @@ cached, empty = os.path.join(work, "beds_node0"), os.path.join(work, "beds_node1
 os.makedirs(empty, exist_ok=True)
 made = subprocess.run([tumble] + run[:2] + ["--max-steps", "1", "--set", "fill.bed_cache=" + cached,
                                             "--set", "scene.output_dir=" + os.path.join(work, "bed")],
-                      capture_output=True, text=True, env=env, stdin=subprocess.DEVNULL)
+                      capture_output=True, text=True, env=env, stdin=subprocess.DEVNULL,
+                      timeout=120)
 if made.returncode != 0:
     print("could not make the cached bed: exit %d\n%s%s" % (made.returncode, made.stdout, made.stderr))
     sys.exit(1)
