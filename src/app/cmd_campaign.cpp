@@ -6,6 +6,7 @@
 
 #include "app/campaign_commands.hpp"
 #include "app/commands.hpp"
+#include "base/agreed_input.hpp"
 #include "base/environment.hpp"
 #include "base/stop_request.hpp"
 #include "campaign/campaign_run.hpp"
@@ -46,23 +47,18 @@ void register_campaign(CLI::App& app) {
                 "are replaced)");
   cmd->add_flag("--quiet,-q", opts->run.quiet, "progress lines only every progress_interval");
   cmd->callback([opts]() {
-    int rank = 0;
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-    int rc = 0;
-    try {
+    // Errors are said once, by rank 0: the options and files are agreed over the ranks, and
+    // run_campaign gives every rank rank 0's refusal or error.
+    agreed_input(MPI_COMM_WORLD, [&] {
       arm_memory_limit(opts->max_memory);
-      check_environment(MPI_COMM_WORLD);  // (else each case would meet it only after its bed)
       campaign::parse_slice(opts->slice, opts->run.slice_i, opts->run.slice_n);
       if (!opts->ranks_per_case.empty())
         opts->run.ranks_per_case = campaign::parse_ranks_per_case(opts->ranks_per_case);
-      // SIGUSR1/SIGTERM/SIGINT: every case checkpoints and the campaign ends, resumable.
-      if (!opts->run.list && !opts->run.status) install_stop_handlers();
-      rc = campaign::run_campaign(opts->run, MPI_COMM_WORLD, std::cout);
-    } catch (...) {
-      // Every rank reads the same file and fails the same way: let only rank 0 say so.
-      if (rank != 0) std::cerr.setstate(std::ios::badbit);
-      throw;
-    }
+    });
+    check_environment(MPI_COMM_WORLD);  // (else each case would meet it only after its bed)
+    // SIGUSR1/SIGTERM/SIGINT: every case checkpoints and the campaign ends, resumable.
+    if (!opts->run.list && !opts->run.status) install_stop_handlers();
+    const int rc = campaign::run_campaign(opts->run, MPI_COMM_WORLD, std::cout);
     if (rc != 0) throw CLI::RuntimeError(rc);
   });
 }

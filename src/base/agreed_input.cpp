@@ -51,7 +51,7 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
                             std::to_string(ranks - failed) + " of the " + std::to_string(ranks) +
                             " ranks passed these checks)");
   }
-  if (rank != 0) std::cerr.setstate(std::ios::badbit);  // rank 0 says it for all
+  said_by_rank_0(comm);
   if (head[0] == kCorrupt) throw CorruptInputError(message);
   if (head[0] == kInput) throw InputError(message);
   throw std::runtime_error(message);
@@ -60,20 +60,29 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
 void thrown_together(MPI_Comm comm, const std::function<void()>& work) {
   // Only the errors the contract covers: one of one rank alone (memory, std::bad_alloc) is still
   // said by the rank that has it.
-  const auto rank_0_says_it = [&] {
-    int mpi = 0;
-    MPI_Initialized(&mpi);
-    if (mpi != 0 && rank_in(comm) != 0) std::cerr.setstate(std::ios::badbit);
-  };
   try {
     work();
   } catch (const InputError&) {  // (CorruptInputError among them)
-    rank_0_says_it();
+    said_by_rank_0(comm);
     throw;
   } catch (const RunError&) {
-    rank_0_says_it();
+    said_by_rank_0(comm);
     throw;
   }
+}
+
+void said_by_rank_0(MPI_Comm comm) {
+  int mpi = 0;
+  MPI_Initialized(&mpi);  // (`run --check` starts no MPI: one process, it says its own errors)
+  if (mpi != 0 && rank_in(comm) != 0) std::cerr.setstate(std::ios::badbit);
+}
+
+std::string from_rank_0(MPI_Comm comm, std::string text) {
+  int size = static_cast<int>(text.size());
+  MPI_Bcast(&size, 1, MPI_INT, 0, comm);
+  text.resize(static_cast<std::size_t>(size));
+  MPI_Bcast(text.data(), size, MPI_CHAR, 0, comm);
+  return text;
 }
 
 }  // namespace tumble

@@ -8,6 +8,7 @@
 #include <mpi.h>
 
 #include <functional>
+#include <string>
 
 namespace tumble {
 
@@ -22,5 +23,15 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check);
 // InputError, CorruptInputError or RunError, std::cerr is silenced on ranks other than 0 and the
 // error goes on, so rank 0 alone says it; any other error each rank that has it says.
 void thrown_together(MPI_Comm comm, const std::function<void()>& work);
+
+// For an error every rank of `comm` is about to throw alike (the same input, or rank 0's error
+// broadcast): silences std::cerr on ranks other than 0, so that rank 0 alone says it. An error a
+// rank has alone must not come this way: it would go unsaid.
+void said_by_rank_0(MPI_Comm comm);
+
+// Rank 0's `text` on every rank of `comm` (collective; the others' `text` is ignored). Where rank
+// 0 alone did some work while the others waited (a campaign's plan, its statistics), its error
+// reaches them this way, so that no rank is left waiting for rank 0 in a later collective call.
+std::string from_rank_0(MPI_Comm comm, std::string text);
 
 }  // namespace tumble

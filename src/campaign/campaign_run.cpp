@@ -172,12 +172,36 @@ std::string repose_turn_progress(const CampaignSpec& spec, const Case& c,
 }
 
 void write_text_atomically(const std::string& path, const std::string& text) {
+  // A write that failed (a full disk) is not renamed: a truncated case table would read as a
+  // smaller campaign. Nor is its temporary left behind.
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream o(tmp);
-    o << text;
+  std::ofstream o(tmp);
+  o << text;
+  o.close();
+  std::error_code ec;
+  if (o.fail()) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error("cannot write " + tmp + " (is the disk full?)");
   }
-  fs::rename(tmp, path);
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error("cannot rename " + tmp + " to " + path);
+  }
+}
+
+// `from` copied to `to` through a temporary and a rename: a copy cut short (a full disk, a kill)
+// leaves the old `to`, not a truncated one.
+void copy_atomically(const std::string& from, const std::string& to) {
+  const std::string tmp = to + ".tmp." + std::to_string(::getpid());
+  std::error_code ec;
+  fs::copy_file(from, tmp, fs::copy_options::overwrite_existing, ec);
+  if (!ec) fs::rename(tmp, to, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw std::runtime_error("cannot copy " + from + " to " + to + ": " + ec.message());
+  }
 }
 
 std::string cases_table(const Expansion& e) {
@@ -238,7 +262,7 @@ std::size_t fold_statistics(const CampaignSpec& spec, const Expansion& e, const 
   const std::string where = opt.slice_n == 1 ? dir + "/ensemble.h5" : partial;
   ens.write(where);
   if (opt.slice_n == 1)  // the whole campaign is its own single partial (for `tumble merge`)
-    fs::copy_file(where, partial, fs::copy_options::overwrite_existing);
+    copy_atomically(where, partial);
   out << "[campaign] finished slice " << slice_text << ": " << ens.member_count() << " done, "
       << ens.failed_count() << " failed (excluded from the ensemble), " << ens.missing_count()
       << " without result; " << stats.cases_run << " attempts run on " << stats.ranks << " rank"
@@ -476,12 +500,13 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
       refusal = err.what();
     }
   }
-  int sizes[2] = {static_cast<int>(refusal.size()), status_rc};
-  MPI_Bcast(sizes, 2, MPI_INT, 0, world);
-  refusal.resize(static_cast<std::size_t>(sizes[0]));
-  MPI_Bcast(refusal.data(), sizes[0], MPI_CHAR, 0, world);
-  if (!refusal.empty()) throw InputError(refusal);
-  if (opt.status) return sizes[1];
+  refusal = from_rank_0(world, refusal);
+  if (!refusal.empty()) {
+    said_by_rank_0(world);
+    throw InputError(refusal);
+  }
+  MPI_Bcast(&status_rc, 1, MPI_INT, 0, world);
+  if (opt.status) return status_rc;
 
   in.manifest = manifest.get();
   in.slice = slice_text;
@@ -490,8 +515,9 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   CaseContext ctx{&spec, &e, dir, bed_cache, MPI_COMM_NULL, nullptr, nullptr};
   const ScheduleStats stats = schedule(ctx, world, in);
 
-  // Rank 0 folds the statistics while the others wait (sleeping); an error here must not leave
-  // them waiting forever, so it is rethrown only after the barrier.
+  // Rank 0 folds the statistics while the others wait (sleeping); its error (a full disk, an
+  // ensemble.h5 it cannot replace) ends every rank, said once: thrown by rank 0 alone, the others
+  // waited for ever for its verdict below.
   // A stop request leaves the statistics to the rerun that finishes the slice: the point of the
   // signal is to be gone before the batch system's time limit.
   std::string error;
@@ -516,7 +542,11 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
     }
   }
   sleeping_barrier(world);
-  if (!error.empty()) throw std::runtime_error(error);
+  error = from_rank_0(world, error);
+  if (!error.empty()) {
+    said_by_rank_0(world);
+    throw std::runtime_error(error);
+  }
   // Every rank exits with rank 0's verdict (mpirun reports the first non-zero code).
   MPI_Bcast(&rc, 1, MPI_INT, 0, world);
   return rc;

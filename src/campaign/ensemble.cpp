@@ -366,6 +366,20 @@ void view_table(PetscViewer v, const char* name, const std::vector<double>& valu
   VecDestroy(&x);
 }
 bool is_series(const std::string& field) { return field.rfind("series/", 0) == 0; }
+
+// The temporary file of a write that did not reach its rename (a full disk, a final name that
+// cannot be replaced): closed and removed, so that no part-written ensemble is left beside the
+// final name, whose old file, if any, stays whole.
+struct UnfinishedWrite {
+  PetscViewer* viewer;
+  std::string tmp;
+  bool renamed = false;
+  ~UnfinishedWrite() {
+    if (renamed) return;
+    if (*viewer) PetscViewerDestroy(viewer);
+    std::remove(tmp.c_str());
+  }
+};
 }  // namespace
 
 // Layout: one table per field and statistic, /fields/<field>/<stat> of shape (points, components),
@@ -376,7 +390,8 @@ bool is_series(const std::string& field) { return field.rfind("series/", 0) == 0
 // without a field hold count 0 and NaN; series rows are padded with NaN to the longest series.
 void Ensemble::write(const std::string& path) const {
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  PetscViewer v;
+  PetscViewer v = nullptr;
+  UnfinishedWrite unfinished{&v, tmp};
   check(PetscViewerHDF5Open(PETSC_COMM_SELF, tmp.c_str(), FILE_MODE_WRITE, &v),
         "PetscViewerHDF5Open");
   std::vector<const PointStats*> rows;
@@ -480,6 +495,7 @@ void Ensemble::write(const std::string& path) const {
   check(PetscViewerDestroy(&v), "PetscViewerDestroy");
   if (std::rename(tmp.c_str(), path.c_str()) != 0)
     throw std::runtime_error("cannot rename " + tmp + " to " + path);
+  unfinished.renamed = true;
 }
 
 namespace {

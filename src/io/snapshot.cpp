@@ -101,6 +101,14 @@ void write_xdmf(const std::string& dir, const std::vector<SnapshotEntry>& entrie
       o << "</Grid>\n";
     }
     o << "</Grid>\n</Domain>\n</Xdmf>\n";
+    o.close();
+    // An index cut short (a full disk) would show ParaView part of the run: the previous index
+    // stays, and the next snapshot writes it again. (Rank 0 alone writes it: no throw, which
+    // would leave the other ranks of the run waiting.)
+    if (o.fail()) {
+      std::remove(tmp.c_str());
+      return;
+    }
   }
   std::rename(tmp.c_str(), path.c_str());
 }

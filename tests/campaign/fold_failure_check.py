@@ -1,0 +1,75 @@
+"""campaign.mpi2_fold_failure: rank 0 fails to write the statistics of a 2-rank campaign.
+
+Rank 0 folds the statistics while the other ranks wait for its verdict. Before, its error (here:
+ensemble.h5 cannot be replaced, being a non-empty directory) was thrown on rank 0 alone and rank 1
+waited for ever (the job hung until killed). Now:
+1. a copy of the finished CI campaign (ci_full), rerun with ensemble.h5 made a directory, exits 1
+   within the timeout on every rank, says "cannot rename" once, and leaves no temporary file;
+2. the directory removed, the same rerun exits 4 (the CI campaign's failed cases) and its
+   ensemble.h5 holds the same tables as ci_full's, and partials/slice_1_of_1.h5 the same bytes as
+   its ensemble.h5."""
+import argparse
+import filecmp
+import glob
+import os
+import shutil
+import signal
+import subprocess
+
+import campaign_checks as cc
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--tumble", required=True)
+ap.add_argument("--mpiexec", required=True)
+ap.add_argument("--np-flag", default="-n")
+ap.add_argument("--campaign", required=True)
+ap.add_argument("--full", required=True, help="the finished CI campaign's directory")
+a = ap.parse_args()
+
+out = "fold_failure"
+shutil.rmtree(out, ignore_errors=True)
+shutil.copytree(a.full, out)
+ensemble = os.path.join(out, "ensemble.h5")
+os.remove(ensemble)
+os.makedirs(os.path.join(ensemble, "in_the_way"))
+cmd = cc.mpiexec_command(a.mpiexec, a.np_flag, 2) + [a.tumble, "campaign", a.campaign, "--output",
+                                                      out, "--quiet"]
+print(" ".join(cmd), flush=True)
+# In a session of its own, so that a hung job is killed with all its ranks.
+p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                     start_new_session=True)
+try:
+    text, _ = p.communicate(timeout=60)
+except subprocess.TimeoutExpired:
+    os.killpg(p.pid, signal.SIGKILL)
+    p.communicate()
+    cc.fail("the campaign whose statistics cannot be written did not end within 60 s (a rank "
+            "waits for rank 0, which has left)")
+print(text)
+said = text.count("cannot rename")
+if p.returncode != 1 or said != 1:
+    cc.fail("statistics that cannot be written: exit %d (want 1), said %d times (want once)"
+            % (p.returncode, said))
+left = glob.glob(os.path.join(out, "*.tmp.*")) + glob.glob(os.path.join(out, "*", "*.tmp.*"))
+if left:
+    cc.fail("temporary files left behind: %s" % left)
+
+shutil.rmtree(ensemble)
+r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+if r.returncode != 4:
+    cc.fail("the rerun exited %d, not 4:\n%s" % (r.returncode, r.stdout + r.stderr))
+with cc.h5py.File(ensemble, "r") as mine, \
+        cc.h5py.File(os.path.join(a.full, "ensemble.h5"), "r") as theirs:
+    tables = []
+    mine.visit(lambda name: tables.append(name) if isinstance(mine[name], cc.h5py.Dataset)
+               else None)
+    if not tables:
+        cc.fail("the rerun's ensemble.h5 holds no table")
+    for name in tables:
+        if name not in theirs or not cc.np.array_equal(mine[name][()], theirs[name][()],
+                                                       equal_nan=True):
+            cc.fail("table %s differs from the uninterrupted campaign's" % name)
+if not filecmp.cmp(ensemble, os.path.join(out, "partials", "slice_1_of_1.h5"), shallow=False):
+    cc.fail("partials/slice_1_of_1.h5 is not a copy of ensemble.h5")
+print("OK: the fold's error ended both ranks in exit 1, said once, no temporary left; the rerun "
+      "wrote the same %d tables as the uninterrupted campaign" % len(tables))
