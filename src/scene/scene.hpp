@@ -69,7 +69,8 @@ struct KeySpec {
   std::string law;  // the contact law that owns this key (scene/law_registry.hpp), or empty
 };
 // Every key in provenance order: the scene's own keys (scene/scene_keys.hpp) with the registered
-// contact laws' keys after contact.tangential_damping. (Main thread only: it is built on first use.)
+// contact laws' keys after contact.tangential_damping. (Main thread only: it is built on first
+// use.)
 const std::vector<KeySpec>& scene_schema();
 // A key's default as text, numbers to 6 digits (for --list-keys).
 std::string default_text(const KeySpec& spec);
