@@ -15,6 +15,7 @@
 #include "base/exit_codes.hpp"
 #include "base/hash.hpp"
 #include "base/stop_request.hpp"
+#include "base/sync_to_disk.hpp"
 #include "base/version.hpp"
 #include "campaign/campaign_spec.hpp"
 #include "campaign/case_runner.hpp"
@@ -183,6 +184,7 @@ void write_text_atomically(const std::string& path, const std::string& text) {
     fs::remove(tmp, ec);
     throw std::runtime_error("cannot write " + tmp + " (is the disk full?)");
   }
+  sync_to_disk(tmp);
   fs::rename(tmp, path, ec);
   if (ec) {
     fs::remove(tmp, ec);
@@ -196,6 +198,7 @@ void copy_atomically(const std::string& from, const std::string& to) {
   const std::string tmp = to + ".tmp." + std::to_string(::getpid());
   std::error_code ec;
   fs::copy_file(from, tmp, fs::copy_options::overwrite_existing, ec);
+  if (!ec) sync_to_disk(tmp);
   if (!ec) fs::rename(tmp, to, ec);
   if (ec) {
     std::error_code ignored;

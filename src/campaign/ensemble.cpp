@@ -16,6 +16,7 @@
 #include "base/error.hpp"
 #include "base/hash.hpp"
 #include "base/student_t.hpp"
+#include "base/sync_to_disk.hpp"
 #include "h5/hdf5_file.hpp"
 
 namespace tumble::campaign {
@@ -493,6 +494,7 @@ void Ensemble::write(const std::string& path) const {
   checksums += "/ " + hex16(fnv1a64(join(names, ","))) + "\n";  // the root's "fields"
   attr(v, "/", "checksums", checksums);
   check(PetscViewerDestroy(&v), "PetscViewerDestroy");
+  sync_to_disk(tmp);
   if (std::rename(tmp.c_str(), path.c_str()) != 0)
     throw std::runtime_error("cannot rename " + tmp + " to " + path);
   unfinished.renamed = true;

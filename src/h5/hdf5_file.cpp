@@ -1,6 +1,5 @@
 #include "h5/hdf5_file.hpp"
 
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -10,6 +9,7 @@
 #include <stdexcept>
 
 #include "base/error.hpp"
+#include "base/sync_to_disk.hpp"
 
 namespace tumble::io {
 namespace {
@@ -542,11 +542,7 @@ void AtomicH5Writer::commit() {
     committed_ = true;
     return;
   }
-  int fd = ::open(tmp_path_.c_str(), O_RDONLY);
-  if (fd >= 0) {
-    ::fsync(fd);
-    ::close(fd);
-  }
+  sync_to_disk(tmp_path_);
   const bool renamed = std::rename(tmp_path_.c_str(), final_path_.c_str()) == 0;
   if (comm_ != MPI_COMM_NULL) MPI_Barrier(comm_);  // the final file exists for everyone after this
   if (!renamed) throw std::runtime_error("cannot rename " + tmp_path_ + " to " + final_path_);
