@@ -12,6 +12,47 @@
 namespace tumble {
 namespace {
 enum Kind : int { kFine = 0, kInput = 1, kCorrupt = 2, kOther = 3 };
+
+// The kind and message of the exception being handled (called in a catch block).
+Kind caught(std::string& message) {
+  try {
+    throw;
+  } catch (const CorruptInputError& e) {  // (before InputError, its base)
+    message = e.what();
+    return kCorrupt;
+  } catch (const InputError& e) {
+    message = e.what();
+    return kInput;
+  } catch (const std::exception& e) {
+    message = e.what();
+    return kOther;
+  } catch (...) {  // (this rank leaving alone would leave the others in the next collective)
+    message = "an error of no standard type";
+    return kOther;
+  }
+}
+
+[[noreturn]] void throw_kind(int kind, const std::string& message) {
+  if (kind == kCorrupt) throw CorruptInputError(message);
+  if (kind == kInput) throw InputError(message);
+  throw std::runtime_error(message);
+}
+
+// Rank 0 alone says the error every rank is about to throw: silences std::cerr on the others.
+void said_by_rank_0(MPI_Comm comm) {
+  int mpi = 0;
+  MPI_Initialized(&mpi);  // (`run --check` starts no MPI: one process, it says its own errors)
+  if (mpi != 0 && rank_in(comm) != 0) std::cerr.setstate(std::ios::badbit);
+}
+
+// Rank 0's `text` on every rank of `comm` (collective).
+std::string from_rank_0(MPI_Comm comm, std::string text) {
+  int size = static_cast<int>(text.size());
+  MPI_Bcast(&size, 1, MPI_INT, 0, comm);
+  text.resize(static_cast<std::size_t>(size));
+  MPI_Bcast(text.data(), size, MPI_CHAR, 0, comm);
+  return text;
+}
 }  // namespace
 
 void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
@@ -25,14 +66,8 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
   std::string message;
   try {
     check();
-  } catch (const CorruptInputError& e) {  // (before InputError, its base)
-    kind = kCorrupt, message = e.what();
-  } catch (const InputError& e) {
-    kind = kInput, message = e.what();
-  } catch (const std::exception& e) {
-    kind = kOther, message = e.what();
-  } catch (...) {  // (this rank leaving alone would leave the others in the Allreduce below)
-    kind = kOther, message = "an error of no standard type";
+  } catch (...) {
+    kind = caught(message);
   }
   const int rank = rank_in(comm), ranks = size_of(comm);  // (MPI is on here)
   int first = kind == kFine ? std::numeric_limits<int>::max() : rank;
@@ -52,9 +87,24 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
                             " ranks passed these checks)");
   }
   said_by_rank_0(comm);
-  if (head[0] == kCorrupt) throw CorruptInputError(message);
-  if (head[0] == kInput) throw InputError(message);
-  throw std::runtime_error(message);
+  throw_kind(head[0], message);
+}
+
+void on_rank_0_agreed(MPI_Comm comm, const std::function<void()>& work,
+                      const std::function<void()>& meet) {
+  int kind = kFine;
+  std::string message;
+  if (rank_in(comm) == 0) try {
+      work();
+    } catch (...) {
+      kind = caught(message);
+    }
+  if (meet) meet();
+  MPI_Bcast(&kind, 1, MPI_INT, 0, comm);
+  if (kind == kFine) return;
+  message = from_rank_0(comm, message);
+  said_by_rank_0(comm);
+  throw_kind(kind, message);
 }
 
 void thrown_together(MPI_Comm comm, const std::function<void()>& work) {
@@ -69,20 +119,6 @@ void thrown_together(MPI_Comm comm, const std::function<void()>& work) {
     said_by_rank_0(comm);
     throw;
   }
-}
-
-void said_by_rank_0(MPI_Comm comm) {
-  int mpi = 0;
-  MPI_Initialized(&mpi);  // (`run --check` starts no MPI: one process, it says its own errors)
-  if (mpi != 0 && rank_in(comm) != 0) std::cerr.setstate(std::ios::badbit);
-}
-
-std::string from_rank_0(MPI_Comm comm, std::string text) {
-  int size = static_cast<int>(text.size());
-  MPI_Bcast(&size, 1, MPI_INT, 0, comm);
-  text.resize(static_cast<std::size_t>(size));
-  MPI_Bcast(text.data(), size, MPI_CHAR, 0, comm);
-  return text;
 }
 
 }  // namespace tumble

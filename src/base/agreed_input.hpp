@@ -5,10 +5,11 @@
 // (a scene missing on its disk, less memory available for the estimate) one rank fails alone;
 // then the others would wait for it in the run's first collective call. Agreed, every rank leaves
 // with the same error and rank 0 alone says it, naming the rank that failed when not all did.
+// The same for errors of collective work (thrown_together) and of work rank 0 does alone
+// (on_rank_0_agreed).
 #include <mpi.h>
 
 #include <functional>
-#include <string>
 
 namespace tumble {
 
@@ -24,14 +25,13 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check);
 // error goes on, so rank 0 alone says it; any other error each rank that has it says.
 void thrown_together(MPI_Comm comm, const std::function<void()>& work);
 
-// For an error every rank of `comm` is about to throw alike (the same input, or rank 0's error
-// broadcast): silences std::cerr on ranks other than 0, so that rank 0 alone says it. An error a
-// rank has alone must not come this way: it would go unsaid.
-void said_by_rank_0(MPI_Comm comm);
-
-// Rank 0's `text` on every rank of `comm` (collective; the others' `text` is ignored). Where rank
-// 0 alone did some work while the others waited (a campaign's plan, its statistics), its error
-// reaches them this way, so that no rank is left waiting for rank 0 in a later collective call.
-std::string from_rank_0(MPI_Comm comm, std::string text);
+// Runs `work` on rank 0 of `comm` alone (it must make no MPI call on `comm`), then `meet` on
+// every rank (the others at once: a barrier that sleeps while rank 0 works, or nothing), then
+// throws on every rank the error `work` threw, with its type (CorruptInputError, InputError,
+// else std::runtime_error), said by rank 0 alone. For work only rank 0 does (a campaign's plan,
+// its statistics): thrown on rank 0 alone, the others waited for ever for it in their next
+// collective call.
+void on_rank_0_agreed(MPI_Comm comm, const std::function<void()>& work,
+                      const std::function<void()>& meet = {});
 
 }  // namespace tumble

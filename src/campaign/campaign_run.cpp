@@ -422,92 +422,83 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   }
 
   // Rank 0 decides what is left and takes the slice's manifest lock; the others wait for its word
-  // so that a refusal (e.g. the slice is already running) ends every rank the same way.
+  // so that a refusal (the slice is already running: exit 2) or an error (a full disk: exit 1)
+  // ends every rank the same way.
   std::vector<CaseState> states;
   ScheduleInput in;
   std::unique_ptr<DirectoryLock> dir_lock;  // held until the statistics are written
   std::unique_ptr<ManifestWriter> manifest;
-  std::string refusal;
   int status_rc = 0;
-  if (rank == 0) {
-    try {
-      int torn = 0;
-      states = classify(spec, e, dir, slice, opt.retry_failed, &torn);
-      int done = 0, failed = 0;
-      std::vector<std::size_t> pending;
-      for (std::size_t k = 0; k < states.size(); ++k) {
-        if (states[k].state == State::Done) ++done;
-        if (states[k].state == State::Failed) ++failed;
-        if (states[k].state == State::Pending) pending.push_back(k);
-      }
-      std::sort(pending.begin(), pending.end(), [&](std::size_t a, std::size_t b) {
-        return runs_before(e.cases[slice[a]], e.cases[slice[b]]);
-      });
-      for (std::size_t k : pending) in.tasks.push_back(states[k].next);
-      in.total = static_cast<int>(slice.size());
-      in.done_before = done;
-      in.failed_before = failed;
-      if (opt.status) {
-        out << "campaign " << spec.name << " slice " << slice_text << ": " << slice.size()
-            << " cases: " << done << " done, " << failed << " failed, " << pending.size()
-            << " to run\n";
-        // A case whose last record says "running" may be running now if a campaign holds the
-        // directory (its record cannot tell this invocation from one that died before it).
-        const int runner = DirectoryLock::running_process(dir);
-        // A kept β turn is looked for case by case (a scene each) only if the bed cache has one.
-        bool any_turn = false;
-        std::error_code ec;
-        for (fs::directory_iterator it(bed_cache, ec), end; !ec && it != end && !any_turn;
-             it.increment(ec)) {
-          const std::string name = it->path().filename().string();
-          any_turn = name.size() > 8 && name.compare(name.size() - 8, 8, ".turn.h5") == 0;
-        }
-        for (std::size_t k : pending) {
-          std::string note = states[k].note;
-          if (runner != 0 && note == "interrupted")
-            note = "interrupted, or running now: " +
-                   (runner > 0 ? "process " + std::to_string(runner) : "another process") +
-                   " runs this campaign";
-          // (A retry with a new seed starts afresh: its folder's checkpoint is not its own.)
-          std::string at = checkpoint_progress(dir, e.cases[slice[k]]);
-          if (states[k].next.fresh) at.clear();
-          if (at.empty() && any_turn)
-            at = repose_turn_progress(spec, e.cases[slice[k]], dir, bed_cache, states[k].next.seed);
-          if (!at.empty()) note += (note.empty() ? "" : ", ") + at;
-          out << "  to run: " << e.cases[slice[k]].id << " [" << e.cases[slice[k]].params_text
-              << "] attempt " << states[k].next.attempt << (note.empty() ? "" : " (" + note + ")")
-              << "\n";
-        }
-        status_rc = pending.empty() ? exit_code::kOk : exit_code::kWorkLeft;
-      } else {
-        fs::create_directories(dir + "/partials");
-        dir_lock = std::make_unique<DirectoryLock>(dir, opt.slice_n);
-        if (!opt.force) check_same_campaign(dir, e, opt.file);
-        manifest = std::make_unique<ManifestWriter>(dir + "/manifest/slice_" +
-                                                    std::to_string(opt.slice_i) + "_of_" +
-                                                    std::to_string(opt.slice_n) + ".jsonl");
-        std::ifstream src(opt.file);
-        std::stringstream ss;
-        ss << src.rdbuf();
-        write_text_atomically(dir + "/campaign.toml", ss.str());
-        write_text_atomically(dir + "/cases.tsv", cases_table(e));
-        out << "[campaign] " << spec.name << ": " << e.cases.size() << " cases in "
-            << e.points.size() << " points; slice " << slice_text << ": " << slice.size()
-            << " cases, " << done << " done before, " << failed << " failed before, "
-            << in.tasks.size() << " to run on " << size << " rank" << (size > 1 ? "s" : "") << " ("
-            << group_layout(e, slice, size) << "); output in " << dir << std::endl;
-        if (torn > 0)
-          out << "[campaign] ignored " << torn << " torn manifest line(s) (a crash mid-write)\n";
-      }
-    } catch (const std::exception& err) {
-      refusal = err.what();
+  on_rank_0_agreed(world, [&] {
+    int torn = 0;
+    states = classify(spec, e, dir, slice, opt.retry_failed, &torn);
+    int done = 0, failed = 0;
+    std::vector<std::size_t> pending;
+    for (std::size_t k = 0; k < states.size(); ++k) {
+      if (states[k].state == State::Done) ++done;
+      if (states[k].state == State::Failed) ++failed;
+      if (states[k].state == State::Pending) pending.push_back(k);
     }
-  }
-  refusal = from_rank_0(world, refusal);
-  if (!refusal.empty()) {
-    said_by_rank_0(world);
-    throw InputError(refusal);
-  }
+    std::sort(pending.begin(), pending.end(), [&](std::size_t a, std::size_t b) {
+      return runs_before(e.cases[slice[a]], e.cases[slice[b]]);
+    });
+    for (std::size_t k : pending) in.tasks.push_back(states[k].next);
+    in.total = static_cast<int>(slice.size());
+    in.done_before = done;
+    in.failed_before = failed;
+    if (opt.status) {
+      out << "campaign " << spec.name << " slice " << slice_text << ": " << slice.size()
+          << " cases: " << done << " done, " << failed << " failed, " << pending.size()
+          << " to run\n";
+      // A case whose last record says "running" may be running now if a campaign holds the
+      // directory (its record cannot tell this invocation from one that died before it).
+      const int runner = DirectoryLock::running_process(dir);
+      // A kept β turn is looked for case by case (a scene each) only if the bed cache has one.
+      bool any_turn = false;
+      std::error_code ec;
+      for (fs::directory_iterator it(bed_cache, ec), end; !ec && it != end && !any_turn;
+           it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        any_turn = name.size() > 8 && name.compare(name.size() - 8, 8, ".turn.h5") == 0;
+      }
+      for (std::size_t k : pending) {
+        std::string note = states[k].note;
+        if (runner != 0 && note == "interrupted")
+          note = "interrupted, or running now: " +
+                 (runner > 0 ? "process " + std::to_string(runner) : "another process") +
+                 " runs this campaign";
+        // (A retry with a new seed starts afresh: its folder's checkpoint is not its own.)
+        std::string at = checkpoint_progress(dir, e.cases[slice[k]]);
+        if (states[k].next.fresh) at.clear();
+        if (at.empty() && any_turn)
+          at = repose_turn_progress(spec, e.cases[slice[k]], dir, bed_cache, states[k].next.seed);
+        if (!at.empty()) note += (note.empty() ? "" : ", ") + at;
+        out << "  to run: " << e.cases[slice[k]].id << " [" << e.cases[slice[k]].params_text
+            << "] attempt " << states[k].next.attempt << (note.empty() ? "" : " (" + note + ")")
+            << "\n";
+      }
+      status_rc = pending.empty() ? exit_code::kOk : exit_code::kWorkLeft;
+    } else {
+      fs::create_directories(dir + "/partials");
+      dir_lock = std::make_unique<DirectoryLock>(dir, opt.slice_n);
+      if (!opt.force) check_same_campaign(dir, e, opt.file);
+      manifest =
+          std::make_unique<ManifestWriter>(dir + "/manifest/slice_" + std::to_string(opt.slice_i) +
+                                           "_of_" + std::to_string(opt.slice_n) + ".jsonl");
+      std::ifstream src(opt.file);
+      std::stringstream ss;
+      ss << src.rdbuf();
+      write_text_atomically(dir + "/campaign.toml", ss.str());
+      write_text_atomically(dir + "/cases.tsv", cases_table(e));
+      out << "[campaign] " << spec.name << ": " << e.cases.size() << " cases in " << e.points.size()
+          << " points; slice " << slice_text << ": " << slice.size() << " cases, " << done
+          << " done before, " << failed << " failed before, " << in.tasks.size() << " to run on "
+          << size << " rank" << (size > 1 ? "s" : "") << " (" << group_layout(e, slice, size)
+          << "); output in " << dir << std::endl;
+      if (torn > 0)
+        out << "[campaign] ignored " << torn << " torn manifest line(s) (a crash mid-write)\n";
+    }
+  });
   MPI_Bcast(&status_rc, 1, MPI_INT, 0, world);
   if (opt.status) return status_rc;
 
@@ -523,33 +514,25 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   // waited for ever for its verdict below.
   // A stop request leaves the statistics to the rerun that finishes the slice: the point of the
   // signal is to be gone before the batch system's time limit.
-  std::string error;
   int rc = exit_code::kOk;
-  if (rank == 0) {
-    try {
-      manifest.reset();  // releases the lock: the slice may be run again
-      if (stats.stop_signal != 0) {
-        out << "[campaign] stopped by " << signal_name(stats.stop_signal) << ": " << stats.stopped
-            << " case" << (stats.stopped == 1 ? "" : "s") << " stopped at a checkpoint, ";
-        if (stats.stopped_preparing > 0)
-          out << stats.stopped_preparing
-              << " while preparing (a bed starts again, a beta measurement goes on from its "
-                 "turn), ";
-        out << stats.not_started << " not started; rerun the same command to go on\n";
-        rc = exit_code::kWorkLeft;
-      } else if (fold_statistics(spec, e, dir, slice, opt, stats, out) > 0) {
-        rc = exit_code::kFailedCases;
-      }
-    } catch (const std::exception& err) {
-      error = err.what();
-    }
-  }
-  sleeping_barrier(world);
-  error = from_rank_0(world, error);
-  if (!error.empty()) {
-    said_by_rank_0(world);
-    throw std::runtime_error(error);
-  }
+  on_rank_0_agreed(
+      world,
+      [&] {
+        manifest.reset();  // releases the lock: the slice may be run again
+        if (stats.stop_signal != 0) {
+          out << "[campaign] stopped by " << signal_name(stats.stop_signal) << ": " << stats.stopped
+              << " case" << (stats.stopped == 1 ? "" : "s") << " stopped at a checkpoint, ";
+          if (stats.stopped_preparing > 0)
+            out << stats.stopped_preparing
+                << " while preparing (a bed starts again, a beta measurement goes on from its "
+                   "turn), ";
+          out << stats.not_started << " not started; rerun the same command to go on\n";
+          rc = exit_code::kWorkLeft;
+        } else if (fold_statistics(spec, e, dir, slice, opt, stats, out) > 0) {
+          rc = exit_code::kFailedCases;
+        }
+      },
+      [&] { sleeping_barrier(world); });
   // Every rank exits with rank 0's verdict (mpirun reports the first non-zero code).
   MPI_Bcast(&rc, 1, MPI_INT, 0, world);
   return rc;
