@@ -118,8 +118,8 @@ Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_C
                       const std::function<void()>& between_blocks) {
   if (reused) *reused = true;
   // Every rank reads the bed itself, agreed (base/agreed_input.hpp): a damaged file is said once,
-  // and a node that lacks the file (a bed cache on a node's own disk) ends every rank, named,
-  // where the other ranks went on and waited for it for ever.
+  // and a node that lacks the file (a bed cache on a node's own disk) ends every rank, named
+  // (exit 2: fill.bed_cache), where the other ranks went on and waited for it for ever.
   Particles bed;
   if (!scene.bed_file.empty()) {
     if (log) *log << "[fill] starting from bed file " << scene.bed_file << "\n";
@@ -131,7 +131,16 @@ Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_C
   if (size_of(comm) > 1) MPI_Bcast(&have, 1, MPI_INT, 0, comm);
   if (have) {
     if (log) *log << "[fill] reusing settled bed " << cached << "\n";
-    agreed_input(comm, [&] { bed = io::read_bed(cached, scene, io::BedSource::Cache); });
+    agreed_input(comm, [&] {
+      // (Rank 0 has the file: a rank without it sees another directory under the same name.)
+      if (!fs::exists(cached))
+        throw InputError("fill.bed_cache = '" + scene.bed_cache +
+                         "' is not the same directory on every rank: rank 0 has the settled bed " +
+                         fs::path(cached).filename().string() +
+                         " there, this rank has not; the bed cache must be on a file system every "
+                         "rank sees (or give each run its own fill.bed_file)");
+      bed = io::read_bed(cached, scene, io::BedSource::Cache);
+    });
     return bed;
   }
   if (reused) *reused = false;

@@ -16,7 +16,7 @@ a bad key (both ranks) is said once, not once per rank. So are CLI11's refusals 
 naming rank 1 (before: rank 1 left alone and rank 0 made the bed and waited for ever).
 
 Files read after the checks: a cached bed that rank 1's node lacks (its own bed cache) ends both
-ranks naming rank 1 (before: rank 0 waited for ever); a damaged bed file or checkpoint, read on
+ranks, exit 2, naming fill.bed_cache and rank 1 (before: rank 0 waited for ever); a damaged bed file or checkpoint, read on
 both ranks, is said once (before: once per rank). `tumble campaign` likewise for a
 campaign file rank 1 cannot read (before: rank 1's message was lost, and rank 0 began the
 campaign and waited for rank 1 for ever).
@@ -75,7 +75,7 @@ with open(damaged, "w") as f:
 checks += [
     ("bed node", [tumble] + run + ["--set", "fill.bed_cache=" + cached],
      [tumble] + run + ["--set", "fill.bed_cache=" + empty],
-     "beds_node1/bed_", 1),
+     "is not the same directory on every rank: rank 0 has the settled bed", 2),
     ("bad bed", [tumble] + run + ["--set", "fill.bed_file=" + damaged],
      [tumble] + run + ["--set", "fill.bed_file=" + damaged], "the file is damaged", 2),
     ("bad ckpt", [tumble] + run + ["--restart", damaged], [tumble] + run + ["--restart", damaged],
