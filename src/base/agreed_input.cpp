@@ -94,11 +94,13 @@ void on_rank_0_agreed(MPI_Comm comm, const std::function<void()>& work,
                       const std::function<void()>& meet) {
   int kind = kFine;
   std::string message;
-  if (rank_in(comm) == 0) try {
+  if (rank_in(comm) == 0) {
+    try {
       work();
     } catch (...) {
       kind = caught(message);
     }
+  }
   if (meet) meet();
   MPI_Bcast(&kind, 1, MPI_INT, 0, comm);
   if (kind == kFine) return;
