@@ -6,8 +6,10 @@
 # cores); run it after a change to memory handling, MPI buffers or the command line:
 #   bash jobs/check_sanitizers.sh [ctest arguments, e.g. -R cli]
 # Leak checking is off: Open MPI and HDF5 keep allocations until exit by design, thousands of
-# reports that would hide Tumble's own. A test that times out under the sanitizers' slowdown is
-# not a finding; read the log for "ERROR: AddressSanitizer" and "runtime error:".
+# reports that would hide Tumble's own. cli.cm_robustness is left out: it asserts that the memory
+# estimates cover what a run adds, which the sanitizers' shadow memory breaks by construction. A
+# test that times out under the sanitizers' slowdown is not a finding; the log is searched for
+# "ERROR: AddressSanitizer" and "runtime error:". Exit 0: every test passed, no report.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash jobs/install_deps.sh
@@ -21,7 +23,8 @@ cmake --build "$build" -j "$(nproc)"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 cd "$build"
 status=0
-ctest --output-on-failure --timeout 1500 -j "$(nproc)" "$@" 2>&1 | tee ctest-sanitizers.log ||
+ctest --output-on-failure --timeout 1500 -j "$(nproc)" -E '^cli\.cm_robustness$' "$@" 2>&1 |
+  tee ctest-sanitizers.log ||
   status=$?
 reports=$(grep -c "ERROR: AddressSanitizer\|runtime error:" ctest-sanitizers.log || true)
 echo "sanitizer reports in $build/ctest-sanitizers.log: $reports"
