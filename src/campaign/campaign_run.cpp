@@ -290,6 +290,27 @@ std::size_t fold_statistics(const CampaignSpec& spec, const Expansion& e, const 
   return unfinished;
 }
 
+// What a campaign halted by a manifest it could not write (Dispatcher::halted) leaves: the lines
+// that never reached the file are printed, so that nothing computed is lost: appended to the
+// manifest once there is room, they record the cases they describe (a case done counts as done if
+// its fields file still has the checksum they carry); without them the rerun runs those cases
+// again (from their checkpoints where they kept one).
+void report_halt(const ScheduleStats& stats, const std::string& manifest, std::ostream& out) {
+  out << "[campaign] halted: " << stats.manifest_error << "; " << stats.halted_not_started
+      << " case" << (stats.halted_not_started == 1 ? "" : "s")
+      << " not started, the running ones ran to their end; no statistics written. ";
+  if (stats.unwritten.empty()) {
+    out << "Every line was written in the end; rerun the same command to go on" << std::endl;
+    return;
+  }
+  out << stats.unwritten.size() << " manifest line" << (stats.unwritten.size() == 1 ? "" : "s")
+      << " could not be written; they follow. Make room, append them to " << manifest
+      << " (e.g. paste them into `cat >> " << manifest
+      << "`), and rerun the same command; a rerun without them runs their cases again\n";
+  for (const std::string& l : stats.unwritten) out << l << "\n";
+  out << std::flush;
+}
+
 // Refuses to run into a directory that holds another campaign: one whose case table lists cases
 // this campaign does not have (their results would silently leave the ensemble). A campaign that
 // grew (a sweep added) keeps every old case and is let in.
@@ -518,8 +539,12 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   on_rank_0_agreed(
       world,
       [&] {
+        const std::string manifest_file = manifest->path();
         manifest.reset();  // releases the lock: the slice may be run again
-        if (stats.stop_signal != 0) {
+        if (!stats.manifest_error.empty()) {
+          report_halt(stats, manifest_file, out);
+          rc = exit_code::kRunFailed;
+        } else if (stats.stop_signal != 0) {
           out << "[campaign] stopped by " << signal_name(stats.stop_signal) << ": " << stats.stopped
               << " case" << (stats.stopped == 1 ? "" : "s") << " stopped at a checkpoint, ";
           if (stats.stopped_preparing > 0)

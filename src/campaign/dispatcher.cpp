@@ -185,7 +185,7 @@ void Dispatcher::started(const CaseTask& t, const std::vector<int>& ranks) {
   CaseRecord r = record(t, ranks);
   r.status = "running";
   r.start = utc_now();
-  in_.manifest->append(r);
+  append(r);
   if (!in_.quiet)
     line(std::string(held ? "next " : "start ") + case_label(t) + " on rank" +
          (ranks.size() > 1 ? "s " : " ") + r.ranks + " (" + r.hosts + ")" +
@@ -208,7 +208,7 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
       CaseRecord next = record(other.task, other.ranks);
       next.status = "running";
       next.start = utc_now();
-      in_.manifest->append(next);
+      append(next);
       const std::string start = "start " + case_label(other.task) + " on rank" +
                                 (other.ranks.size() > 1 ? "s " : " ") + next.ranks + " (" +
                                 next.hosts + "), held until now";
@@ -273,7 +273,7 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
     // When stopping, no retry starts here; the rerun makes it (a stop loses nothing), so the
     // failure is final only if no attempt is left.
     const bool may_retry = o.retryable && t.attempt < ctx_.spec->max_attempts;
-    const bool retry = may_retry && !stopping();
+    const bool retry = may_retry && !stopping() && !halted();
     r.final_failure = !may_retry;
     what = "FAILED (" + o.failure + "): " + o.diagnostic;
     if (retry) {
@@ -294,7 +294,7 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
         what += "; the rerun retries it (attempt " + std::to_string(t.attempt + 1) + ")";
     }
   }
-  in_.manifest->append(r);
+  append(r);
   if (!in_.quiet && !held.start_line.empty() && !ended_not_begun(o))
     line(held.start_line);  // (it began, though the stop came before its predecessor's result)
   if (!o.ok || !in_.quiet)
@@ -351,8 +351,43 @@ std::map<std::vector<int>, std::size_t> Dispatcher::running_cases() const {
   return first_of_group;
 }
 
+void Dispatcher::append(const CaseRecord& r) {
+  waiting_.push_back(r);
+  if (write_waiting() || halted()) return;
+  stats_.manifest_error = last_append_error_;
+  stats_.halted_not_started = static_cast<int>(queue_.size());
+  queue_.clear();
+  not_before_.clear();
+  const std::size_t n = running_cases().size();
+  line("HALTED: " + stats_.manifest_error + ". No case starts any more; " +
+       (n == 0   ? std::string("none is running")
+        : n == 1 ? std::string("the running case goes on to its end")
+                 : std::to_string(n) + " running cases go on to their end") +
+       ". The lines not written are kept and written as soon as there is room");
+}
+
+bool Dispatcher::write_waiting() {
+  try {
+    while (!waiting_.empty()) {
+      in_.manifest->append(waiting_.front());
+      waiting_.pop_front();
+    }
+  } catch (const RunError& e) {
+    last_append_error_ = e.what();
+    return false;
+  }
+  return true;
+}
+
+void Dispatcher::flush_unwritten() {
+  write_waiting();
+  stats_.unwritten.clear();
+  for (const CaseRecord& r : waiting_) stats_.unwritten.push_back(to_json(r));
+}
+
 void Dispatcher::tick() {
   if (since(last_tick_) < std::max(1.0, ctx_.spec->progress_interval)) return;
+  if (!waiting_.empty()) write_waiting();
   in_.manifest->sync();
   if (in_.quiet || since(last_line_) >= ctx_.spec->progress_interval) line("");
   last_tick_ = Clock::now();

@@ -51,7 +51,18 @@ class Dispatcher {
   // next checkpoint with the outcome "stopped" (recorded as such: a rerun continues them).
   void stop(int signal);
   bool stopping() const { return stop_signal_ != 0; }
-  // A status line now and then, and the manifest flushed to disk.
+  // A manifest line that cannot be written (a full disk, a quota) halts the campaign: no case
+  // starts any more, while those running go on to their end (their results are theirs to keep;
+  // the scheduler cannot reach a remote group mid-case, and a stop would need a checkpoint
+  // written to the same disk). The lines not written wait in order and are tried again before
+  // each new one and at each tick, so none is lost if the disk gets room; they keep their time
+  // stamps, which order the manifest's lines on reading. Before, the error ended the job with
+  // MPI_Abort, and every running case lost its steps since its last checkpoint.
+  bool halted() const { return !stats_.manifest_error.empty(); }
+  // Tries the lines not written once more, and leaves those that still fail in
+  // stats().unwritten (the end of the invocation).
+  void flush_unwritten();
+  // A status line now and then, the lines not written tried again, and the manifest flushed.
   void tick();
   ScheduleStats& stats() { return stats_; }
   std::chrono::steady_clock::time_point start() const { return t0_; }
@@ -62,6 +73,10 @@ class Dispatcher {
   std::string case_label(const CaseTask& t) const;
   CaseRecord record(const CaseTask& t, const std::vector<int>& ranks) const;
   void line(const std::string& event, bool counts = false);
+  // Appends `r` to the manifest after the lines still waiting; halts on the first failure.
+  void append(const CaseRecord& r);
+  // Writes the waiting lines in order; false (and they stay waiting) if one fails.
+  bool write_waiting();
   // The cache files (settled bed, measured β) the case would make before its protocol begins:
   // those missing, none if it resumes from its checkpoint. Kept per case and seed once known.
   const std::vector<std::string>& files_to_prepare(const CaseTask& t);
@@ -102,6 +117,8 @@ class Dispatcher {
   // index, or -1.
   long long preparing_its_files(const CaseTask& t, const std::vector<int>& group);
   int done_ = 0, failed_ = 0, stop_signal_ = 0;
+  std::deque<CaseRecord> waiting_;  // manifest lines not yet written (halted), oldest first
+  std::string last_append_error_;   // why the last write of a waiting line failed
   double done_cost_ = 0, done_rank_seconds_ = 0;
   std::map<std::string, EtaInput::Rate> done_by_point_;  // the cases done, by point (the ETA)
   ScheduleStats stats_;

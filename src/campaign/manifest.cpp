@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <filesystem>
@@ -97,6 +99,12 @@ ManifestWriter::ManifestWriter(const std::string& path) : path_(path) {
     throw InputError("campaign error: '" + path +
                      "' is locked: this slice of the campaign is already running");
   }
+  if (const char* hook = std::getenv("TUMBLE_TEST_MANIFEST_FULL")) {
+    if (std::sscanf(hook, "%lld:%lld", &full_from_, &full_count_) != 2 || full_from_ < 1 ||
+        full_count_ < 0)
+      throw InputError("TUMBLE_TEST_MANIFEST_FULL='" + std::string(hook) +
+                       "': want <first>:<count>, first >= 1, count >= 0");
+  }
 }
 
 ManifestWriter::~ManifestWriter() {
@@ -111,6 +119,12 @@ void ManifestWriter::append(const CaseRecord& r) {
   // One write(2) per line: O_APPEND places it atomically at the end, so a kill never interleaves
   // or truncates a line in the page cache. A short write (a full disk) is finished or undone:
   // the file is cut back to where the line began, so a rerun never reads half a line as a record.
+  ++appends_;
+  if (full_from_ > 0 && appends_ >= full_from_ && appends_ < full_from_ + full_count_)
+    throw RunError("cannot append to the manifest '" + path_ + "': " + std::strerror(ENOSPC) +
+                   " (errno " + std::to_string(ENOSPC) +
+                   "; TUMBLE_TEST_MANIFEST_FULL); the line "
+                   "was not written");
   const off_t begin = ::lseek(fd_, 0, SEEK_END);
   std::size_t done = 0;
   while (done < line.size()) {

@@ -44,6 +44,8 @@ class ManifestWriter {
   ~ManifestWriter();
   ManifestWriter(const ManifestWriter&) = delete;
   ManifestWriter& operator=(const ManifestWriter&) = delete;
+  // Throws RunError naming the file and the system's reason (a full disk) if the line cannot be
+  // written; the file is then as before the call.
   void append(const CaseRecord& r);
   void sync();  // fsync: durability against machine crashes (process crashes need none)
   const std::string& path() const { return path_; }
@@ -51,6 +53,11 @@ class ManifestWriter {
  private:
   std::string path_;
   int fd_ = -1;
+  // A test hook (off unless the environment sets it): TUMBLE_TEST_MANIFEST_FULL="<first>:<count>"
+  // makes this writer's appends number first .. first+count-1 (from 1, retries counted) fail as
+  // on a full disk, so that CI can check the campaign's halt
+  // (tests/campaign/manifest_full_check.py).
+  long long appends_ = 0, full_from_ = 0, full_count_ = 0;
 };
 
 struct ManifestState {

@@ -189,6 +189,7 @@ class Coordinator {
     for (int r = 1; r < pool_.size(); ++r) outbox_.send("stop", r, kTagAssign);
     outbox_.drain();
     take_progress();  // (reports that came after their cases' results)
+    book_.flush_unwritten();
     ScheduleStats s = book_.stats();
     s.loop_wall = since(book_.start());
     return s;

@@ -17,6 +17,7 @@
 #include <mpi.h>
 
 #include <iosfwd>
+#include <string>
 #include <vector>
 
 #include "campaign/case_runner.hpp"
@@ -25,17 +26,22 @@
 namespace tumble::campaign {
 
 struct ScheduleStats {
-  int ranks = 0;                  // world ranks that could run cases
-  int cases_run = 0;              // attempts finished in this invocation
-  double loop_wall = 0;           // seconds from the first assignment to the last result
-  double rank_seconds = 0;        // sum over attempts of wall time x the ranks of their group
-  double local_seconds = 0;       // rank 0's time inside its own group's cases
-  double poll_seconds = 0;        // ... of which spent dispatching (polls between steps)
-  long long polls = 0;            // polls made from inside those cases
-  int stop_signal = 0;            // a stop request ended the invocation early (0: it did not)
-  int stopped = 0;                // cases that stopped at a checkpoint on that request
-  int stopped_preparing = 0;      // cases stopped before their protocol began (no run checkpoint)
-  int not_started = 0;            // cases still queued when it came
+  int ranks = 0;              // world ranks that could run cases
+  int cases_run = 0;          // attempts finished in this invocation
+  double loop_wall = 0;       // seconds from the first assignment to the last result
+  double rank_seconds = 0;    // sum over attempts of wall time x the ranks of their group
+  double local_seconds = 0;   // rank 0's time inside its own group's cases
+  double poll_seconds = 0;    // ... of which spent dispatching (polls between steps)
+  long long polls = 0;        // polls made from inside those cases
+  int stop_signal = 0;        // a stop request ended the invocation early (0: it did not)
+  int stopped = 0;            // cases that stopped at a checkpoint on that request
+  int stopped_preparing = 0;  // cases stopped before their protocol began (no run checkpoint)
+  int not_started = 0;        // cases still queued when it came
+  // A manifest line could not be written (Dispatcher::halted): the error, how many cases were
+  // still queued, and the lines (JSON) that could not be written even at the end.
+  std::string manifest_error;
+  int halted_not_started = 0;
+  std::vector<std::string> unwritten;
   double overhead() const;        // 1 - rank_seconds / (ranks * loop_wall): rank time not in cases
   double dispatch_share() const;  // poll_seconds / local_seconds
 };

@@ -2,6 +2,7 @@
 
 Reads the manifest (JSON lines), the per-case fields files and ensemble.h5 with h5py/numpy only, so
 that nothing here reuses the C++ code it checks. Run with Debian's /usr/bin/python3 (h5py)."""
+import argparse
 import glob
 import json
 import math
@@ -221,6 +222,31 @@ def running_within_groups(out, text, groups, expect_held=False):
         fail("%s: no case was held as a group's next (expected with more cases than groups)" % out)
     if sorted(set(held) - started):
         fail("%s: held cases without a start line: %s" % (out, sorted(set(held) - started)))
+
+
+def campaign_arguments(doc):
+    """The options every campaign test takes (CMakeLists.txt's MPI_ARGS and --campaign); the
+    caller adds its own and calls parse_args()."""
+    ap = argparse.ArgumentParser(description=doc)
+    ap.add_argument("--tumble", required=True)
+    ap.add_argument("--mpiexec", required=True)
+    ap.add_argument("--np-flag", default="-n")
+    ap.add_argument("--campaign", required=True)
+    return ap
+
+
+def same_tables(mine, theirs):
+    """Fails unless ensemble file `mine` holds tables and each equals, bit for bit (NaN for NaN),
+    the same table of `theirs`. Returns how many tables there are."""
+    with h5py.File(mine, "r") as m, h5py.File(theirs, "r") as t:
+        tables = []
+        m.visit(lambda name: tables.append(name) if isinstance(m[name], h5py.Dataset) else None)
+        if not tables:
+            fail("%s holds no table" % mine)
+        for name in tables:
+            if name not in t or not np.array_equal(m[name][()], t[name][()], equal_nan=True):
+                fail("table %s of %s differs from %s's" % (name, mine, theirs))
+    return len(tables)
 
 
 def mpiexec_command(mpiexec, np_flag, n):

@@ -10,7 +10,6 @@ chaotic, and the round-off difference between a decomposed and a serial run (ano
 force sums) grows from 4e-14 d at step 200 to 7e-13 at 800, 2e-9 at 1,600 and 0.16 d at 3,200
 (measured with `tumble run scenes/rapaport/mini/E.toml --max-steps N` on 1 and 2 ranks), so by
 the last samples the two runs are different realizations of the same flow."""
-import argparse
 import os
 import shutil
 import subprocess
@@ -18,11 +17,7 @@ import subprocess
 import campaign_checks as cc
 import numpy as np
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--tumble", required=True)
-ap.add_argument("--mpiexec", required=True)
-ap.add_argument("--np-flag", default="-n")
-ap.add_argument("--campaign", required=True)
+ap = cc.campaign_arguments(__doc__)
 ap.add_argument("--out", required=True)
 a = ap.parse_args()
 

@@ -7,17 +7,12 @@ on the lines before the first case ends: lines with both cases preparing come be
 of a protocol, at least one line gives an ETA (not --:--:--) and the progress of both running
 cases (both reporting paths: rank 0's own case and a remote leader's), and the shares only grow;
 the campaign then ends with both cases done."""
-import argparse
 import re
 import shutil
 
 import campaign_checks as cc
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--tumble", required=True)
-ap.add_argument("--mpiexec", required=True)
-ap.add_argument("--np-flag", default="-n")
-ap.add_argument("--campaign", required=True)
+ap = cc.campaign_arguments(__doc__)
 a = ap.parse_args()
 
 shutil.rmtree("ci_eta", ignore_errors=True)

@@ -8,7 +8,6 @@ waited for ever (the job hung until killed). Now:
 2. the directory removed, the same rerun exits 4 (the CI campaign's failed cases) and its
    ensemble.h5 holds the same tables as ci_full's, and partials/slice_1_of_1.h5 the same bytes as
    its ensemble.h5."""
-import argparse
 import filecmp
 import glob
 import os
@@ -18,11 +17,7 @@ import subprocess
 
 import campaign_checks as cc
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--tumble", required=True)
-ap.add_argument("--mpiexec", required=True)
-ap.add_argument("--np-flag", default="-n")
-ap.add_argument("--campaign", required=True)
+ap = cc.campaign_arguments(__doc__)
 ap.add_argument("--full", required=True, help="the finished CI campaign's directory")
 a = ap.parse_args()
 
@@ -58,18 +53,8 @@ shutil.rmtree(ensemble)
 r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
 if r.returncode != 4:
     cc.fail("the rerun exited %d, not 4:\n%s" % (r.returncode, r.stdout + r.stderr))
-with cc.h5py.File(ensemble, "r") as mine, \
-        cc.h5py.File(os.path.join(a.full, "ensemble.h5"), "r") as theirs:
-    tables = []
-    mine.visit(lambda name: tables.append(name) if isinstance(mine[name], cc.h5py.Dataset)
-               else None)
-    if not tables:
-        cc.fail("the rerun's ensemble.h5 holds no table")
-    for name in tables:
-        if name not in theirs or not cc.np.array_equal(mine[name][()], theirs[name][()],
-                                                       equal_nan=True):
-            cc.fail("table %s differs from the uninterrupted campaign's" % name)
+tables = cc.same_tables(ensemble, os.path.join(a.full, "ensemble.h5"))
 if not filecmp.cmp(ensemble, os.path.join(out, "partials", "slice_1_of_1.h5"), shallow=False):
     cc.fail("partials/slice_1_of_1.h5 is not a copy of ensemble.h5")
 print("OK: the fold's error ended both ranks in exit 1, said once, no temporary left; the rerun "
-      "wrote the same %d tables as the uninterrupted campaign" % len(tables))
+      "wrote the same %d tables as the uninterrupted campaign" % tables)

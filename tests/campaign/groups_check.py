@@ -21,18 +21,13 @@ that rank's diagnostic while the other groups go on.
 4. jobs/slurm_array.sh with TUMBLE_RANKS_PER_CASE=2 on a 3-rank task (SLURM_NTASKS=3): the script
    says "1 group(s) of 2, 1 rank(s) idle", passes the group size on, and the slice's cases run on
    ranks 0-1 and equal their twins."""
-import argparse
 import os
 import shutil
 import subprocess
 
 import campaign_checks as cc
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--tumble", required=True)
-ap.add_argument("--mpiexec", required=True)
-ap.add_argument("--np-flag", default="-n")
-ap.add_argument("--campaign", required=True)
+ap = cc.campaign_arguments(__doc__)
 ap.add_argument("--jobs", required=True, help="the repository's jobs/ directory")
 a = ap.parse_args()
 TOL = 1e-9

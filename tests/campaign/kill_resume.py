@@ -18,7 +18,6 @@ exit code 10 (work left), no case left "running" in the manifest and at least on
 a checkpoint written at a neighbour rebuild, no statistics; and the rerun must give the
 uninterrupted run's statistics bit for bit, as a stop at a rebuild changes nothing in a case's
 trajectory (run/checkpoint_observer.hpp)."""
-import argparse
 import json
 import os
 import re
@@ -30,11 +29,7 @@ import time
 import campaign_checks as cc
 import h5py
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--tumble", required=True)
-ap.add_argument("--mpiexec", required=True)
-ap.add_argument("--np-flag", default="-n")
-ap.add_argument("--campaign", required=True)
+ap = cc.campaign_arguments(__doc__)
 ap.add_argument("--ranks-per-case", type=int, default=1)
 ap.add_argument("--rerun-ranks-per-case", type=int, default=None)
 ap.add_argument("--signal", default="KILL", choices=["KILL", "USR1", "TERM"])

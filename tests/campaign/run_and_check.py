@@ -4,18 +4,13 @@ Checks: every case is done except the two made to fail; each failure is recorded
 and diagnostic (a run-time failure and a time limit are retried once, same seed); the campaign
 exits 4 (finished with failed cases) and says how to retry them; the ensemble excludes them and says so; the density-bidisperse point is there;
 ensemble mean/variance/ci95 equal a recomputation from the per-case files to 1e-12."""
-import argparse
 import os
 import shutil
 import subprocess
 
 import campaign_checks as cc
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--tumble", required=True)
-ap.add_argument("--mpiexec", required=True)
-ap.add_argument("--np-flag", default="-n")
-ap.add_argument("--campaign", required=True)
+ap = cc.campaign_arguments(__doc__)
 ap.add_argument("--out", required=True)
 a = ap.parse_args()
 

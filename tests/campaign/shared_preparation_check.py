@@ -7,18 +7,13 @@ side (every bed and beta made twice, hours each on a paper-scale bed). Checks: t
 each replica's bed settled and saved once and its beta measured and saved once (2 of each, not
 3 or 4), the campaign log shows a case started ahead of one that waits for another's
 preparation, and all four cases end done."""
-import argparse
 import glob
 import os
 import shutil
 
 import campaign_checks as cc
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--tumble", required=True)
-ap.add_argument("--mpiexec", required=True)
-ap.add_argument("--np-flag", default="-n")
-ap.add_argument("--campaign", required=True)
+ap = cc.campaign_arguments(__doc__)
 a = ap.parse_args()
 
 out = "ci_shared_preparation"

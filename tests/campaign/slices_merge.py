@@ -6,7 +6,6 @@ launcher. Re-running a finished slice through either script must skip it without
 manifest. The merged ensemble.h5 must equal the one of the single 2-rank run (fixture
 campaign.mpi2_complete): same points, members, exclusions and counts, statistics to 1e-12 (Chan's
 merge of the slices adds round-off only), and every case's fields identical bit for bit."""
-import argparse
 import glob
 import os
 import shutil
@@ -17,11 +16,7 @@ import numpy as np
 
 import campaign_checks as cc
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--tumble", required=True)
-ap.add_argument("--mpiexec", required=True)
-ap.add_argument("--np-flag", default="-n")
-ap.add_argument("--campaign", required=True)
+ap = cc.campaign_arguments(__doc__)
 ap.add_argument("--jobs", required=True, help="the repository's jobs/ directory")
 ap.add_argument("--full", required=True, help="output of the single run (fixture)")
 a = ap.parse_args()
