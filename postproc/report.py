@@ -262,9 +262,9 @@ def section_maps(R, pts, map_csv, fields):
         "hemisphere viewed from below (X right, Z up; docs/campaign.md). Red curves: CM island "
         "boundaries on r = 0.95 from <code>tumble analyze campaign</code>. One colour scale per "
         "field for all points; grey cells were never visited (or hold no particle of the "
-        "species). Right: the width (upper − lower) of each cell's 95% confidence interval, "
-        "computed on the logit scale of the quantity's physical range (c_L in [0, 1], Δψ in "
-        "[0°, 180°]) so that it stays inside it; a width equal to the range says the replicas "
+        "species). Right: the width (upper − lower) of each cell's 95% confidence interval of the "
+        "mean (Student's, cut at the quantity's physical range: c_L in [0, 1], Δψ in "
+        "[0°, 180°]); a width equal to the range says the replicas "
         "do not constrain the cell at all, a width of 0 that they agree exactly (e.g. no "
         f"{html.escape(species_names(pts)[1])} particle in any replica): with N = 2 that is "
         "not certainty.</p>")
@@ -430,8 +430,7 @@ def section_light(R, pts, map_csv):
 
 def section_series(R, pts):
     R.h("<h2>5. Time series</h2><p>Ensemble mean with its 95% confidence band across "
-        "replicas, computed on the logit scale of each quantity's range (so that the band stays "
-        "inside it).</p>")
+        "replicas (Student's interval of the mean, cut at each quantity's physical range).</p>")
     rows = []
     names = species_names(pts)
     for k, (field, label, (lo, hi)) in enumerate(SERIES):
@@ -518,8 +517,9 @@ def section_findings(camps, pts, findings):
                  "campaign DIR</code>) and there is one point only."]
     out.append("<ul>" + "".join(f"<li>{s}</li>" for s in items) + "</ul>")
     out.append("<p class='context'>Intervals are 95%; 'significant' means Welch's two-sided "
-               "p &lt; 0.05 with the 95% interval excluding no difference (1 for a ratio of "
-               "geometric means, 0 for a difference); map cells are "
+               "p, Holm-adjusted over the sentences above, &lt; 0.05 with the 95% interval "
+               "excluding no difference (1 for a ratio of geometric means, 0 for a "
+               "difference); map cells are "
                f"tested at a false discovery rate of {FDR_Q:.0%} (Benjamini–Hochberg). How "
                "each number is computed: the sections below and docs/report.md.</p></section>")
     return "\n".join(out), csv_rows
@@ -571,7 +571,7 @@ def main():
     R.csv("findings.csv", ["islands_of", "compared", "enrichment_own", "own_lower", "own_upper",
                            "enrichment_other_same_mask", "other_lower", "other_upper",
                            "compared_as", "estimate", "ci95_lower", "ci95_upper", "welch_p",
-                           "verdict"], rows)
+                           "welch_p_holm", "verdict"], rows)
     R.csv("maps.csv", ["point", "field", "stat", "cell", "i", "j", "value"], map_csv)
     elapsed = time.time() - started
     R.h("<h2>Files</h2><p>" + ", ".join(f'<a href="{c}">{c}</a>' for c in R.csvs)

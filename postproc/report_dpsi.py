@@ -8,10 +8,10 @@ import numpy as np
 
 if __package__:
     from .report_species import named, species_names
-    from .report_stats import mean_ci
+    from .report_stats import bounded_interval, interval_bounds_text
 else:  # loaded by postproc/report.py run as a file
     from report_species import named, species_names
-    from report_stats import mean_ci
+    from report_stats import bounded_interval, interval_bounds_text
 
 
 def displacement_groups(pts):
@@ -31,10 +31,22 @@ def displacement_groups(pts):
     return sorted(groups.items(), key=lambda gk: float(gk[1]))
 
 
-def dpsi_cell(values):
-    """'m ± h (N)' of the finite per-replica values [deg], '—' without any (tables 3c)."""
-    m, h, n = mean_ci(np.asarray(values, float))
-    return f"{m:.2f} ± {h:.2f} ({n})" if n else "—"
+# Δψ lies in [0°, 180°], so the contrast outside − inside in [−180°, 180°].
+DPSI_BOUNDS = {"inside": (0.0, 180.0), "outside": (0.0, 180.0), "contrast": (-180.0, 180.0)}
+
+
+def dpsi_cell(values, which):
+    """'m [lower, upper] (N = n)' of the finite per-replica values [deg] of `which` (inside,
+    outside, contrast): Student's interval of the mean cut at DPSI_BOUNDS, its ends rounded
+    outwards; no interval at N = 1, '—' without any value (tables 3c)."""
+    b = bounded_interval(np.asarray(values, float), *DPSI_BOUNDS[which])
+    if not b["n"]:
+        return "—"
+    text = f"{b['mean']:.2f}"  # (two decimals, as the table always had: degrees)
+    if np.isfinite(b["lower"]):
+        lower, upper = interval_bounds_text(b)
+        text += f" [{lower}, {upper}]"
+    return text + f" (N = {b['n']})"
 
 
 def section_dpsi_contrast(R, pts):
@@ -49,7 +61,8 @@ def section_dpsi_contrast(R, pts):
         "displacement over each collected lag of the particles that started inside the CM "
         "islands and of those that started outside (0.8 ≤ r/R ≤ 1, cells weighted by their "
         "particle count and the share of their area inside or outside the islands), per "
-        "replica; <b>contrast</b> = outside − inside, mean ± Student 95% half-width (N). A "
+        "replica; <b>contrast</b> = outside − inside; mean [Student's 95% interval of the mean, cut at "
+        "0°-180°, the contrast at ±180°] (N). A "
         "positive contrast over a whole number of island periods is the paper's Figs. 6-7: "
         "particles in period-3 islands return after 3, 6, 18 iterations, the chaotic ones do "
         "not. Over a lag that is not a whole number of periods the islands' particles are "
@@ -63,7 +76,7 @@ def section_dpsi_contrast(R, pts):
         for d in q["an"]["dpsi_fields"]:
             for sp in ("large", "small"):
                 rows.append([q["label"], f"{d['lag']:g}", named(sp, names)]
-                            + [dpsi_cell(d[f"{w}_{sp}"]) for w in ("inside", "outside", "contrast")])
+                            + [dpsi_cell(d[f"{w}_{sp}"], w) for w in ("inside", "outside", "contrast")])
     if stale:
         R.h("<p class='warn'>No contrast for " + html.escape(", ".join(stale)) + ": the "
             "campaign's analysis.h5 predates it; run <code>tumble analyze campaign DIR</code> again.</p>")
@@ -85,7 +98,7 @@ def section_dpsi_snapshots(R, pts):
             starts = np.asarray(d["starts"])[ok]
             first, last = np.nanmin(d["first"]), np.nanmax(d["last"])
             for sp in ("large", "small"):
-                cells = [dpsi_cell(np.asarray(d[f"{w}_{sp}"], float)[ok])
+                cells = [dpsi_cell(np.asarray(d[f"{w}_{sp}"], float)[ok], w)
                          for w in ("inside", "outside", "contrast")]
                 rows.append([q["label"], f"{d['lag']:g}", f"{starts.min()}-{starts.max()}",
                              f"{first:.3g}-{last:.3g}", named(sp, names)] + cells)
@@ -93,7 +106,7 @@ def section_dpsi_snapshots(R, pts):
         return
     R.h("<p>From the snapshots (<code>tumble analyze campaign --dpsi-lags</code>): the same "
         "contrast for the lags asked for, summed over every start N of the Fig. 8 window with a "
-        "snapshot at N + lag in it, per replica; mean ± Student 95% half-width (N).</p>")
+        "snapshot at N + lag in it, per replica; mean [95% interval] (N) as above.</p>")
     R.table(["point", "lag [iterations]", "starts per case", "start iterations", "species",
              "Δψ inside [deg]", "Δψ outside [deg]", "contrast outside − inside [deg]"], rows,
             "dpsi_snapshots.csv")

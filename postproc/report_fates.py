@@ -9,12 +9,12 @@ if __package__:
     from . import report_figs as rf
     from . import report_findings as fi
     from .report_page import Html
-    from .report_stats import bounded_interval, mean_ci
+    from .report_stats import bounded_interval, interval_bounds_text
 else:  # loaded by postproc/report.py run as a file
     import report_figs as rf
     import report_findings as fi
     from report_page import Html
-    from report_stats import bounded_interval, mean_ci
+    from report_stats import bounded_interval, interval_bounds_text
 
 
 FATES = ["persistent", "switched", "captured", "dispersed", "other"]
@@ -52,12 +52,12 @@ def section_fates(R, pts):
         "<b>persistent</b> in the <i>same</i> island at both times (the paper's definition), "
         "<b>switched</b> in an island at both times but not the same one (not a class of the "
         "paper's figure), <b>captured</b> outside → inside, <b>dispersed</b> inside → outside, "
-        "<b>other</b> outside at both. Mean [95% interval, on the logit scale of 0 … the "
-        f"{m} particles of a case, a count on a bound moved half a particle inside it] (N), and "
+        "<b>other</b> outside at both. Mean [95% interval of the mean, Student's, cut at 0 and the "
+        f"{m} particles of a case] (N), and "
         f"the share of the {m} particles. <b>Chance</b>: the expected count if each particle's end "
         "position were that of a particle drawn at random (the islands' occupancy at both "
         "times kept, the link between a particle's start and end broken); <b>excess</b> = "
-        "observed − chance, per replica, mean ± Student 95% half-width: a persistent excess "
+        "observed − chance, per replica, mean [Student's 95% interval of the mean] (N): a persistent excess "
         "above 0 is memory of the island, beyond what the end pattern alone gives. Yu 2022 "
         "(f = 0.15, N = 7 → 34, 1980 large): persistent 124 (6.3%), captured 429 (21.7%), "
         "dispersed 241 (12.2%), other 1186 (59.9%).</p>")
@@ -78,16 +78,22 @@ def section_fates(R, pts):
         chance = a.get("fates_by_chance")
         for f in FATES:
             obs = np.array([v if v >= 0 else np.nan for v in a["fates"][f]], float)
-            b = bounded_interval(obs, 0.0, top, eps=0.5)
+            b = bounded_interval(obs, 0.0, top)
             share = obs / tot
             row = [q["label"], f"{np.nanmin(frm):.3g} → {np.nanmax(to):.3g}", f,
                    Html(fi.ci_span(b)), f"{100 * np.nanmean(share):.1f}%"]
             if chance is not None and f in chance:
                 c = np.asarray(chance[f], float)
-                ex = obs - c
-                m, h, n = mean_ci(ex[np.isfinite(ex)])
-                row += [f"{np.nanmean(c):.1f}", f"{100 * np.nanmean(c / tot):.1f}%",
-                        f"{m:+.1f} ± {h:.1f} ({n})"]
+                # The excess over chance, a difference of two counts of 0 … top particles.
+                e = bounded_interval(obs - c, -top, top)
+                ex_text = "—"
+                if e["n"]:
+                    ex_text = f"{e['mean']:+.1f}"
+                    if np.isfinite(e["lower"]):
+                        lower, upper = interval_bounds_text(e)  # (rounded outwards)
+                        ex_text += f" [{lower}, {upper}]"
+                    ex_text += f" (N = {e['n']})"
+                row += [f"{np.nanmean(c):.1f}", f"{100 * np.nanmean(c / tot):.1f}%", ex_text]
             else:
                 row += ["", "", ""]
             pf = PAPER_FATES.get(f)

@@ -2,10 +2,12 @@
 the numbers the later sections print (docs/report.md, "Findings"), with the run's context.
 
 Rules the sentences follow:
-* a comparison is "significant" only when Welch's two-sided p < 0.05 *and* its 95% interval
-  excludes "no difference" (1 for the ratio of geometric means an enrichment is compared by, as
-  in section 6c; 0 for a difference); otherwise it is "inconclusive", with the reason (N, the
-  interval);
+* a comparison is "significant" only when Welch's two-sided p, Holm-adjusted over the family of
+  the page's enrichment sentences (every island point against every other point: k(k − 1)
+  tests for k points), is below 0.05 *and* its 95% interval excludes "no difference" (1 for the
+  ratio of geometric means an enrichment is compared by, as in section 6c; 0 for a
+  difference); otherwise it is "inconclusive", with the reason (N, the interval, the
+  adjustment);
 * fewer than 3 replicas on a side is stated as a warning before anything else;
 * a tumbler with R/d_large < PATTERN_MIN_RD, or fewer than PATTERN_MIN_ITERATIONS protocol
   iterations, is called a pipeline check: no island pattern is expected there (Yu 2022 sees
@@ -25,11 +27,11 @@ import numpy as np
 if __package__:
     from .report_species import species_names
     from .report_stats import (bounded_interval, compare_values, comparison_text,
-                               excludes_none, fmt_interval, t_quantile)
+                               excludes_none, fmt_interval, holm_adjust, t_quantile)
 else:  # run from postproc/report.py as a file: its directory is on sys.path
     from report_species import species_names
     from report_stats import (bounded_interval, compare_values, comparison_text, excludes_none,
-                              fmt_interval, t_quantile)
+                              fmt_interval, holm_adjust, t_quantile)
 
 PATTERN_MIN_RD = 8.0
 PATTERN_MIN_ITERATIONS = 3
@@ -175,7 +177,7 @@ def mapped_name(P):
 def enrichment_sentences(pts):
     """One sentence (HTML) per (island point P, other point Q of its campaign): P's enrichment on
     its own islands against Q's on the same mask; and the numbers as CSV rows."""
-    out, rows = [], []
+    out, rows, tests = [], [], []
     for P in pts:
         if P["an"] is None or not P["islands"]:
             continue
@@ -197,38 +199,48 @@ def enrichment_sentences(pts):
             continue
         for Q in others:
             qv = Q["an"]["enrichment_vs"][P["pid"]]["values"]
-            qe = bounded_interval(qv, 0.0, np.inf)
-            # The ratio of geometric means, as section 6c compares every enrichment: one test
-            # per question in the whole report (a replica at 0: the difference of the means).
-            c = compare_values(own["values"], qv, 0.0, np.inf)
-            sig = np.isfinite(c["p"]) and c["p"] < ALPHA and excludes_none(c)
-            n_min = min(c["na"], c["nb"])
-            if sig:
-                more = c["est"] > (1.0 if c["kind"] == "ratio" else 0.0)
-                verdict = f"significantly {'more' if more else 'less'}"
-            else:
-                why = []
-                if n_min < 3:
-                    why.append(f"N = {n_min}")
-                if np.isfinite(c["lower"]):
+            # The ratio of geometric means, as section 6c compares every enrichment (a replica
+            # at 0: the difference of the means).
+            tests.append((P, Q, pe, bounded_interval(qv, 0.0, np.inf),
+                          compare_values(own["values"], qv, 0.0, np.inf)))
+    # Holm over every comparison on the page: with k island points each against the others, a
+    # raw p < 0.05 would call some pair "significant" by chance in a large campaign.
+    holm = holm_adjust([c["p"] for *_, c in tests]) if tests else []
+    for (P, Q, pe, qe, c), p_holm in zip(tests, holm):
+        pname = html.escape(P["short"])
+        sig = np.isfinite(p_holm) and p_holm < ALPHA and excludes_none(c)
+        n_min = min(c["na"], c["nb"])
+        if sig:
+            more = c["est"] > (1.0 if c["kind"] == "ratio" else 0.0)
+            verdict = f"significantly {'more' if more else 'less'}"
+        else:
+            why = []
+            if n_min < 3:
+                why.append(f"N = {n_min}")
+            if np.isfinite(c["lower"]):
+                if not excludes_none(c):
                     why.append(f"the interval of the {c['kind']} includes "
                                f"{'1' if c['kind'] == 'ratio' else '0'}")
-                else:
-                    why.append("no interval (fewer than 2 replicas)")
-                if pe["n"] >= 2 and pe["lower"] <= 1 <= pe["upper"]:
-                    why.append(f"{pname}'s own interval includes 1")
-                verdict = "inconclusive: " + ", ".join(why)
-            how = ("ratio of the geometric means" if c["kind"] == "ratio" else "difference")
-            test = (f"Welch 95% on the logarithms, {p_text(c['p'])}" if c["kind"] == "ratio" else
-                    f"Welch 95%, {p_text(c['p'])}")
-            cmp_text = f"{how} {comparison_text(c)}" + (f" ({test})" if np.isfinite(c["p"]) else "")
-            out.append(f"<b>{pname}</b> concentrates {mapped_name(P)} particles in its CM islands "
-                       f"{ci_span(pe)} times the islands' share of the view, "
-                       f"<b>{html.escape(Q['short'])}</b> {ci_span(qe)} on the same mask; "
-                       f"{html.escape(cmp_text)}: <b>{html.escape(verdict)}</b>.")
-            rows.append([P["label"], Q["label"], pe["mean"], pe["lower"], pe["upper"],
-                         qe["mean"], qe["lower"], qe["upper"], c["kind"], c["est"], c["lower"],
-                         c["upper"], c["p"], "significant" if sig else "inconclusive"])
+                elif np.isfinite(p_holm):
+                    why.append(f"not below {ALPHA:g} once adjusted for the {len(tests)} "
+                               "comparisons (Holm)")
+            else:
+                why.append("no interval (fewer than 2 replicas)")
+            if pe["n"] >= 2 and pe["lower"] <= 1 <= pe["upper"]:
+                why.append(f"{pname}'s own interval includes 1")
+            verdict = "inconclusive: " + ", ".join(why)
+        how = ("ratio of the geometric means" if c["kind"] == "ratio" else "difference")
+        holm_text = f", Holm-adjusted {p_text(p_holm)[2:]}" if len(tests) > 1 else ""
+        test = (f"Welch 95% on the logarithms, {p_text(c['p'])}{holm_text}" if c["kind"] == "ratio"
+                else f"Welch 95%, {p_text(c['p'])}{holm_text}")
+        cmp_text = f"{how} {comparison_text(c)}" + (f" ({test})" if np.isfinite(c["p"]) else "")
+        out.append(f"<b>{pname}</b> concentrates {mapped_name(P)} particles in its CM islands "
+                   f"{ci_span(pe)} times the islands' share of the view, "
+                   f"<b>{html.escape(Q['short'])}</b> {ci_span(qe)} on the same mask; "
+                   f"{html.escape(cmp_text)}: <b>{html.escape(verdict)}</b>.")
+        rows.append([P["label"], Q["label"], pe["mean"], pe["lower"], pe["upper"],
+                     qe["mean"], qe["lower"], qe["upper"], c["kind"], c["est"], c["lower"],
+                     c["upper"], c["p"], p_holm, "significant" if sig else "inconclusive"])
     return out, rows
 
 

@@ -40,7 +40,7 @@ def section_cross_enrichment(R, pts):
         "test of a pattern is the comparison with the islands' own point on the same mask, the "
         "ratio of the geometric means (× r [95%], Welch's t on the logarithms, as in section "
         "6c): a protocol without that pattern has a ratio below 1 beyond its interval. Mean "
-        "[95% interval on the log scale] (N replicas).</p>")
+        "[95% interval of the mean, Student's, cut at 0] (N replicas).</p>")
     own = {pid: (q["an"] or {}).get("enrichment_vs", {}).get(pid) for q in pts
            for _, pid, _ in cols if q["pid"] == pid}
     rows, csv_rows = [], []

@@ -114,10 +114,9 @@ def section_scalars(R, pts, findings):
     shells = sorted({shell_inner(cf) for q in pts for cf in q["members"]}) or [0.9]
     shell_text = " or ".join(f"{r:g} &lt; r/R &lt; 1" for r in shells)
     R.h("<h2>6. Scalar metrics</h2><p>Mean [95% confidence interval] (N replicas). Every "
-        "interval is computed on a scale on which the quantity is unbounded and mapped back, "
-        "so it stays within the physical bounds: log for the enrichment (&gt; 0), logit for "
-        "shares and indices in [0, 1], for Δψ in [0°, 180°] and for the radial segregation in "
-        "[−1, 1]. Island enrichment = share of the large particles (the light ones in a "
+        "interval is Student's interval of the mean, cut at the quantity's physical bounds "
+        "(which loses no coverage: the mean lies inside them): 0 for the enrichment, [0, 1] for "
+        "shares and indices, [0°, 180°] for Δψ, [−1, 1] for the radial segregation. Island enrichment = share of the large particles (the light ones in a "
         "density-bidisperse point) inside the CM islands ÷ the "
         "islands' share of the view from below: 1 = no preference, &gt; 1 = the segregation "
         "pattern of Yu 2022 Fig. 4; undefined (–) for a protocol without islands, e.g. "
@@ -170,8 +169,7 @@ def section_scalars(R, pts, findings):
         for k in SCALARS + FATES:
             m, ci, n = mean_ci([s[k] for s in q["scalars"]])
             lo, hi = BOUNDS.get(k, (0.0, fate_bound(q)))
-            b = bounded_interval([s[k] for s in q["scalars"]], lo, hi,
-                                 eps=0.5 if k in FATES else None)
+            b = bounded_interval([s[k] for s in q["scalars"]], lo, hi)
             summ.append([q["label"], named(k, names), m, ci, b["lower"], b["upper"], n])
     R.csv("scalar_summary.csv", ["point", "metric", "mean", "ci95_student", "ci95_lower",
                                  "ci95_upper", "n"], summ)

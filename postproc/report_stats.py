@@ -2,17 +2,16 @@
 
 * mean_ci: mean and Student half-width t(0.975, n − 1) s / sqrt(n), the definition of
   ensemble.h5 (docs/campaign.md);
-* bounded_interval: a 95% interval for a quantity with physical bounds, computed on a scale on
-  which it is unbounded (logit for a quantity in [lo, hi], log for one in [lo, ∞)) and mapped
-  back, so that it never leaves the bounds;
+* bounded_interval: the mean of a quantity with physical bounds and Student's 95% interval of
+  it, cut at the bounds (cut_to_bounds: the same coverage, never outside, always around the mean);
 * welch_half_width / welch_test / cell_tests: the difference of two ensemble means, per value or
   per map cell, by Welch's t (unequal variances, ν by Welch–Satterthwaite);
 * bh_reject: Benjamini–Hochberg control of the false discovery rate over the cells of a map;
 * welch_log_ratio: the ratio of two geometric means (a positive quantity such as the island
   enrichment), Welch's t on the logarithms;
 * compare_values / comparison_text: one comparison of two points' replicas, as a ratio of
-  geometric means for a positive unbounded quantity, else as a difference of means, and its
-  printed form;
+  geometric means for a positive unbounded quantity, else as a difference of means (cut at
+  ±(hi − lo) for a quantity in [lo, hi]), and its printed form;
 * holm_adjust: Holm's step-down adjustment of a family of p-values (family-wise error).
 
 This module imports nothing from the rest of postproc, so scripts outside the package
@@ -57,64 +56,48 @@ def fmt(m, ci, n=None, digits=3):
 
 # --- intervals that respect physical bounds --------------------------------------------------
 
-def _forward(v, lo, hi, eps):
-    """The unbounded scale: logit of the position in [lo, hi], or log of the distance from lo.
-    Values at a bound are moved eps (in the quantity's units) inside it."""
-    if lo is None:
-        return np.asarray(v, float)
-    if hi is None or not np.isfinite(hi):
-        return np.log(np.maximum(np.asarray(v, float) - lo, eps))
-    x = (np.clip(np.asarray(v, float), lo + eps, hi - eps) - lo) / (hi - lo)
-    return np.log(x) - np.log1p(-x)
+def cut_to_bounds(lower, upper, lo=None, hi=None):
+    """An interval cut at the bounds [lo, hi] a parameter cannot leave (lo None: no lower bound;
+    hi None or inf: no upper one). Cutting never loses coverage: the parameter is inside the
+    bounds, so the cut interval holds it whenever the whole one does. NaN stays NaN."""
+    lower, upper = np.asarray(lower, float), np.asarray(upper, float)
+    with np.errstate(invalid="ignore"):
+        if lo is not None:
+            lower = np.where(np.isfinite(lower), np.maximum(lower, lo), lower)
+        if hi is not None and np.isfinite(hi):
+            upper = np.where(np.isfinite(upper), np.minimum(upper, hi), upper)
+    return lower, upper
 
 
-def _backward(z, lo, hi):
-    if lo is None:
-        return z
-    if hi is None or not np.isfinite(hi):
-        return lo + np.exp(z)
-    return lo + (hi - lo) * stats.logistic.cdf(z)
-
-
-def default_eps(lo, hi):
-    """How far inside its bound a value on the bound is placed: 1e-3 of the range (or of 1 for
-    a quantity bounded on one side). Bigger eps narrows the interval of such data."""
-    if lo is None:
-        return 0.0
-    return 1e-3 * ((hi - lo) if hi is not None and np.isfinite(hi) else 1.0)
-
-
-def bounded_interval(values, lo=None, hi=None, level=LEVEL, eps=None, axis=0):
+def bounded_interval(values, lo=None, hi=None, level=LEVEL, axis=0):
     """Mean and a `level` confidence interval of the replicas' mean of a quantity in [lo, hi]
-    (hi None or inf: [lo, ∞); lo None: unbounded, the Student interval).
+    (hi None or inf: [lo, ∞); lo None: no lower bound).
 
-    The Student interval z̄ ± t(½(1 + level), n − 1) s_z / sqrt(n) is computed for z = logit of
-    (v − lo)/(hi − lo), or z = log(v − lo), and mapped back: the interval is asymmetric and stays
-    inside the bounds for any n. Values on a bound are moved `eps` inside it first (default:
-    default_eps); identical replicas give the interval [value, value]. Works element-wise along `axis` (replicas) for maps; NaN values are left out.
-    Returns dict(mean, lower, upper, n, lo, hi) (arrays for arrays); lower/upper NaN where n < 2; mean
-    is the arithmetic mean of the values (the number ensemble.h5 holds)."""
+    Student's interval of the mean, x̄ ± t(½(1 + level), n − 1) s/√n, cut at the bounds
+    (cut_to_bounds): it covers the ensemble mean as often as Student's does, it never leaves the
+    bounds, and it always holds the printed mean, the arithmetic mean of the replicas (the number
+    ensemble.h5 holds). (An interval computed on a logit or log scale and mapped back, as this
+    function did before, is an interval for another centre, the back-transformed mean of the
+    logits: with skewed replicas it could exclude the arithmetic mean printed beside it, and a
+    replica on a bound had to be moved an arbitrary eps inside it.) With few replicas the
+    interval is wide (N = 2: t = 12.7) and often the whole range: that is what two replicas say.
+    Identical replicas give [value, value]. Works element-wise along `axis` (replicas) for maps;
+    NaN values are left out. Returns dict(mean, lower, upper, n, lo, hi) (arrays for arrays);
+    lower/upper NaN where n < 2."""
     v = np.asarray(values, float)
     if v.ndim == 0:
         v = v[None]
     v = np.moveaxis(v, axis, 0)
     ok = np.isfinite(v)
     n = ok.sum(axis=0)
-    eps = default_eps(lo, hi) if eps is None else eps
     with np.errstate(invalid="ignore", divide="ignore"):
         mean = np.where(n > 0, np.where(ok, v, 0).sum(axis=0) / np.maximum(n, 1), np.nan)
-        z = np.where(ok, _forward(np.where(ok, v, lo if lo is not None else 0.0), lo, hi, eps), 0)
-        zm = z.sum(axis=0) / np.maximum(n, 1)
-        zs = np.sqrt(np.where(ok, (z - zm) ** 2, 0).sum(axis=0) / np.maximum(n - 1, 1))
+        sd = np.sqrt(np.where(ok, (v - mean) ** 2, 0).sum(axis=0) / np.maximum(n - 1, 1))
         tq = stats.t.ppf(0.5 * (1 + level), np.maximum(n - 1, 1))
-        half = tq * zs / np.sqrt(np.maximum(n, 1))
-        lower = np.where(n >= 2, _backward(zm - half, lo, hi), np.nan)
-        upper = np.where(n >= 2, _backward(zm + half, lo, hi), np.nan)
-        # Identical replicas: the interval is their value (not the value moved eps inside a
-        # bound, which would exclude the mean when all sit on the bound).
-        same = (n >= 2) & (zs == 0)
-        lower = np.where(same, mean, lower)
-        upper = np.where(same, mean, upper)
+        half = tq * sd / np.sqrt(np.maximum(n, 1))
+        lower = np.where(n >= 2, mean - half, np.nan)
+        upper = np.where(n >= 2, mean + half, np.nan)
+    lower, upper = cut_to_bounds(lower, upper, lo, hi)
     out = dict(mean=mean, lower=lower, upper=upper, n=n)
     if np.ndim(mean) == 0:
         out = {k: (int(x) if k == "n" else float(x)) for k, x in out.items()}
@@ -285,8 +268,13 @@ def compare_values(a, b, lo, hi, level=LEVEL):
             return dict(kind="ratio", est=r["ratio"], lower=r["lower"], upper=r["upper"],
                         p=r["p"], na=r["na"], nb=r["nb"])
     w = welch_test(a, b, level)
-    return dict(kind="difference", est=w["diff"], lower=w["diff"] - w["half"],
-                upper=w["diff"] + w["half"], p=w["p"], na=w["na"], nb=w["nb"])
+    # A difference of two means in [lo, hi] lies in [−(hi − lo), hi − lo]: the interval is cut
+    # there (cut_to_bounds; Welch's at N = 2 of two shares reached ±6).
+    span = hi - lo if lo is not None and hi is not None and np.isfinite(hi) else None
+    lower, upper = cut_to_bounds(w["diff"] - w["half"], w["diff"] + w["half"],
+                                 -span if span is not None else None, span)
+    return dict(kind="difference", est=w["diff"], lower=float(lower), upper=float(upper),
+                p=w["p"], na=w["na"], nb=w["nb"])
 
 
 def excludes_none(c):

@@ -4,9 +4,10 @@
 Reads OUT/<tier>/seed<k>/results.h5 written by jobs/accuracy/flow_accuracy.sh. Per run: the means
 of the repose angle, the surface speed (also divided by the tumbler's speed omega R) and the
 large-particle fraction of the wall shell over the samples at 40-80 degrees of rotation, and the
-wall time of the protocol phase. Per tier: mean and 95% CI over replicas (Student t); the error
-against the reference (or, without reference runs, the standard tier) is the difference of means
-with its Welch 95% CI.
+wall time of the protocol phase. Per tier: mean and 95% CI over replicas (Student t from scipy;
+the wall's large fraction, a share, with the interval cut at [0, 1]); the error against the
+reference (or, without reference runs, the standard tier) is the difference of means with its
+Welch 95% CI (real degrees of freedom; cut at ±1 for the share); no interval below 2 runs a side.
 
 Then the surface velocity profile (runs that kept series/surface_profile): per run the mean over
 the same window of the downhill speed per bin, divided by omega R, against h/R; per tier the mean
@@ -23,18 +24,11 @@ import sys
 import h5py
 import numpy as np
 
-T95 = {1: 12.706, 2: 4.303, 3: 3.182, 4: 2.776, 5: 2.571, 6: 2.447, 7: 2.365, 8: 2.306, 9: 2.262,
-       10: 2.228, 15: 2.131, 20: 2.086, 30: 2.042}
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+from postproc.report_stats import bounded_interval, compare_values, interval_bounds_text  # noqa: E402
 
-
-def t95(dof):
-    if dof <= 0:
-        return float("nan")
-    keys = sorted(T95)
-    for k in keys:
-        if dof <= k:
-            return T95[k]
-    return 1.96
+# The observables' physical bounds (None: none): the wall's large fraction is a share.
+BOUNDS = {"wall large fraction": (0.0, 1.0)}
 
 
 def run_means(path):
@@ -70,23 +64,34 @@ def run_means(path):
         }
 
 
-def ci(values):
-    v = np.asarray(values, float)
-    n = len(v)
-    m = v.mean()
-    if n < 2:
-        return m, float("nan"), v.var()
-    sd = v.std(ddof=1)
-    return m, t95(n - 1) * sd / math.sqrt(n), sd * sd
+def mean_text(values, lo=None, hi=None):
+    """'m ± h' of a quantity without bounds, 'm [lower, upper]' (Student's interval cut at the
+    bounds) of one with; 'm (N = 1)' without an interval, '—' without a value."""
+    b = bounded_interval(values, lo, hi)
+    if not b["n"]:
+        return "—"
+    if not np.isfinite(b["lower"]):
+        return f"{b['mean']:.4g} (N = 1)"
+    if lo is None and hi is None:
+        return f"{b['mean']:.4g} ± {(b['upper'] - b['lower']) / 2:.2g}"
+    lower, upper = interval_bounds_text(b)
+    return f"{b['mean']:.4g} [{lower}, {upper}]"
 
 
-def welch(a, b):
-    ma, _, va = ci(a)
-    mb, _, vb = ci(b)
-    na, nb = len(a), len(b)
-    se2 = va / na + vb / nb
-    dof = se2 * se2 / ((va / na) ** 2 / (na - 1) + (vb / nb) ** 2 / (nb - 1)) if se2 > 0 else 1
-    return mb - ma, t95(int(dof)) * math.sqrt(se2)
+def error_text(base, runs, lo=None, hi=None, digits=3):
+    """mean(runs) − mean(base) with Welch's 95% interval (real degrees of freedom; cut at
+    ±(hi − lo) for a quantity in [lo, hi]): 'd ± h', or 'd [lower, upper]' where cut; no
+    interval ('(N < 2)') when either side has fewer than 2 runs."""
+    c = compare_values(runs, base, lo, hi)
+    if not np.isfinite(c["est"]):
+        return "—"
+    d = f"{c['est']:+.{digits}g}"
+    if not np.isfinite(c["lower"]):
+        return d + " (N < 2: no interval)"
+    half = (c["upper"] - c["lower"]) / 2
+    if abs(c["est"] - half - c["lower"]) < 1e-12 and abs(c["est"] + half - c["upper"]) < 1e-12:
+        return f"{d} ± {half:.2g}"
+    return f"{d} [{c['lower']:+.2g}, {c['upper']:+.2g}]"
 
 
 def main():
@@ -114,13 +119,12 @@ def main():
         cells = [tier, str(len(runs)), str(runs[0]["particles"]), f"{runs[0]['rpm']:.3g}",
                  f"{np.mean([r['wall s'] for r in runs]):.0f}"]
         for o in obs:
-            m, h, _ = ci([r[o] for r in runs])
-            cells.append(f"{m:.4g} ± {h:.2g}")
+            lo, hi = BOUNDS.get(o, (None, None))
+            cells.append(mean_text([r[o] for r in runs], lo, hi))
             if tier == base:
                 cells.append("—")
             else:
-                d, hd = welch([r[o] for r in data[base]], [r[o] for r in runs])
-                cells.append(f"{d:+.3g} ± {hd:.2g}")
+                cells.append(error_text([r[o] for r in data[base]], [r[o] for r in runs], lo, hi))
         print("| " + " | ".join(cells) + " |")
     profile_table(data, base)
 
@@ -160,19 +164,16 @@ def profile_table(data, base):
         vb = [x for x in ref[:, b] if np.isfinite(x)]
         for t, runs in data.items():
             v = [x for x in (on_grid(r, h)[b] for r in runs) if np.isfinite(x)]
-            c = f"{ci(v)[0]:.3g} ± {ci(v)[1]:.2g}" if v else "—"
+            c = mean_text(v)
             if t != base and len(v) >= 2 and len(vb) >= 2:
-                d, hd = welch(vb, v)
-                c += f"; Δ {d:+.2g} ± {hd:.2g}"
+                c += f"; Δ {error_text(vb, v, digits=2)}"
             cells.append(c)
         print(f"| {hb:+.2f} | " + " | ".join(cells) + " |")
     cells = []
     for t in data:
-        m, hw, _ = ci(rms[t]) if rms[t] else (np.nan, np.nan, 0)
-        c = f"{m:.3g} ± {hw:.2g}"
+        c = mean_text(rms[t], 0.0, np.inf)  # an RMS is >= 0
         if t != base and len(rms[t]) >= 2 and len(rms[base]) >= 2:
-            d, hd = welch(rms[base], rms[t])
-            c += f"; Δ {d:+.3g} ± {hd:.2g}"
+            c += f"; Δ {error_text(rms[base], rms[t])}"
         cells.append(c)
     print(f"| RMS from {base}'s mean profile | " + " | ".join(cells) + " |")
 

@@ -3,7 +3,9 @@
 wall time per iteration, the rigid bulk's frozen share (mean over the run; reported, not tested),
 radial segregation at the end of every iteration, island enrichment,
 and the correlation of each replica's c_L map with the reference tier's mean map; mean ± 95% CI
-over replicas (Student t) and each tier's difference from the reference with Welch's 95% interval.
+over replicas (Student t; for the bounded ones, the frozen share, enrichment, correlation and
+radial segregation, mean [Student's interval cut at the bounds]) and each tier's difference from
+the reference with Welch's 95% interval (cut at ±(hi − lo) for a bounded observable).
 The first tier present in the order reference, standard, fast, preview is the reference.
 
 usage: jobs/accuracy/pattern_table.py OUT ITERATIONS [--point "theta_z=57;theta_x=57"]
@@ -40,10 +42,35 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "postproc"))
-from report_stats import bh_reject, fmt, mean_ci, welch_half_width  # noqa: E402
+from report_stats import (bh_reject, bounded_interval, cut_to_bounds, fmt, fmt_interval,  # noqa: E402
+                          mean_ci, welch_half_width)
 from scipy import stats  # noqa: E402
 
 TIERS = ["reference", "standard", "fast", "preview"]
+# The observables' physical bounds (the others, wall times, have none that matters): their
+# intervals are Student's cut at the bounds, their differences' at ±(hi − lo)
+# (report_stats.bounded_interval, cut_to_bounds).
+FROZEN = "frozen share of the bed (run mean)"
+
+
+def bounds_of(name):
+    if name == FROZEN:
+        return 0.0, 1.0
+    if name == "island enrichment":
+        return 0.0, np.inf
+    if name.startswith("c_L pattern correlation") or name.startswith("radial segregation"):
+        return -1.0, 1.0
+    return None, None
+
+
+def difference_text(d, half, lo, hi):
+    """'+d ± h', or '+d [lower, upper]' where the interval is cut at ±(hi − lo)."""
+    if lo is None or hi is None or not np.isfinite(hi):
+        return f"{d:+.3g} ± {half:.2g}"
+    lower, upper = cut_to_bounds(d - half, d + half, -(hi - lo), hi - lo)
+    if lower == d - half and upper == d + half:
+        return f"{d:+.3g} ± {half:.2g}"
+    return f"{d:+.3g} [{float(lower):+.2g}, {float(upper):+.2g}]"
 
 
 def text(a):
@@ -207,9 +234,9 @@ def main():
             c["corr"] = pattern_correlation(c, k, t == ref, ref_maps, ref_replicas, bool(split))
     # Costs first, reported but not tested: the wall time (which depends on the machine and its
     # load) and the frozen share (which only a rigid bulk has; it explains the wall time).
-    untested = ("wall per iteration [s]", "frozen share of the bed (run mean)")
+    untested = ("wall per iteration [s]", FROZEN)
     metrics = [("wall per iteration [s]", lambda c: c["wall"]),
-               ("frozen share of the bed (run mean)", lambda c: c["frozen"]),
+               (FROZEN, lambda c: c["frozen"]),
                ("island enrichment", lambda c: c["enrichment"]),
                ("c_L pattern correlation with " + ref, lambda c: c["corr"])]
     metrics += [(f"radial segregation, N = {k + 1}", lambda c, k=k: c["radial"][k])
@@ -223,16 +250,17 @@ def main():
     # Per column: (observable, kind, p) of every tested difference, for the multiplicity control.
     tested = {t: [] for t in data if t != ref}
     for name, get in metrics:
+        lo, hi = bounds_of(name)
         rv = np.array([get(c) for c in data[ref]], float)
         cells = []
         for t, cases in data.items():
             v = np.array([get(c) for c in cases], float)
-            s = fmt(*mean_ci(v))
+            s = fmt(*mean_ci(v)) if lo is None else fmt_interval(bounded_interval(v, lo, hi))
             if t != ref and np.isfinite(v).sum() and name not in untested:
                 va, vb = v[np.isfinite(v)], rv[np.isfinite(rv)]
                 if len(va) >= 2 and len(vb) >= 2:
                     h = welch_half_width([va.var(ddof=1)], [len(va)], [vb.var(ddof=1)], [len(vb)])[0]
-                    s += f"; Δ {va.mean() - vb.mean():+.3g} ± {h:.2g}"
+                    s += f"; Δ {difference_text(va.mean() - vb.mean(), h, lo, hi)}"
                     if h > 0:
                         tested[t].append((name, "Welch", stats.ttest_ind(va, vb, equal_var=False).pvalue))
                 if split:  # common beds: the same replica's difference, paired by Student t
@@ -240,7 +268,7 @@ def main():
                     d = [get(c) - ref_by[c["replica"]] for c in cases if c["replica"] in ref_by]
                     m, ci, n = mean_ci(d)
                     if n >= 2:
-                        s += f"; paired Δ {m:+.3g} ± {ci:.2g}"
+                        s += f"; paired Δ {difference_text(m, ci, lo, hi)}"
                         d = np.asarray(d, float)
                         d = d[np.isfinite(d)]
                         if d.std(ddof=1) > 0:
@@ -251,8 +279,9 @@ def main():
     small = {t: len(c) for t, c in data.items() if len(c) < 5}
     if small:
         print("# warning: few replicas (" + ", ".join(f"{t}: N = {n}" for t, n in small.items())
-              + "): a 95% CI at N = 3 spans ±2.5 standard errors, so only differences of about that"
-              " size can show; 'not significant' here means 'not resolved at this N', not 'equal'.")
+              + "): a 95% CI at N = 3 spans ±4.3 standard errors (t(0.975, 2); ±2.5 standard"
+              " deviations of the replicas), so only differences of about that size can show;"
+              " 'not significant' here means 'not resolved at this N', not 'equal'.")
 
 
 def print_multiplicity(tested, ref, what):

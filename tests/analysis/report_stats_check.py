@@ -5,8 +5,9 @@ examples.
                                                                   compare|enrichment|species]
 
   stats    Student t quantiles (scipy) and Welch's half-width of a difference of two means;
-  bounded  intervals of bounded quantities (logit / log scale): closed forms, never outside the
-           bounds where the Student interval is, values on a bound, per-cell form, printing;
+  bounded  intervals of bounded quantities (Student's, cut at the bounds): closed forms, never
+           outside the bounds where the Student interval is, always around the mean, the same
+           coverage as Student's, per-cell form, differences of shares, printing;
   fdr      Benjamini-Hochberg: a hand-computed example (with the step-up case), NaN not
            counted, scipy.stats.false_discovery_control where this scipy has it (>= 1.11), and
            the rate of any false discovery over 144 null cells;
@@ -34,7 +35,8 @@ import warnings
 import numpy as np
 from scipy import stats
 
-from postproc.report_stats import (bh_reject, bounded_interval, cell_tests, holm_adjust,
+from postproc.report_stats import (bh_reject, bounded_interval, cell_tests, compare_values,
+                                   holm_adjust,
                                    interval_bounds_text, mean_ci, t_quantile, welch_half_width,
                                    welch_log_ratio)
 
@@ -86,58 +88,76 @@ def group_stats():
     return good
 
 
-def expit(z):
-    return 1.0 / (1.0 + math.exp(-z))
-
-
 def group_bounded():
     # Tolerances: scipy's t quantile is accurate to ~1e-10 relative (t(0.975, 1) = 12.7 and
-    # t(0.975, 2) = 4.30 against their closed forms above), which the exp / expit carry.
+    # t(0.975, 2) = 4.30 against their closed forms above).
     good = []
-    # Logit scale, N = 2, by hand: z = logit(v), interval expit(mean z -+ t(0.975,1) s_z/sqrt 2).
-    v = [0.1, 0.3]
-    z = [math.log(x / (1 - x)) for x in v]
-    zm, sz = sum(z) / 2, abs(z[0] - z[1]) / math.sqrt(2)
+
+    def student(v):
+        m, sd, n = float(np.mean(v)), float(np.std(v, ddof=1)), len(v)
+        return m, stats.t.ppf(0.975, n - 1) * sd / math.sqrt(n)
+
+    # Inside the bounds: Student's interval of the mean itself (N = 5, c_L-like).
+    v = [0.40, 0.42, 0.44, 0.41, 0.43]
+    m, h = student(v)
     b = bounded_interval(v, 0.0, 1.0)
-    good.append(check("logit, N = 2: lower", b["lower"], expit(zm - T1 * sz / math.sqrt(2)), 1e-12))
-    good.append(check("logit, N = 2: upper", b["upper"], expit(zm + T1 * sz / math.sqrt(2)), 1e-12))
-    good.append(check("the mean is the arithmetic mean", b["mean"], 0.2, 1e-15))
-    # A range [lo, hi]: the same on (v - lo) / (hi - lo); Δψ in [0, 180].
+    good.append(check("N = 5 inside [0, 1]: lower = Student's", b["lower"], m - h, 1e-12))
+    good.append(check("N = 5 inside [0, 1]: upper = Student's", b["upper"], m + h, 1e-12))
+    good.append(check("the mean is the arithmetic mean", b["mean"], 0.42, 1e-15))
+    # Cut at a bound: Δψ in [0, 180], N = 3: 60 ± 74.5 -> [0, 134.5].
+    m, h = student([30.0, 90.0, 60.0])
     b = bounded_interval([30.0, 90.0, 60.0], 0.0, 180.0)
-    z = [math.log(x / (180 - x)) for x in (30.0, 90.0, 60.0)]
-    zm = sum(z) / 3
-    sz = math.sqrt(sum((x - zm) ** 2 for x in z) / 2)
-    good.append(check("logit on [0, 180], N = 3: upper", b["upper"],
-                      180 * expit(zm + T2 * sz / math.sqrt(3)), 1e-7))
-    # Log scale for a positive ratio: exp(mean log -+ t s/sqrt n).
-    v = [1.0, 1.3]
-    z = [math.log(x) for x in v]
-    zm, sz = sum(z) / 2, abs(z[0] - z[1]) / math.sqrt(2)
-    b = bounded_interval(v, 0.0, np.inf)
-    good.append(check("log, N = 2: lower", b["lower"], math.exp(zm - T1 * sz / math.sqrt(2)), 1e-9))
-    good.append(check("log, N = 2: upper", b["upper"], math.exp(zm + T1 * sz / math.sqrt(2)), 1e-9))
-    # Where Student's interval leaves the bounds, this one does not (the issue's c_L ± 5.6).
+    good.append(check("[0, 180], N = 3: lower cut at 0", b["lower"], 0.0, 0))
+    good.append(check("[0, 180], N = 3: upper = Student's", b["upper"], m + h, 1e-9))
+    # [lo, inf): the enrichment, cut at 0 only.
+    m, h = student([1.0, 1.3])
+    b = bounded_interval([1.0, 1.3], 0.0, np.inf)
+    good.append(truth("[0, inf), N = 2: 1.15 - 1.91 cut at 0, the upper end Student's",
+                      b["lower"] == 0.0 and abs(b["upper"] - (m + h)) < 1e-9,
+                      f"{b['lower']} .. {b['upper']}"))
+    # Where Student's interval leaves the bounds, this one does not (the c_L ± 5.6 of issue 18).
     v = [0.05, 0.95]
     m, ci, _ = mean_ci(v)
     b = bounded_interval(v, 0.0, 1.0)
     good.append(truth("Student's interval of {0.05, 0.95} leaves [0, 1]", m - ci < 0 < 1 < m + ci,
                       f"{m - ci:.3g} .. {m + ci:.3g}"))
-    good.append(truth("the logit interval stays inside", 0 <= b["lower"] < b["upper"] <= 1,
+    good.append(truth("the cut interval is [0, 1]: two replicas that far apart say nothing",
+                      b["lower"] == 0.0 and b["upper"] == 1.0,
                       f"{b['lower']:.3g} .. {b['upper']:.3g}"))
-    # Values on a bound: moved eps inside, the interval finite and within the bounds.
-    b = bounded_interval([0.0, 0.2], 0.0, 1.0)
-    good.append(truth("a value on the bound: finite, within [0, 1]",
-                      np.isfinite(b["lower"]) and 0 <= b["lower"] < 0.2 < b["upper"] <= 1,
+    # Skewed replicas: the interval holds the printed mean (a logit-scale interval mapped back
+    # printed 0.0388 [0.00054, 0.017] for these, the mean outside its own interval).
+    for v, lo, hi in (([0.001, 0.002, 0.0015, 0.3, 0.002, 0.001, 0.0012, 0.002], 0.0, 1.0),
+                      ([0.05] * 20 + [3.0] * 20, 0.0, np.inf)):
+        b = bounded_interval(v, lo, hi)
+        good.append(truth(f"skewed replicas (mean {b['mean']:.3g}): lower <= mean <= upper",
+                          b["lower"] <= b["mean"] <= b["upper"],
+                          f"{b['lower']:.3g} .. {b['upper']:.3g}"))
+    # Cutting loses no coverage: over 4,000 samples of 5 from Beta(0.5, 4.5) (mean 0.1, skewed
+    # against the bound 0), the cut interval covers the mean exactly as often as Student's.
+    rng = np.random.default_rng(7)
+    draws = rng.beta(0.5, 4.5, size=(4000, 5))
+    b = bounded_interval(draws, 0.0, 1.0, axis=1)
+    m, sd = draws.mean(axis=1), draws.std(axis=1, ddof=1)
+    h = stats.t.ppf(0.975, 4) * sd / math.sqrt(5)
+    cut = int(np.sum((b["lower"] <= 0.1) & (0.1 <= b["upper"])))
+    whole = int(np.sum((m - h <= 0.1) & (0.1 <= m + h)))
+    good.append(truth(f"coverage of the mean 0.1: cut {cut} of 4000 = Student's {whole}, "
+                      f"{int(np.sum(m - h < 0))} intervals cut", cut == whole
+                      and np.all(b["lower"] >= 0) and np.sum(m - h < 0) > 0))
+    # Values on a bound need no shift any more: Student's interval cut.
+    b = bounded_interval([0.0, 0.02], 0.0, 1.0)
+    good.append(truth("a value on the bound: [0, 0.01 + 12.7 x 0.01]",
+                      b["lower"] == 0 and abs(b["upper"] - (0.01 + T1 * 0.01)) < 1e-9,
                       f"{b['lower']:.3g} .. {b['upper']:.3g}"))
-    b = bounded_interval([2.0, 0.0], 0.0, 45.0, eps=0.5)  # a Fig. 8 count of 45 large
+    b = bounded_interval([2.0, 0.0], 0.0, 45.0)  # a Fig. 8 count of 45 large
     good.append(truth("counts 2 and 0 of 45: within [0, 45] (Student: 1 ± 12.7)",
-                      0 <= b["lower"] < 1 < b["upper"] <= 45,
+                      b["lower"] == 0 and abs(b["upper"] - (1 + T1)) < 1e-9,
                       f"{b['lower']:.3g} .. {b['upper']:.3g}"))
     # No spread: the interval is the value; one replica: none.
     b = bounded_interval([0.4, 0.4, 0.4], 0.0, 1.0)
     good.append(check("equal replicas: lower = value", b["lower"], 0.4, 1e-12))
     good.append(check("equal replicas: upper = value", b["upper"], 0.4, 1e-12))
-    b = bounded_interval([0.0, 0.0], 0.0, 45.0, eps=0.5)
+    b = bounded_interval([0.0, 0.0], 0.0, 45.0)
     good.append(truth("identical replicas on a bound (two counts of 0): [0, 0]",
                       b["lower"] == 0 and b["upper"] == 0 and b["mean"] == 0,
                       f"{b['lower']} .. {b['upper']}"))
@@ -155,6 +175,10 @@ def group_bounded():
     good.append(truth("per-cell form = cell by cell", same))
     good.append(truth("every cell's interval within [0, 1]",
                       np.all((b["lower"] >= 0) & (b["upper"] <= 1))))
+    # A difference of two shares is cut at ±1 (Welch's at N = 2 reached ±6).
+    c = compare_values([0.05, 0.95], [0.9, 0.95], 0.0, 1.0)
+    good.append(truth("a difference of shares in [-1, 1]: " + f"{c['lower']:.3g} .. {c['upper']:.3g}",
+                      c["kind"] == "difference" and c["lower"] == -1.0 and c["upper"] == 1.0))
     # Printing: rounded outwards, never past a bound.
     lo_s, hi_s = interval_bounds_text(dict(lower=0.0123, upper=0.99996, lo=0.0, hi=1.0))
     good.append(truth("printed upper of 0.99996 in [0, 1] is at most 1", float(hi_s) <= 1.0,
@@ -371,8 +395,8 @@ def group_enrichment():
                       1e-12))
     good.append(truth("significant by the log test (p = 0.033) where the arithmetic one says "
                       f"p = {t_lin.pvalue:.3f}",
-                      row[13] == "significant" and t_lin.pvalue > 0.05 and row[10] > 1,
-                      f"{row[13]}, lower {row[10]}"))
+                      row[14] == "significant" and t_lin.pvalue > 0.05 and row[10] > 1,
+                      f"{row[14]}, lower {row[10]}"))
     good.append(truth("the sentence names the ratio and the verdict",
                       "ratio of the geometric means × " in sentences[0]
                       and "significantly more" in sentences[0], sentences[0]))
@@ -387,8 +411,18 @@ def group_enrichment():
     S = point("q3", "A4 (30,30)", [1.3, 1.1], on_mask_of="p1")
     sentences, rows = fi.enrichment_sentences([P, S])
     good.append(truth("N = 2 and an interval including 1: inconclusive, with both reasons",
-                      rows[0][13] == "inconclusive" and "N = 2" in sentences[0]
+                      rows[0][14] == "inconclusive" and "N = 2" in sentences[0]
                       and "the interval of the ratio includes 1" in sentences[0], sentences[0]))
+    # Three points with the same replicas as Q: three tests at p = 0.033 each, Holm-adjusted
+    # 3 × 0.033 = 0.099: none significant, each sentence says why.
+    Qs = [point(f"q{k}", f"A{k} (68,68)", b, on_mask_of="p1") for k in (5, 6, 7)]
+    sentences, rows = fi.enrichment_sentences([P] + Qs)
+    good.append(check("Holm over the page's 3 comparisons", rows[0][13],
+                      min(1.0, 3 * float(t_log.pvalue)), 1e-12))
+    good.append(truth("p = 0.033 three times: inconclusive once adjusted (Holm)",
+                      all(r[14] == "inconclusive" for r in rows)
+                      and all("once adjusted for the 3 comparisons (Holm)" in x
+                              for x in sentences), sentences[0]))
     return good
 
 
