@@ -89,8 +89,15 @@ bool from_json(const std::string& line, CaseRecord& r) {
 }
 
 ManifestWriter::ManifestWriter(const std::string& path) : path_(path) {
+  if (const char* hook = std::getenv("TUMBLE_TEST_MANIFEST_FULL")) {
+    if (std::sscanf(hook, "%lld:%lld", &full_from_, &full_count_) != 2 || full_from_ < 1 ||
+        full_count_ < 0)
+      throw InputError("TUMBLE_TEST_MANIFEST_FULL='" + std::string(hook) +
+                       "': want <first>:<count>, first >= 1, count >= 0");
+  }
   fs::create_directories(fs::path(path).parent_path());
-  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  // Read-write (pread below), appending.
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
   if (fd_ < 0)
     throw std::runtime_error("cannot open manifest '" + path + "': " + std::strerror(errno));
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
@@ -99,11 +106,18 @@ ManifestWriter::ManifestWriter(const std::string& path) : path_(path) {
     throw InputError("campaign error: '" + path +
                      "' is locked: this slice of the campaign is already running");
   }
-  if (const char* hook = std::getenv("TUMBLE_TEST_MANIFEST_FULL")) {
-    if (std::sscanf(hook, "%lld:%lld", &full_from_, &full_count_) != 2 || full_from_ < 1 ||
-        full_count_ < 0)
-      throw InputError("TUMBLE_TEST_MANIFEST_FULL='" + std::string(hook) +
-                       "': want <first>:<count>, first >= 1, count >= 0");
+  // A machine crash may have left the last line torn, without its newline: this invocation's
+  // first line would be glued to it and both read as one torn line. The torn piece is ended here,
+  // so that it stays a line of its own (skipped and counted by the reader).
+  const off_t size = ::lseek(fd_, 0, SEEK_END);
+  char last = '\n';
+  if (size > 0 && ::pread(fd_, &last, 1, size - 1) == 1 && last != '\n' &&
+      ::write(fd_, "\n", 1) != 1) {
+    const int err = errno;
+    ::close(fd_);
+    fd_ = -1;
+    throw RunError("cannot end the torn last line of the manifest '" + path +
+                   "': " + std::strerror(err));
   }
 }
 

@@ -80,6 +80,45 @@ TEST(Manifest, LatestLineWinsAndTornLinesAreIgnored) {
   EXPECT_EQ(st.latest.count("bbbb"), 0u);
 }
 
+// The next invocation after such a crash: its first line is not glued to the torn one (which
+// swallowed it: both read as one torn line, and the rerun's "running" record was lost).
+TEST(Manifest, AFirstLineAfterATornOneIsKept) {
+  const std::string dir = scratch("manifest_torn");
+  const std::string file = dir + "/manifest/slice_1_of_1.jsonl";
+  fs::create_directories(dir + "/manifest");
+  std::ofstream(file) << "{\"case\":\"33d2\",\"status\":\"run";
+  CaseRecord r;
+  r.case_id = "33d2";
+  r.point_id = "p";
+  r.status = "running";
+  r.attempt = 1;
+  r.t = 20;
+  {
+    ManifestWriter w(file);
+    w.append(r);
+  }
+  const ManifestState st = read_manifests(dir);
+  EXPECT_EQ(st.torn_lines, 1);
+  ASSERT_EQ(st.latest.count("33d2"), 1u);
+  EXPECT_EQ(st.latest.at("33d2").status, "running");
+  // A file that ends in its newline is left as it is: no empty line added.
+  {
+    ManifestWriter w(file);
+    r.status = "done";
+    r.t = 21;
+    w.append(r);
+  }
+  std::ifstream in(file);
+  std::string line;
+  int lines = 0;
+  while (std::getline(in, line)) {
+    EXPECT_FALSE(line.empty());
+    ++lines;
+  }
+  EXPECT_EQ(lines, 3);
+  EXPECT_EQ(read_manifests(dir).latest.at("33d2").status, "done");
+}
+
 TEST(Manifest, ASliceCannotRunTwiceAtOnce) {
   const std::string dir = scratch("manifest_lock");
   ManifestWriter first(dir + "/m.jsonl");
