@@ -11,7 +11,7 @@
 
 namespace tumble {
 namespace {
-enum Kind : int { kFine = 0, kInput = 1, kCorrupt = 2, kOther = 3 };
+enum Kind : int { kFine = 0, kInput = 1, kCorrupt = 2, kOther = 3, kRun = 4 };
 
 // The kind and message of the exception being handled (called in a catch block).
 Kind caught(std::string& message) {
@@ -23,6 +23,9 @@ Kind caught(std::string& message) {
   } catch (const InputError& e) {
     message = e.what();
     return kInput;
+  } catch (const RunError& e) {  // (a campaign retries a case that failed so)
+    message = e.what();
+    return kRun;
   } catch (const std::exception& e) {
     message = e.what();
     return kOther;
@@ -35,6 +38,7 @@ Kind caught(std::string& message) {
 [[noreturn]] void throw_kind(int kind, const std::string& message) {
   if (kind == kCorrupt) throw CorruptInputError(message);
   if (kind == kInput) throw InputError(message);
+  if (kind == kRun) throw RunError(message);
   throw std::runtime_error(message);
 }
 
@@ -92,6 +96,11 @@ void agreed_input(MPI_Comm comm, const std::function<void()>& check) {
 
 void on_rank_0_agreed(MPI_Comm comm, const std::function<void()>& work,
                       const std::function<void()>& meet) {
+  if (size_of(comm) == 1) {  // (a serial run, MPI_COMM_NULL among them: nothing to agree)
+    work();
+    if (meet) meet();
+    return;
+  }
   int kind = kFine;
   std::string message;
   if (rank_in(comm) == 0) {

@@ -28,9 +28,10 @@ void thrown_together(MPI_Comm comm, const std::function<void()>& work);
 // Runs `work` on rank 0 of `comm` alone (it must make no MPI call on `comm`), then `meet` on
 // every rank (the others at once: a barrier that sleeps while rank 0 works, or nothing), then
 // throws on every rank the error `work` threw, with its type (CorruptInputError, InputError,
-// else std::runtime_error), said by rank 0 alone. For work only rank 0 does (a campaign's plan,
-// its statistics): thrown on rank 0 alone, the others waited for ever for it in their next
-// collective call.
+// RunError, else std::runtime_error), said by rank 0 alone. For work only rank 0 does (a
+// campaign's plan, its statistics, the cached β a case's group reads): thrown on rank 0 alone,
+// the others waited for ever for it in their next collective call. One rank (MPI_COMM_NULL
+// among them): `work`, then `meet`, as they are.
 void on_rank_0_agreed(MPI_Comm comm, const std::function<void()>& work,
                       const std::function<void()>& meet = {});
 

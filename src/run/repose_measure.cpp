@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "analysis/flow_profile.hpp"
+#include "base/agreed_input.hpp"
 #include "base/comm.hpp"
 #include "base/error.hpp"
 #include "base/hash.hpp"
@@ -240,11 +241,12 @@ void write_cached_repose(const std::string& path, const Scene& scene, const Repo
 Scene with_repose_resolved(const Scene& scene, const std::string& checkpoint, std::ostream* log,
                            MPI_Comm comm, const std::function<void()>& between_blocks) {
   if (!scene.repose_pending()) return scene;
-  const bool lead = rank_in(comm) == 0;
   const std::string cache = repose_cache_path(scene);
   double deg = std::nan("");
   std::string source;
-  if (lead) {  // rank 0 reads the files for all
+  // Rank 0 reads the files for all, and its error (a damaged cache) is every rank's: thrown on
+  // rank 0 alone, it left the others of a campaign's group in the broadcast below for ever.
+  on_rank_0_agreed(comm, [&] {
     if (!checkpoint.empty()) {
       deg = repose_of_checkpoint(checkpoint);
       source = "from the checkpoint " + checkpoint;
@@ -253,7 +255,7 @@ Scene with_repose_resolved(const Scene& scene, const std::string& checkpoint, st
       deg = cached_repose(cache, repose_key(scene));
       source = "cached in " + cache;
     }
-  }
+  });
   if (size_of(comm) > 1) MPI_Bcast(&deg, 1, MPI_DOUBLE, 0, comm);
   if (std::isfinite(deg)) {
     if (log)
@@ -265,12 +267,13 @@ Scene with_repose_resolved(const Scene& scene, const std::string& checkpoint, st
         scene, [&] { return settled_bed(scene, log, nullptr, comm, between_blocks); }, turn, log,
         comm, between_blocks);
     deg = m.mean_deg;
-    if (lead) {
+    // (Its end is the barrier the others wait at until the cache is written; a full disk is
+    // every rank's error.)
+    on_rank_0_agreed(comm, [&] {
       write_cached_repose(cache, scene, m);
       fs::remove(turn);  // (none if the turn was never kept)
       if (log) *log << "[repose] saved in " << cache << std::endl;
-    }
-    if (size_of(comm) > 1) MPI_Barrier(comm);
+    });
   }
   Scene resolved = scene;
   set_measured_repose(resolved, deg);

@@ -145,12 +145,14 @@ Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_C
   }
   if (reused) *reused = false;
   bed = fill_and_settle(scene, log, comm, between_blocks);
-  if (rank_in(comm) == 0) {
+  // Rank 0 writes it for all; its error (a full disk) is every rank's: thrown on rank 0 alone,
+  // the others of a campaign's group waited for it for ever. Its end is the barrier that keeps
+  // the others until the file is there.
+  on_rank_0_agreed(comm, [&] {
     fs::create_directories(scene.bed_cache);
     io::write_bed(cached, bed, scene);
     if (log) *log << "[fill] saved settled bed to " << cached << "\n";
-  }
-  if (size_of(comm) > 1) MPI_Barrier(comm);
+  });
   return bed;
 }
 

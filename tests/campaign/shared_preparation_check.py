@@ -6,10 +6,18 @@ dynamic 0 and rigid 0 first. Before, both settled replica 0's bed and measured i
 side (every bed and beta made twice, hours each on a paper-scale bed). Checks: the case logs show
 each replica's bed settled and saved once and its beta measured and saved once (2 of each, not
 3 or 4), the campaign log shows a case started ahead of one that waits for another's
-preparation, and all four cases end done."""
+preparation, and all four cases end done.
+
+Then the same campaign in groups of 2 ranks from a copy of that bed cache whose cached betas are
+damaged (cut to 100 bytes): the group's leader reads the cache for the group and fails each case
+("cannot be opened"); every case ends failed and the campaign exits 4 within 60 s. Before, the
+leader's error was its own: the other rank of the group waited for its beta for ever (a hang)."""
 import glob
 import os
+import re
 import shutil
+import signal
+import subprocess
 
 import campaign_checks as cc
 
@@ -41,3 +49,42 @@ ahead = [l for l in run.stdout.splitlines() if "which waits for the settled bed 
 if not ahead:
     cc.fail("no start line says a case went ahead of one waiting for another's preparation")
 print("OK: 2 beds and 2 betas for 4 cases; %s" % ahead[0])
+
+# A damaged beta cache under groups of 2 ranks.
+damaged, out2 = "beds_damaged_beta", "ci_damaged_beta"
+shutil.rmtree(damaged, ignore_errors=True)
+shutil.rmtree(out2, ignore_errors=True)
+shutil.copytree("beds_shared_preparation", damaged)
+cut = glob.glob(os.path.join(damaged, "repose_*.h5"))
+if len(cut) != 2:
+    cc.fail("want the 2 cached betas to damage, found %s" % cut)
+for f in cut:
+    os.truncate(f, 100)
+with open(a.campaign) as fh:
+    toml = fh.read()
+scene = os.path.abspath(os.path.join(os.path.dirname(a.campaign), "../../scenes/bst_tiny.toml"))
+toml = re.sub(r'(?m)^scene = .*$', 'scene = "%s"' % scene, toml)
+toml = re.sub(r'(?m)^bed_cache = .*$', 'bed_cache = "%s"' % damaged, toml)
+toml = re.sub(r'(?m)^output_dir = .*$', 'output_dir = "%s"' % out2, toml)
+with open("damaged_beta.toml", "w") as fh:
+    fh.write(toml)
+cmd = cc.mpiexec_command(a.mpiexec, a.np_flag, 2) + [a.tumble, "campaign", "damaged_beta.toml",
+                                                      "--ranks-per-case", "2", "--quiet"]
+print(" ".join(cmd), flush=True)
+p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                     start_new_session=True)
+try:
+    text, _ = p.communicate(timeout=60)
+except subprocess.TimeoutExpired:
+    os.killpg(p.pid, signal.SIGKILL)
+    p.communicate()
+    cc.fail("the campaign with damaged cached betas in groups of 2 did not end within 60 s (the "
+            "group's other rank waits for its leader's beta)")
+print(text)
+_, latest = cc.manifest(out2)
+failed = [r for r in latest.values() if r["status"] == "failed" and "cannot be opened" in
+          r.get("diagnostic", "")]
+if p.returncode != 4 or len(failed) != 4:
+    cc.fail("damaged cached betas: exit %d (want 4), %d of 4 cases failed naming the file"
+            % (p.returncode, len(failed)))
+print("OK: damaged cached betas in groups of 2: every case failed naming the file, exit 4, no hang")
