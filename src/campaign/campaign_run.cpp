@@ -9,6 +9,7 @@
 #include <iostream>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "base/agreed_input.hpp"
 #include "base/error.hpp"
@@ -59,6 +60,20 @@ int parse_ranks_per_case(const std::string& text) {
     throw InputError("campaign error: --ranks-per-case '" + text +
                      "' must be an integer from 1 to 1000000 (ranks per case)");
   return static_cast<int>(k);
+}
+
+std::set<std::string> case_table_ids(const std::string& dir) {
+  std::set<std::string> ids;
+  std::ifstream in(dir + "/cases.tsv");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    std::string index, id;
+    fields >> index >> id;
+    ids.insert(id);
+  }
+  return ids;
 }
 
 std::string partial_path(const std::string& dir, int i, int n) {
@@ -311,30 +326,43 @@ void report_halt(const ScheduleStats& stats, const std::string& manifest, std::o
   out << std::flush;
 }
 
+// The cases of DIR/cases.tsv that `e` does not have: their count and one of them.
+std::pair<int, std::string> foreign_cases(const std::string& dir, const Expansion& e) {
+  std::set<std::string> ids;
+  for (const Case& c : e.cases) ids.insert(c.id);
+  int foreign = 0;
+  std::string example;
+  for (const std::string& id : case_table_ids(dir))
+    if (!ids.count(id) && ++foreign == 1) example = id;
+  return {foreign, example};
+}
+
 // Refuses to run into a directory that holds another campaign: one whose case table lists cases
 // this campaign does not have (their results would silently leave the ensemble). A campaign that
 // grew (a sweep added) keeps every old case and is let in.
 void check_same_campaign(const std::string& dir, const Expansion& e, const std::string& file) {
-  std::ifstream in(dir + "/cases.tsv");
-  if (!in) return;
-  std::set<std::string> ids;
-  for (const Case& c : e.cases) ids.insert(c.id);
-  std::string line, example;
-  int foreign = 0, total = 0;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream fields(line);
-    std::string index, id;
-    fields >> index >> id;
-    ++total;
-    if (!ids.count(id) && ++foreign == 1) example = id;
-  }
+  const auto [foreign, example] = foreign_cases(dir, e);
   if (foreign == 0) return;
-  throw InputError("campaign error: '" + dir + "' holds another campaign: " +
-                   std::to_string(foreign) + " of its " + std::to_string(total) + " cases (e.g. " +
-                   example + ") are not cases of " + file +
+  throw InputError("campaign error: '" + dir +
+                   "' holds another campaign: " + std::to_string(foreign) + " of its " +
+                   std::to_string(case_table_ids(dir).size()) + " cases (e.g. " + example +
+                   ") are not cases of " + file +
                    ", and their results would leave the ensemble; run into another --output, "
                    "or pass --force to replace that campaign's table and statistics");
+}
+
+// --force into a directory that holds another campaign: that campaign's statistics go (its
+// ensemble.h5 and partials; `tumble merge` folded them into this one's), said on `out`.
+void remove_other_statistics(const std::string& dir, const Expansion& e, std::ostream& out) {
+  if (foreign_cases(dir, e).first == 0) return;
+  int removed = 0;
+  if (fs::remove(dir + "/ensemble.h5")) ++removed;
+  if (fs::is_directory(dir + "/partials"))
+    for (const auto& entry : fs::directory_iterator(dir + "/partials"))
+      if (entry.path().extension() == ".h5" && fs::remove(entry.path())) ++removed;
+  if (removed > 0)
+    out << "[campaign] --force: removed the other campaign's statistics (" << removed << " file"
+        << (removed == 1 ? "" : "s") << ": ensemble.h5, partials/)" << std::endl;
 }
 
 // Refuses a campaign in which any case's scene is invalid (e.g. a swept time step above the
@@ -502,7 +530,10 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
     } else {
       fs::create_directories(dir + "/partials");
       dir_lock = std::make_unique<DirectoryLock>(dir, opt.slice_n);
-      if (!opt.force) check_same_campaign(dir, e, opt.file);
+      if (!opt.force)
+        check_same_campaign(dir, e, opt.file);
+      else
+        remove_other_statistics(dir, e, out);
       manifest =
           std::make_unique<ManifestWriter>(dir + "/manifest/slice_" + std::to_string(opt.slice_i) +
                                            "_of_" + std::to_string(opt.slice_n) + ".jsonl");

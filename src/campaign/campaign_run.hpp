@@ -4,6 +4,7 @@
 #include <mpi.h>
 
 #include <iosfwd>
+#include <set>
 #include <string>
 
 namespace tumble::campaign {
@@ -33,5 +34,7 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out);
 // Partial results of slice i of n live in DIR/partials/slice_I_of_N.h5; the whole campaign's
 // statistics in DIR/ensemble.h5.
 std::string partial_path(const std::string& dir, int i, int n);
+// The case ids of DIR/cases.tsv, the table of the campaign that runs there (none: empty).
+std::set<std::string> case_table_ids(const std::string& dir);
 
 }  // namespace tumble::campaign

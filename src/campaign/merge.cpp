@@ -4,6 +4,9 @@
 #include <map>
 #include <ostream>
 #include <regex>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "base/error.hpp"
 #include "base/version.hpp"
@@ -14,6 +17,28 @@
 
 namespace tumble::campaign {
 namespace fs = std::filesystem;
+
+namespace {
+// A partial holding a case that the directory's case table does not list is another campaign's
+// (left by a run with --force, or copied in): folded in, its points would enter this campaign's
+// ensemble and the merge call it complete. Refused, named.
+void check_cases_listed(const Ensemble& part, const std::string& file,
+                        const std::set<std::string>& table, const std::string& dir) {
+  if (table.empty()) return;  // (no case table: a campaign directory from before it)
+  for (const auto& [pid, p] : part.points) {
+    std::vector<std::string> ids = p.members;
+    ids.insert(ids.end(), p.missing.begin(), p.missing.end());
+    for (const std::string& f : p.failed) ids.push_back(f.substr(0, f.find(':')));
+    for (const std::string& id : ids)
+      if (!table.count(id))
+        throw InputError("merge: " + file + " holds case " + id + " (point " + pid + "), which " +
+                         dir +
+                         "/cases.tsv does not list: it is another campaign's partial result "
+                         "(left by a run with --force, or copied in); remove it, or rerun its "
+                         "slice");
+  }
+}
+}  // namespace
 
 int merge_campaign(const std::string& dir, int slices, std::ostream& out) {
   const fs::path pdir = fs::path(dir) / "partials";
@@ -44,6 +69,7 @@ int merge_campaign(const std::string& dir, int slices, std::ostream& out) {
                      pdir.string());
   const auto& files = found.at(slices);
 
+  const std::set<std::string> table = case_table_ids(dir);
   PetscScope petsc;
   Ensemble total;
   std::string sources, missing_slices, campaign;
@@ -54,6 +80,7 @@ int merge_campaign(const std::string& dir, int slices, std::ostream& out) {
       continue;
     }
     const Ensemble part = Ensemble::read(it->second);
+    check_cases_listed(part, it->second, table, dir);
     total.merge(part);
     sources += (sources.empty() ? "" : ",") + fs::path(it->second).filename().string();
     io::H5File f(it->second, io::H5File::Mode::Read);

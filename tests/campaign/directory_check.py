@@ -6,7 +6,9 @@ holds one campaign.
    (exit 2, "another slicing"), as is a second whole run (exit 2, "already running"), and
    `--status` names the running process (not after it is killed); the first run is then killed.
 2. Another campaign (groups_campaign.toml) into that directory is refused (exit 2, "holds another
-   campaign") without touching its campaign.toml; with --force it runs (exit 0)."""
+   campaign") without touching its campaign.toml; with --force it runs (exit 0) and removes the
+   other campaign's statistics (a partial result put there; before, `tumble merge` folded it in).
+3. `tumble merge` refuses a partial holding cases that cases.tsv does not list (exit 2, named)."""
 import argparse
 import os
 import shutil
@@ -81,9 +83,25 @@ if r.returncode != 2 or "holds another campaign" not in r.stderr:
     cc.fail("another campaign into the directory: exit %d, %s" % (r.returncode, r.stderr))
 if open(os.path.join(out, "campaign.toml")).read() != before:
     cc.fail("the refused campaign replaced campaign.toml")
+# The first campaign's statistics (here: the CI campaign's, standing in for them) must not
+# survive --force: `tumble merge` folded them into the new campaign's ensemble.
+ci_partial = os.path.join("ci_full", "partials", "slice_1_of_1.h5")
+stale = os.path.join(out, "partials", "slice_1_of_3.h5")
+os.makedirs(os.path.dirname(stale), exist_ok=True)
+shutil.copyfile(ci_partial, stale)
 r = subprocess.run([a.tumble, "campaign", a.other_campaign, "--output", out, "--force"],
                    capture_output=True, text=True, timeout=120)
 if r.returncode != 0:
     cc.fail("with --force: exit %d, %s" % (r.returncode, r.stderr))
+if os.path.exists(stale) or "removed the other campaign's statistics" not in r.stdout:
+    cc.fail("--force left the other campaign's partial result, or did not say it removed it")
+# A partial of another campaign copied in is refused by merge, named.
+foreign = os.path.join(out, "partials", "slice_1_of_2.h5")
+shutil.copyfile(ci_partial, foreign)
+r = subprocess.run([a.tumble, "merge", out, "--slices", "2"], capture_output=True, text=True,
+                   timeout=60)
+if r.returncode != 2 or "does not list" not in r.stderr or "slice_1_of_2.h5" not in r.stderr:
+    cc.fail("merge of another campaign's partial: exit %d (want 2), %s" % (r.returncode, r.stderr))
 print("OK: another slicing and a second run refused while the campaign ran; another campaign "
-      "refused without --force, run with it")
+      "refused without --force, run with it, the other's statistics removed; merge refuses "
+      "another campaign's partial")
