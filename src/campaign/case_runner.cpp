@@ -1,6 +1,7 @@
 #include "campaign/case_runner.hpp"
 
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -22,6 +23,7 @@
 #include "run/repose_measure.hpp"
 #include "run/run_state.hpp"
 #include "run/time_limit_observer.hpp"
+#include "scene/scene.hpp"
 
 namespace tumble::campaign {
 namespace fs = std::filesystem;
@@ -100,6 +102,21 @@ std::string fields_path(const std::string& dir, const std::string& id) {
   return case_dir(dir, id) + "/fields.h5";
 }
 
+namespace {
+// The bed seed of the run checkpoint in a case directory (its scene's fill.seed); 0 where there
+// is none or it does not read (the run's own resume then decides, and says why).
+std::int64_t checkpoint_seed(const std::string& dir) {
+  const std::string path = dir + "/checkpoint.h5";
+  try {
+    if (!fs::exists(path)) return 0;
+    io::H5File f(path, io::H5File::Mode::Read);
+    return parse_scene(f.attr_string("/", "scene"), {}, "checkpoint " + path).seed;
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+}  // namespace
+
 CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
   const CampaignSpec& spec = *ctx.spec;
   const Case& c = ctx.expansion->cases.at(task.case_index);
@@ -121,12 +138,21 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
   std::ofstream log;  // the group's rank 0 only
   try {
     on_leader(group, [&] {
-      if (task.fresh) fs::remove_all(dir);
+      // A checkpoint of another seed is an earlier attempt's (retry_seed = "new": a retry
+      // handed out, then stopped or killed before it began, is rerun as the same attempt, and
+      // went on from the failed attempt's checkpoint under the new seed's name).
+      const std::int64_t kept = checkpoint_seed(dir);
+      const bool other_seed = !task.fresh && kept != 0 && kept != task.seed;
+      if (task.fresh || other_seed) fs::remove_all(dir);
       fs::create_directories(dir);
       log.open(dir + "/log.txt", std::ios::app);
       log << "[case] " << c.id << " (" << c.params_text << ", replica " << c.replica << ") attempt "
           << task.attempt << ", seed " << task.seed << ", on " << ranks << " rank"
           << (ranks > 1 ? "s" : "") << ", started " << out.start << std::endl;
+      if (other_seed)
+        log << "[case] the checkpoint there was of seed " << kept
+            << " (an earlier attempt's): removed with its files; this attempt starts afresh"
+            << std::endl;
     });
     if (!c.scene_error.empty()) throw InputError(c.scene_error);
     if (lead && ctx.progress) ctx.progress({task.case_index, task.attempt, true});  // bed, β
