@@ -145,6 +145,15 @@ std::vector<CaseState> classify(const CampaignSpec& spec, const Expansion& e,
   return out;
 }
 
+// The cases of the slice still to run (or to retry under the policy), from the files.
+std::size_t cases_left(const CampaignSpec& spec, const Expansion& e, const std::string& dir,
+                       const std::vector<std::size_t>& slice) {
+  std::size_t n = 0;
+  for (const CaseState& s : classify(spec, e, dir, slice, false, nullptr))
+    n += s.state == State::Pending;
+  return n;
+}
+
 // How far a case's checkpoint is ("checkpoint at step 302049 of 9477915, 3.2%"; "" if it has none
 // or it does not read): the step and the resolved scene (its run length, β included) it holds.
 std::string checkpoint_progress(const std::string& campaign_dir, const Case& c) {
@@ -527,6 +536,14 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
             << "\n";
       }
       status_rc = pending.empty() ? exit_code::kOk : exit_code::kWorkLeft;
+      // Nothing to run, and yet no statistics: an invocation ended by a stop (or killed) after
+      // its last case. The job-array scripts skip a slice whose status is 0, so it would never
+      // be folded, and `tumble merge` would wait for it for ever.
+      if (pending.empty() && !fs::exists(partial_path(dir, opt.slice_i, opt.slice_n))) {
+        out << "  statistics not written (the run that finished the cases was stopped or "
+               "killed before it wrote them): rerun the same command to write them\n";
+        status_rc = exit_code::kWorkLeft;
+      }
     } else {
       fs::create_directories(dir + "/partials");
       dir_lock = std::make_unique<DirectoryLock>(dir, opt.slice_n);
@@ -565,7 +582,8 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   // ensemble.h5 it cannot replace) ends every rank, said once: thrown by rank 0 alone, the others
   // waited for ever for its verdict below.
   // A stop request leaves the statistics to the rerun that finishes the slice: the point of the
-  // signal is to be gone before the batch system's time limit.
+  // signal is to be gone before the batch system's time limit. One that came when no case was
+  // left (the last ones ended at it) does not: nothing would run the slice again.
   int rc = exit_code::kOk;
   on_rank_0_agreed(
       world,
@@ -575,7 +593,7 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
         if (!stats.manifest_error.empty()) {
           report_halt(stats, manifest_file, out);
           rc = exit_code::kRunFailed;
-        } else if (stats.stop_signal != 0) {
+        } else if (stats.stop_signal != 0 && cases_left(spec, e, dir, slice) > 0) {
           out << "[campaign] stopped by " << signal_name(stats.stop_signal) << ": " << stats.stopped
               << " case" << (stats.stopped == 1 ? "" : "s") << " stopped at a checkpoint, ";
           if (stats.stopped_preparing > 0)

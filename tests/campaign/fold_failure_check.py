@@ -7,7 +7,9 @@ waited for ever (the job hung until killed). Now:
    within the timeout on every rank, says "cannot rename" once, and leaves no temporary file;
 2. the directory removed, the same rerun exits 4 (the CI campaign's failed cases) and its
    ensemble.h5 holds the same tables as ci_full's, and partials/slice_1_of_1.h5 the same bytes as
-   its ensemble.h5."""
+   its ensemble.h5;
+3. the statistics removed, --status exits 10 ("statistics not written"), the rerun writes them and
+   --status exits 0."""
 import filecmp
 import glob
 import os
@@ -56,5 +58,23 @@ if r.returncode != 4:
 tables = cc.same_tables(ensemble, os.path.join(a.full, "ensemble.h5"))
 if not filecmp.cmp(ensemble, os.path.join(out, "partials", "slice_1_of_1.h5"), shallow=False):
     cc.fail("partials/slice_1_of_1.h5 is not a copy of ensemble.h5")
+
+# 3. Every case finished but no statistics (an invocation stopped or killed after its last case):
+# --status says so and exits 10 (the job-array scripts skip a slice whose status is 0, so it was
+# never folded); the rerun writes them, and --status is 0 again.
+partial = os.path.join(out, "partials", "slice_1_of_1.h5")
+os.remove(partial)
+os.remove(ensemble)
+status = [a.tumble, "campaign", a.campaign, "--output", out, "--status"]
+r = subprocess.run(status, capture_output=True, text=True, timeout=60)
+if r.returncode != 10 or "statistics not written" not in r.stdout:
+    cc.fail("--status of finished cases without statistics: exit %d (want 10):\n%s"
+            % (r.returncode, r.stdout + r.stderr))
+r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+r2 = subprocess.run(status, capture_output=True, text=True, timeout=60)
+if r.returncode != 4 or not os.path.exists(partial) or r2.returncode != 0:
+    cc.fail("the rerun: exit %d (want 4), partial %s, then --status exit %d (want 0)"
+            % (r.returncode, os.path.exists(partial), r2.returncode))
 print("OK: the fold's error ended both ranks in exit 1, said once, no temporary left; the rerun "
-      "wrote the same %d tables as the uninterrupted campaign" % tables)
+      "wrote the same %d tables as the uninterrupted campaign; finished cases without statistics: "
+      "--status 10, the rerun writes them" % tables)
