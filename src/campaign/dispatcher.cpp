@@ -358,11 +358,17 @@ void Dispatcher::append(const CaseRecord& r) {
   stats_.halted_not_started = static_cast<int>(queue_.size());
   queue_.clear();
   not_before_.clear();
-  const std::size_t n = running_cases().size();
-  line("HALTED: " + stats_.manifest_error + ". No case starts any more; " +
+  const std::size_t n = running_cases().size(), held = running_.size() - n;
+  // (A case held next on a group was handed out already: the group starts it when its running
+  // case ends, and nothing reaches a remote group between its cases but a new assignment.)
+  line("HALTED: " + stats_.manifest_error + ". No case is handed out any more; " +
        (n == 0   ? std::string("none is running")
         : n == 1 ? std::string("the running case goes on to its end")
                  : std::to_string(n) + " running cases go on to their end") +
+       (held == 0   ? std::string()
+        : held == 1 ? std::string(", and the one held next on its group, handed out before, runs")
+                    : ", and the " + std::to_string(held) +
+                          " held next on their groups, handed out before, run") +
        ". The lines not written are kept and written as soon as there is room");
 }
 

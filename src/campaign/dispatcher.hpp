@@ -52,7 +52,8 @@ class Dispatcher {
   void stop(int signal);
   bool stopping() const { return stop_signal_ != 0; }
   // A manifest line that cannot be written (a full disk, a quota) halts the campaign: no case
-  // starts any more, while those running go on to their end (their results are theirs to keep;
+  // is handed out any more, while those running (and one held next on a group: handed out
+  // already) go on to their end (their results are theirs to keep;
   // the scheduler cannot reach a remote group mid-case, and a stop would need a checkpoint
   // written to the same disk). The lines not written wait in order and are tried again before
   // each new one and at each tick, so none is lost if the disk gets room; they keep their time

@@ -355,6 +355,10 @@ void view_table(PetscViewer v, const char* name, const std::vector<double>& valu
   checksums += group + "/" + name + " " + value_digest(values) + "\n";
   Vec x;
   check(VecCreate(PETSC_COMM_SELF, &x), "VecCreate");
+  struct Destroy {  // (also when a check throws: a full disk fails VecView)
+    Vec* x;
+    ~Destroy() { VecDestroy(x); }
+  } destroy{&x};
   check(VecSetSizes(x, static_cast<PetscInt>(values.size()), PETSC_DECIDE), "VecSetSizes");
   check(VecSetBlockSize(x, cols), "VecSetBlockSize");
   check(VecSetType(x, VECSEQ), "VecSetType");
@@ -364,7 +368,6 @@ void view_table(PetscViewer v, const char* name, const std::vector<double>& valu
   check(VecRestoreArray(x, &a), "VecRestoreArray");
   check(PetscObjectSetName(reinterpret_cast<PetscObject>(x), name), "PetscObjectSetName");
   check(VecView(x, v), "VecView");
-  VecDestroy(&x);
 }
 bool is_series(const std::string& field) { return field.rfind("series/", 0) == 0; }
 
