@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <ostream>
 
@@ -156,10 +157,19 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
     });
     if (!c.scene_error.empty()) throw InputError(c.scene_error);
     if (lead && ctx.progress) ctx.progress({task.case_index, task.attempt, true});  // bed, β
+    // The attempt's time limit holds while it settles its bed and measures β too (hours on a
+    // paper-scale bed): checked between blocks of steps, which every rank of the group reaches
+    // together. (Before, an attempt overran its limit by its whole preparation and then failed
+    // at the protocol's first step.)
+    const std::function<void()> between_blocks = [&] {
+      if (ctx.poll) ctx.poll();
+      if (c.time_limit > 0)
+        check_time_limit(t0, c.time_limit, group, "while settling the bed or measuring beta");
+    };
     // β = "measured" is filled in first: the collection plan counts steps per iteration.
     const Scene scene =
         with_repose_resolved(case_scene(spec, c, dir, ctx.bed_cache, task.seed),
-                             dir + "/checkpoint.h5", lead ? &log : nullptr, group, ctx.poll);
+                             dir + "/checkpoint.h5", lead ? &log : nullptr, group, between_blocks);
     const CollectPlan plan = make_collect_plan(spec.collect, scene);
     std::unique_ptr<CaseCollector> collector = make_case_collector(plan, scene, dir);
 
@@ -176,7 +186,8 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
     if (ranks > 1) MPI_Bcast(decision, 2, MPI_LONG_LONG, 0, group);
     out.resumed_from_step = decision[0];
     collector->share(group);
-    if (decision[1]) (void)settled_bed(scene, lead ? &log : nullptr, nullptr, group, ctx.poll);
+    if (decision[1])
+      (void)settled_bed(scene, lead ? &log : nullptr, nullptr, group, between_blocks);
 
     RunOptions ro;
     ro.comm = group;

@@ -3,8 +3,11 @@
 // time_limit), checked every 16 steps, with TimeLimitError so that the manifest can say "time
 // limit" rather than "run". The clock starts when the observer is made (the attempt's start);
 // on a decomposed run rank 0's clock decides for every rank (one broadcast per check).
+#include <mpi.h>
+
 #include <chrono>
 #include <cstdint>
+#include <string>
 
 #include "base/error.hpp"
 #include "run/observer.hpp"
@@ -15,6 +18,12 @@ namespace tumble {
 struct TimeLimitError : RunError {
   using RunError::RunError;
 };
+
+// Throws TimeLimitError if more than `limit_seconds` of wall time have passed since t0, as rank 0
+// of `comm` measures it (collective over comm; MPI_COMM_NULL: this process); `where` ends the
+// message ("at step 1200", "while settling the bed or measuring beta").
+void check_time_limit(std::chrono::steady_clock::time_point t0, double limit_seconds, MPI_Comm comm,
+                      const std::string& where);
 
 class TimeLimitObserver : public Observer {
  public:

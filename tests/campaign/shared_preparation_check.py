@@ -11,7 +11,11 @@ preparation, and all four cases end done.
 Then the same campaign in groups of 2 ranks from a copy of that bed cache whose cached betas are
 damaged (cut to 100 bytes): the group's leader reads the cache for the group and fails each case
 ("cannot be opened"); every case ends failed and the campaign exits 4 within 60 s. Before, the
-leader's error was its own: the other rank of the group waited for its beta for ever (a hang)."""
+leader's error was its own: the other rank of the group waited for its beta for ever (a hang).
+
+Last, from an empty bed cache with a time limit of 2 s per attempt: every case fails on its time
+limit "while settling the bed or measuring beta", each attempt within 6 s. Before, the limit was
+checked from the protocol's first step only: each attempt prepared for ~15 s and then failed."""
 import glob
 import os
 import re
@@ -50,41 +54,65 @@ if not ahead:
     cc.fail("no start line says a case went ahead of one waiting for another's preparation")
 print("OK: 2 beds and 2 betas for 4 cases; %s" % ahead[0])
 
+
+def variant(name, beds, out, extra=""):
+    """shared_preparation.toml with its own bed cache and output (and `extra` campaign keys),
+    written here as NAME.toml; run on 2 ranks in groups of 2, within 60 s (else the test fails:
+    a hang). Returns (exit code, output)."""
+    with open(a.campaign) as fh:
+        toml = fh.read()
+    scene = os.path.abspath(os.path.join(os.path.dirname(a.campaign), "../../scenes/bst_tiny.toml"))
+    toml = re.sub(r'(?m)^scene = .*$', 'scene = "%s"' % scene, toml)
+    toml = re.sub(r'(?m)^bed_cache = .*$', 'bed_cache = "%s"\n%s' % (beds, extra), toml)
+    toml = re.sub(r'(?m)^output_dir = .*$', 'output_dir = "%s"' % out, toml)
+    with open(name + ".toml", "w") as fh:
+        fh.write(toml)
+    shutil.rmtree(out, ignore_errors=True)
+    cmd = cc.mpiexec_command(a.mpiexec, a.np_flag, 2) + [a.tumble, "campaign", name + ".toml",
+                                                          "--ranks-per-case", "2", "--quiet"]
+    print(" ".join(cmd), flush=True)
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                         start_new_session=True)
+    try:
+        text, _ = p.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        p.communicate()
+        cc.fail("%s in groups of 2 did not end within 60 s (the group's other rank waits for its "
+                "leader)" % name)
+    print(text)
+    return p.returncode, text
+
+
 # A damaged beta cache under groups of 2 ranks.
 damaged, out2 = "beds_damaged_beta", "ci_damaged_beta"
 shutil.rmtree(damaged, ignore_errors=True)
-shutil.rmtree(out2, ignore_errors=True)
 shutil.copytree("beds_shared_preparation", damaged)
 cut = glob.glob(os.path.join(damaged, "repose_*.h5"))
 if len(cut) != 2:
     cc.fail("want the 2 cached betas to damage, found %s" % cut)
 for f in cut:
     os.truncate(f, 100)
-with open(a.campaign) as fh:
-    toml = fh.read()
-scene = os.path.abspath(os.path.join(os.path.dirname(a.campaign), "../../scenes/bst_tiny.toml"))
-toml = re.sub(r'(?m)^scene = .*$', 'scene = "%s"' % scene, toml)
-toml = re.sub(r'(?m)^bed_cache = .*$', 'bed_cache = "%s"' % damaged, toml)
-toml = re.sub(r'(?m)^output_dir = .*$', 'output_dir = "%s"' % out2, toml)
-with open("damaged_beta.toml", "w") as fh:
-    fh.write(toml)
-cmd = cc.mpiexec_command(a.mpiexec, a.np_flag, 2) + [a.tumble, "campaign", "damaged_beta.toml",
-                                                      "--ranks-per-case", "2", "--quiet"]
-print(" ".join(cmd), flush=True)
-p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                     start_new_session=True)
-try:
-    text, _ = p.communicate(timeout=60)
-except subprocess.TimeoutExpired:
-    os.killpg(p.pid, signal.SIGKILL)
-    p.communicate()
-    cc.fail("the campaign with damaged cached betas in groups of 2 did not end within 60 s (the "
-            "group's other rank waits for its leader's beta)")
-print(text)
+rc, text = variant("damaged_beta", damaged, out2)
 _, latest = cc.manifest(out2)
 failed = [r for r in latest.values() if r["status"] == "failed" and "cannot be opened" in
           r.get("diagnostic", "")]
-if p.returncode != 4 or len(failed) != 4:
+if rc != 4 or len(failed) != 4:
     cc.fail("damaged cached betas: exit %d (want 4), %d of 4 cases failed naming the file"
-            % (p.returncode, len(failed)))
+            % (rc, len(failed)))
 print("OK: damaged cached betas in groups of 2: every case failed naming the file, exit 4, no hang")
+
+# The time limit holds while a case prepares: an empty bed cache (about 15 s to settle the bed and
+# measure beta) and a limit of 2 s per attempt.
+empty, out3 = "beds_time_limit", "ci_time_limit_preparation"
+shutil.rmtree(empty, ignore_errors=True)
+rc, text = variant("time_limit_preparation", empty, out3, "time_limit = 2\nmax_attempts = 1")
+_, latest = cc.manifest(out3)
+over = [r for r in latest.values() if r["status"] == "failed" and r["failure"] == "time_limit"
+        and "while settling the bed or measuring beta" in r.get("diagnostic", "")]
+slow = [r["wall"] for r in latest.values() if r.get("wall", 0) > 6]
+if rc != 4 or len(over) != 4 or slow:
+    cc.fail("a 2 s limit while preparing: exit %d (want 4), %d of 4 cases failed on it while "
+            "preparing, attempts longer than 6 s: %s" % (rc, len(over), slow))
+print("OK: a 2 s time limit ends each attempt while it prepares (walls %s s)"
+      % ", ".join("%.1f" % r["wall"] for r in latest.values()))
