@@ -33,7 +33,8 @@ if __package__:  # python3 -m postproc.report
     from .report_fates import section_fates
     from .report_page import CHECK_SCRIPT, CSS, Report
     from .report_scalars import BOUNDS, SCALARS, section_convergence, section_scalars
-    from .report_stats import bounded_interval, bh_reject, cell_tests, welch_half_width
+    from .report_stats import (bounded_interval, bh_reject, cell_tests, cut_to_bounds,
+                               welch_half_width)
     from .report_species import named, species_names
 else:  # /usr/bin/python3 postproc/report.py: the script's directory is sys.path[0]
     import report_compare as rc
@@ -45,7 +46,8 @@ else:  # /usr/bin/python3 postproc/report.py: the script's directory is sys.path
     from report_fates import section_fates
     from report_page import CHECK_SCRIPT, CSS, Report
     from report_scalars import BOUNDS, SCALARS, section_convergence, section_scalars
-    from report_stats import bounded_interval, bh_reject, cell_tests, welch_half_width
+    from report_stats import (bounded_interval, bh_reject, cell_tests, cut_to_bounds,
+                              welch_half_width)
     from report_species import named, species_names
 
 MAP_FIELDS = [  # (field, label, unit factor, colour map, physical bounds in the shown unit)
@@ -414,18 +416,28 @@ def section_light(R, pts, map_csv):
         return
     R.h("<h3>Lighter-particle concentration (density-bidisperse points, Yu 2022 Fig. 13)</h3>")
     means = [q["an"]["light_mean"] for q in have]
-    cis = [q["an"]["light_ci95"] for q in have]
+    # analysis.h5 holds Student's half-width h (C++, replica_stats); a share lies in [0, 1], so
+    # the interval [m − h, m + h] is cut there (report_stats.cut_to_bounds) and its width shown,
+    # as the other maps show theirs.
+    cis = []
+    for q in have:
+        m, h = np.asarray(q["an"]["light_mean"], float), np.asarray(q["an"]["light_ci95"], float)
+        lower, upper = cut_to_bounds(m - h, m + h, 0.0, 1.0)
+        cis.append(upper - lower)
     rows = [(q["label"] + f" [{q['an']['attrs'].get('light_source', '')}]", q["p"]["grid_n"],
              q["islands"], [m, c], None) for q, m, c in zip(have, means, cis)]
     for q, m, c in zip(have, means, cis):
         map_csv += cell_rows(q["label"], "light_concentration", "mean", m, q["p"]["grid_n"])
-        map_csv += cell_rows(q["label"], "light_concentration", "ci95", c, q["p"]["grid_n"])
-    rf.map_grid(rows, ["mean", "95% CI half-width"], os.path.join(R.out, "map_light.png"),
-                "lighter-particle concentration", ["cividis", "YlOrBr"],
-                [rf.finite_range(means), rf.finite_range(cis, floor=0.0)],
-                ["c_light", "± c_light"])
+        map_csv += cell_rows(q["label"], "light_concentration", "ci95", q["an"]["light_ci95"],
+                             q["p"]["grid_n"])
+        map_csv += cell_rows(q["label"], "light_concentration", "ci95_width_cut", c,
+                             q["p"]["grid_n"])
+    rf.map_grid(rows, ["mean", "95% CI width (cut at [0, 1])"],
+                os.path.join(R.out, "map_light.png"), "lighter-particle concentration",
+                ["cividis", "YlOrBr"], [rf.finite_range(means), rf.finite_range(cis, floor=0.0)],
+                ["c_light", "CI width"])
     R.fig("map_light.png", "Lighter species' share of the solid volume near the wall, mean and "
-                           "95% CI across replicas.")
+                           "the width of its 95% CI across replicas (Student's, cut at [0, 1]).")
 
 
 def section_series(R, pts):
