@@ -6,8 +6,9 @@
 
 namespace tumble {
 
-// fsync(2) of `path` (best effort: a file that cannot be opened is left as it is; the write
-// itself reported its errors).
+// fsync(2) of `path`; throws RunError naming the file and the system's reason if it cannot be
+// opened or its data do not reach the disk (write-back errors show only here), so that the
+// caller does not rename it into place.
 void sync_to_disk(const std::string& path);
 
 }  // namespace tumble

@@ -208,7 +208,12 @@ void write_text_atomically(const std::string& path, const std::string& text) {
     fs::remove(tmp, ec);
     throw std::runtime_error("cannot write " + tmp + " (is the disk full?)");
   }
-  sync_to_disk(tmp);
+  try {
+    sync_to_disk(tmp);
+  } catch (const std::exception&) {
+    fs::remove(tmp, ec);
+    throw;
+  }
   fs::rename(tmp, path, ec);
   if (ec) {
     fs::remove(tmp, ec);
@@ -222,7 +227,12 @@ void copy_atomically(const std::string& from, const std::string& to) {
   const std::string tmp = to + ".tmp." + std::to_string(::getpid());
   std::error_code ec;
   fs::copy_file(from, tmp, fs::copy_options::overwrite_existing, ec);
-  if (!ec) sync_to_disk(tmp);
+  try {
+    if (!ec) sync_to_disk(tmp);
+  } catch (const std::exception&) {
+    fs::remove(tmp, ec);
+    throw;
+  }
   if (!ec) fs::rename(tmp, to, ec);
   if (ec) {
     std::error_code ignored;

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "base/agreed_input.hpp"
 #include "base/error.hpp"
 #include "base/sync_to_disk.hpp"
 
@@ -532,20 +533,16 @@ void AtomicH5Writer::commit() {
     if (any && failure.empty()) failure = "HDF5: another rank could not write '" + tmp_path_ + "'";
   }
   if (!failure.empty()) throw std::runtime_error(failure);
-  int rank = 0;
-  if (comm_ != MPI_COMM_NULL) {  // every rank has closed (and flushed) before the rename
-    MPI_Barrier(comm_);
-    MPI_Comm_rank(comm_, &rank);
-  }
-  if (rank != 0) {
-    MPI_Barrier(comm_);
-    committed_ = true;
-    return;
-  }
-  sync_to_disk(tmp_path_);
-  const bool renamed = std::rename(tmp_path_.c_str(), final_path_.c_str()) == 0;
-  if (comm_ != MPI_COMM_NULL) MPI_Barrier(comm_);  // the final file exists for everyone after this
-  if (!renamed) throw std::runtime_error("cannot rename " + tmp_path_ + " to " + final_path_);
+  if (comm_ != MPI_COMM_NULL) MPI_Barrier(comm_);  // every rank has closed (and flushed) first
+  // Rank 0 puts the file in place; its error is every rank's, said by rank 0 alone (the final
+  // file exists for everyone after this): thrown on rank 0 alone, the others went on stepping and
+  // rank 0 waited for them in the next collective call, silent, for ever.
+  on_rank_0_agreed(comm_, [&] {
+    sync_to_disk(tmp_path_);
+    if (std::rename(tmp_path_.c_str(), final_path_.c_str()) != 0)
+      throw RunError("cannot rename " + tmp_path_ + " to " + final_path_ + ": " +
+                     std::strerror(errno));
+  });
   committed_ = true;
 }
 

@@ -16,9 +16,16 @@ bool CheckpointObserver::due(const RunState& s, std::int64_t step) const {
   return step % every_ == 0 || step == s.total_steps || step == s.end_step;
 }
 
-void CheckpointObserver::start(RunState& s) { rebuilds_seen_ = s.sim.rebuilds(); }
+void CheckpointObserver::start(RunState& s) {
+  rebuilds_seen_ = s.sim.rebuilds();
+  primed_ = true;
+}
 
 void CheckpointObserver::before_step(RunState& s, std::int64_t next) {
+  if (!primed_) {
+    rebuilds_seen_ = s.sim.rebuilds();
+    primed_ = true;
+  }
   if (due(s, next) || (stop_signal_ != 0 && next - stop_asked_ >= kStopWait))
     s.sim.request_rebuild();
 }

@@ -50,7 +50,13 @@ class CheckpointObserver : public Observer {
   std::int64_t every_;
   double wall_;
   Clock::time_point last_ = Clock::now();
+  // The engine's rebuild count at the last step, taken before this call's first step (a
+  // restart's load builds the list once, and start() runs only at step 0 of a fresh run: taken
+  // there alone, the first step of a resumed call counted as a rebuild, and a stop that came
+  // while the checkpoint loaded wrote one at a step the engine did not rebuild at, which the
+  // next resume could not continue bit for bit).
   std::uint64_t rebuilds_seen_ = 0;
+  bool primed_ = false;
   int stop_signal_ = 0;          // agreed: the run stops at its next rebuild
   std::int64_t stop_asked_ = 0;  // the step at which the ranks agreed
 };

@@ -5,6 +5,7 @@
 #include <ostream>
 #include <string>
 
+#include "base/agreed_input.hpp"
 #include "cm/drift_grid.hpp"
 #include "run/run_state.hpp"
 
@@ -26,15 +27,18 @@ void DriftObserver::after_step(RunState& s) {
 }
 
 void DriftObserver::finish(RunState& s) {
-  if (!s.lead()) return;
-  const Scene& scene = s.scene;
-  const std::string path = scene.output_dir + "/drift_grid.h5";
-  const cm::DriftStatistics sums = s.drift.empty() ? meter_.zeros() : s.drift;
-  const auto samples = static_cast<long long>(sums.samples());
-  cm::write_drift_grid(
-      path, meter_.grid(sums, "DEM scene " + scene.name + ", seed " + std::to_string(scene.seed) +
-                                  ", " + std::to_string(samples) + " samples"));
-  if (s.log) *s.log << "[run] drift grid (" << samples << " samples) in " << path << "\n";
+  // Rank 0 writes the grid; its error (a full disk) is every rank's: thrown on rank 0 alone, the
+  // others waited for it in the run's last collective call.
+  on_rank_0_agreed(s.comm, [&] {
+    const Scene& scene = s.scene;
+    const std::string path = scene.output_dir + "/drift_grid.h5";
+    const cm::DriftStatistics sums = s.drift.empty() ? meter_.zeros() : s.drift;
+    const auto samples = static_cast<long long>(sums.samples());
+    cm::write_drift_grid(
+        path, meter_.grid(sums, "DEM scene " + scene.name + ", seed " + std::to_string(scene.seed) +
+                                    ", " + std::to_string(samples) + " samples"));
+    if (s.log) *s.log << "[run] drift grid (" << samples << " samples) in " << path << "\n";
+  });
 }
 
 }  // namespace tumble

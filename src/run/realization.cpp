@@ -47,7 +47,9 @@ geometry::Protocol protocol_of(const Scene& scene) {
 // Steps between two events `interval` simulated seconds apart (0: once per `fallback`).
 std::int64_t steps_for(double interval, double dt, double fallback) {
   const double t = interval > 0 ? interval : fallback;
-  return std::max<std::int64_t>(1, std::llround(t / dt));
+  // (Clamped before rounding: an interval of 1e9 s at dt = 1e-12 s, "never", overflowed llround
+  // to LLONG_MIN, and max(1, ...) made it every step.)
+  return std::max<std::int64_t>(1, std::llround(std::min(t / dt, 1e18)));
 }
 
 // Keys that must agree between a checkpoint and the scene it is restarted with (physics and bed);
@@ -224,8 +226,9 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
   std::ostream* log = lead ? opt.log : nullptr;
   RunResult res;
   res.output_dir = given.output_dir;
-  if (lead) fs::create_directories(given.output_dir);
-  if (comm != MPI_COMM_NULL) MPI_Barrier(comm);
+  // Rank 0 makes the folder for all; its error (a parent that is a file, no permission) is every
+  // rank's: thrown on rank 0 alone, the others waited at the barrier this replaces for ever.
+  on_rank_0_agreed(comm, [&] { fs::create_directories(given.output_dir); });
   const std::string ckpt_path = given.output_dir + "/checkpoint.h5";
 
   const std::string restart = restart_path(opt, ckpt_path, comm);

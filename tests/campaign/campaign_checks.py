@@ -8,6 +8,7 @@ import json
 import math
 import os
 import re
+import signal
 import subprocess
 import sys
 
@@ -255,6 +256,23 @@ def mpiexec_command(mpiexec, np_flag, n):
     if "Open MPI" in out or "OpenRTE" in out:
         cmd.append("--oversubscribe")  # a CI machine may have fewer cores than ranks
     return cmd
+
+
+def run_or_fail_on_hang(cmd, timeout, hang, env=None):
+    """Runs `cmd` (printed) in a session of its own, so that a job that hangs is killed with all
+    its ranks; fails the test with `hang` if it has not ended within `timeout` s. Returns (exit
+    code, stdout and stderr together), the output printed."""
+    print(" ".join(cmd), flush=True)
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                         env=env, start_new_session=True)
+    try:
+        text, _ = p.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        p.communicate()
+        fail("no end within %d s: %s" % (timeout, hang))
+    print(text)
+    return p.returncode, text
 
 
 def run_campaign_or_fail(mpiexec, np_flag, n, tumble, campaign):

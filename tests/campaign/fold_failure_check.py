@@ -14,7 +14,6 @@ import filecmp
 import glob
 import os
 import shutil
-import signal
 import subprocess
 
 import campaign_checks as cc
@@ -31,22 +30,12 @@ os.remove(ensemble)
 os.makedirs(os.path.join(ensemble, "in_the_way"))
 cmd = cc.mpiexec_command(a.mpiexec, a.np_flag, 2) + [a.tumble, "campaign", a.campaign, "--output",
                                                       out, "--quiet"]
-print(" ".join(cmd), flush=True)
-# In a session of its own, so that a hung job is killed with all its ranks.
-p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                     start_new_session=True)
-try:
-    text, _ = p.communicate(timeout=60)
-except subprocess.TimeoutExpired:
-    os.killpg(p.pid, signal.SIGKILL)
-    p.communicate()
-    cc.fail("the campaign whose statistics cannot be written did not end within 60 s (a rank "
-            "waits for rank 0, which has left)")
-print(text)
+rc, text = cc.run_or_fail_on_hang(cmd, 60, "the campaign whose statistics cannot be written (a "
+                                  "rank waits for rank 0, which has left)")
 said = text.count("cannot rename")
-if p.returncode != 1 or said != 1:
+if rc != 1 or said != 1:
     cc.fail("statistics that cannot be written: exit %d (want 1), said %d times (want once)"
-            % (p.returncode, said))
+            % (rc, said))
 left = glob.glob(os.path.join(out, "*.tmp.*")) + glob.glob(os.path.join(out, "*", "*.tmp.*"))
 if left:
     cc.fail("temporary files left behind: %s" % left)

@@ -17,8 +17,6 @@ import json
 import os
 import re
 import shutil
-import signal
-import subprocess
 
 import campaign_checks as cc
 
@@ -36,18 +34,8 @@ def run(out, hook):
     env.pop("TUMBLE_TEST_MANIFEST_FULL", None)
     if hook:
         env["TUMBLE_TEST_MANIFEST_FULL"] = hook
-    print("TUMBLE_TEST_MANIFEST_FULL=%s %s" % (hook, " ".join(cmd)), flush=True)
-    # In a session of its own, so that a hung job is killed with all its ranks.
-    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                         env=env, start_new_session=True)
-    try:
-        text, _ = p.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        os.killpg(p.pid, signal.SIGKILL)
-        p.communicate()
-        cc.fail("the campaign with hook %s did not end within 60 s" % hook)
-    print(text)
-    return p.returncode, text
+    print("TUMBLE_TEST_MANIFEST_FULL=%s" % hook)
+    return cc.run_or_fail_on_hang(cmd, 60, "the campaign with hook %s" % hook, env)
 
 
 def manifest_lines(out):

@@ -20,8 +20,6 @@ import glob
 import os
 import re
 import shutil
-import signal
-import subprocess
 
 import campaign_checks as cc
 
@@ -70,18 +68,8 @@ def variant(name, beds, out, extra=""):
     shutil.rmtree(out, ignore_errors=True)
     cmd = cc.mpiexec_command(a.mpiexec, a.np_flag, 2) + [a.tumble, "campaign", name + ".toml",
                                                           "--ranks-per-case", "2", "--quiet"]
-    print(" ".join(cmd), flush=True)
-    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                         start_new_session=True)
-    try:
-        text, _ = p.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        os.killpg(p.pid, signal.SIGKILL)
-        p.communicate()
-        cc.fail("%s in groups of 2 did not end within 60 s (the group's other rank waits for its "
-                "leader)" % name)
-    print(text)
-    return p.returncode, text
+    return cc.run_or_fail_on_hang(cmd, 60, "%s in groups of 2 (the group's other rank waits "
+                                  "for its leader)" % name)
 
 
 # A damaged beta cache under groups of 2 ranks.

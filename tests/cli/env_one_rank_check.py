@@ -21,6 +21,9 @@ both ranks, is said once (before: once per rank). `tumble campaign` likewise for
 campaign file rank 1 cannot read (before: rank 1's message was lost, and rank 0 began the
 campaign and waited for rank 1 for ever).
 
+Files rank 0 writes for all: a checkpoint it cannot rename into place, an output folder under a
+file, a drift grid it cannot rename end both ranks, exit 1, said once (before: each a hang).
+
 usage: env_one_rank_check.py TUMBLE MPIEXEC SCENE CAMPAIGN WORKDIR
 """
 import os
@@ -80,6 +83,28 @@ checks += [
      [tumble] + run + ["--set", "fill.bed_file=" + damaged], "the file is damaged", 2),
     ("bad ckpt", [tumble] + run + ["--restart", damaged], [tumble] + run + ["--restart", damaged],
      "the file is damaged", 3),
+]
+# Files rank 0 writes for all: its error is every rank's, said once, exit 1. A checkpoint that
+# cannot be renamed into place (a directory in the way; before: rank 1 stepped on while rank 0,
+# its error unsaid, waited for it for ever), an output folder under a file (before: rank 1 waited
+# at the barrier for ever), a drift grid that cannot be renamed (before: a hang at the run's end).
+blocked, blocked_drift = os.path.join(work, "blocked"), os.path.join(work, "blocked_drift")
+os.makedirs(os.path.join(blocked, "checkpoint.h5", "in_the_way"), exist_ok=True)
+os.makedirs(os.path.join(blocked_drift, "drift_grid.h5", "in_the_way"), exist_ok=True)
+a_file = os.path.join(work, "a_file")
+open(a_file, "w").close()
+own_bed = ["--set", "fill.bed_cache=" + cached]
+to = ["--set", "scene.output_dir=" + blocked]
+checks += [
+    ("ckpt dir", [tumble] + run + own_bed + to, [tumble] + run + own_bed + to, "cannot rename", 1),
+    ("out file", [tumble] + run + own_bed + ["--set", "scene.output_dir=" + a_file + "/sub"],
+     [tumble] + run + own_bed + ["--set", "scene.output_dir=" + a_file + "/sub"],
+     "cannot create directories", 1),
+    ("drift", [tumble] + run + own_bed + ["--set", "scene.output_dir=" + blocked_drift,
+                                           "--set", "output.drift_grid=on"],
+     [tumble] + run + own_bed + ["--set", "scene.output_dir=" + blocked_drift,
+                                  "--set", "output.drift_grid=on"],
+     "drift_grid.h5: Is a directory", 1),
 ]
 for name, first, second, said, want_rc in checks:
     cmd = [mpiexec, "-n", "1"] + first + [":", "-n", "1"] + second
