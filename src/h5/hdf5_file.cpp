@@ -14,6 +14,24 @@
 
 namespace tumble::io {
 namespace {
+// An HDF5 handle closed when it leaves scope, also when a check throws on the way: a dataset
+// left open keeps its file open past H5Fclose (a serial file's weak close degree), and with it a
+// removed temporary's disk space while the process lives, and files_left_open() at exit.
+class Handle {
+ public:
+  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  ~Handle() {
+    if (id_ >= 0) close_(id_);
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  operator hid_t() const { return id_; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
 void check(herr_t status, const std::string& what) {
   if (status < 0) throw std::runtime_error("HDF5: " + what + " failed");
 }
@@ -84,9 +102,9 @@ void ensure_parents(hid_t file, const std::string& name) {
     const std::string parent = name.substr(0, pos);
     if (parent.empty() || parent == "/") continue;
     if (H5Lexists(file, parent.c_str(), H5P_DEFAULT) <= 0) {
-      hid_t g = H5Gcreate2(file, parent.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      const Handle g(H5Gcreate2(file, parent.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                     H5Gclose);
       check(g, "create group " + parent);
-      H5Gclose(g);
     }
   }
 }
@@ -150,25 +168,22 @@ void H5File::write_rows_raw(const std::string& name, hid_t type, const void* dat
   ensure_parents(file_, name);
   const int nd = cols > 0 ? 2 : 1;
   const hsize_t dims[2] = {total, cols}, start[2] = {before, 0}, count[2] = {rows, cols};
-  hid_t space = H5Screate_simple(nd, dims, nullptr);
+  const Handle space(H5Screate_simple(nd, dims, nullptr), H5Sclose);
   const hid_t dcpl = checksummed_dcpl(type, std::vector<hsize_t>(dims, dims + nd));
-  hid_t set = H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  const Handle set(H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT),
+                   H5Dclose);
   close_dcpl(dcpl);
   check_in(path_, set, "create dataset " + name);
-  hid_t mem = H5Screate_simple(nd, count, nullptr);
+  const Handle mem(H5Screate_simple(nd, count, nullptr), H5Sclose);
   if (rows > 0)
     H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr);
   else {
     H5Sselect_none(space);
     H5Sselect_none(mem);
   }
-  hid_t xfer = H5Pcreate(H5P_DATASET_XFER);
+  const Handle xfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
   if (parallel()) H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE);
   if (total > 0) check_in(path_, H5Dwrite(set, type, mem, space, xfer, data), "write " + name);
-  H5Pclose(xfer);
-  H5Sclose(mem);
-  H5Dclose(set);
-  H5Sclose(space);
 }
 
 void H5File::write_rows(const std::string& name, const std::vector<double>& d, hsize_t cols) {
@@ -301,29 +316,28 @@ void H5File::write_raw(const std::string& name, hid_t type, const void* data,
   for (auto d : dims) prod *= d;
   if (prod != n) throw std::runtime_error("HDF5: shape does not match data size for " + name);
   ensure_parents(file_, name);
-  hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+  const Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
+                     H5Sclose);
   const hid_t dcpl = checksummed_dcpl(type, dims);
-  hid_t set = H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  const Handle set(H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT),
+                   H5Dclose);
   close_dcpl(dcpl);
   check_in(path_, set, "create dataset " + name);
   if (n > 0) {
     if (parallel()) {  // rank 0's data; the others take part in the collective write with none
-      hid_t mem = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+      const Handle mem(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
+                       H5Sclose);
       if (rank_ != 0) {
         H5Sselect_none(mem);
         H5Sselect_none(space);
       }
-      hid_t xfer = H5Pcreate(H5P_DATASET_XFER);
+      const Handle xfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
       H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE);
       check_in(path_, H5Dwrite(set, type, mem, space, xfer, data), "write " + name);
-      H5Pclose(xfer);
-      H5Sclose(mem);
     } else {
       check_in(path_, H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + name);
     }
   }
-  H5Dclose(set);
-  H5Sclose(space);
 }
 
 void H5File::write(const std::string& name, const std::vector<double>& d,
@@ -394,15 +408,12 @@ hid_t open_obj(hid_t file, const std::string& obj) {
 }
 void write_attr(hid_t file, const std::string& obj, const std::string& name, hid_t type,
                 const void* value) {
-  hid_t o = open_obj(file, obj);
+  const Handle o(open_obj(file, obj), H5Oclose);
   if (H5Aexists(o, name.c_str()) > 0) H5Adelete(o, name.c_str());
-  hid_t space = H5Screate(H5S_SCALAR);
-  hid_t a = H5Acreate2(o, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+  const Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  const Handle a(H5Acreate2(o, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
   check(a, "create attribute " + name);
   check(H5Awrite(a, type, value), "write attribute " + name);
-  H5Aclose(a);
-  H5Sclose(space);
-  H5Oclose(o);
 }
 // An attribute of a file being read: missing or unreadable means the file is not as Tumble wrote
 // it (with the 1.8 format an attribute lives in its object's checksummed header).
@@ -426,10 +437,9 @@ void read_attr(hid_t file, const std::string& path, const std::string& obj, cons
 
 void H5File::set_attr(const std::string& obj, const std::string& name, const std::string& text) {
   const std::string value = shared(text);  // every rank writes the same bytes
-  hid_t type = H5Tcopy(H5T_C_S1);
+  const Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
   H5Tset_size(type, value.size() + 1);
   write_attr(file_, obj, name, type, value.c_str());
-  H5Tclose(type);
 }
 void H5File::set_attr(const std::string& obj, const std::string& name, double value) {
   if (parallel()) MPI_Bcast(&value, 1, MPI_DOUBLE, 0, comm_);
