@@ -34,6 +34,23 @@ TEST(SceneValidation, UnknownKeyIsNamedWithASuggestion) {
   EXPECT_NE(error_of("", {"nosuch.key=1"}).find("nosuch.key"), std::string::npos);
 }
 
+// The scene text every output file carries (a checkpoint's, which a resume reads) holds each
+// text value as given: a quote or a backslash in a path made it unreadable; a newline or a byte
+// that is not UTF-8 cannot be written so, and is refused naming the key.
+TEST(SceneValidation, TextValuesReadBackFromTheSceneText) {
+  const std::string dir = "/tmp/q\"o\\x y";
+  const Scene s = parse_scene("", {"scene.output_dir=" + dir, "scene.name=a\tb"}, "t");
+  const Scene back = parse_scene(scene_to_text(s), {}, "its text");
+  EXPECT_EQ(back.output_dir, dir);
+  EXPECT_EQ(back.name, "a\tb");
+  for (const std::string& bad : {std::string("two\nlines"), std::string("n\xff")}) {
+    const std::string m = error_of("", {"scene.name=" + bad});
+    EXPECT_NE(m.find("'scene.name' must be UTF-8 text without control characters"),
+              std::string::npos)
+        << m;
+  }
+}
+
 TEST(SceneValidation, OutOfRangeValuesNameKeyAndRange) {
   const std::string m = error_of("[contact]\nrestitution = 1.5\n");
   EXPECT_NE(m.find("contact.restitution"), std::string::npos) << m;

@@ -17,6 +17,7 @@
 #include "base/hash.hpp"
 #include "base/stop_request.hpp"
 #include "base/sync_to_disk.hpp"
+#include "base/usable_directory.hpp"
 #include "base/version.hpp"
 #include "campaign/campaign_spec.hpp"
 #include "campaign/case_runner.hpp"
@@ -459,9 +460,14 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
     if (std::error_code ec; fs::exists(out_dir, ec) && !fs::is_directory(out_dir, ec))
       throw InputError("campaign.output_dir (or --output) = '" + out_dir +
                        "' names a file, not a directory");
+    if (const std::string why = cannot_make_directory(out_dir); !why.empty())
+      throw InputError("campaign.output_dir (or --output) = '" + out_dir +
+                       "' cannot be used: " + why);
     const std::string cache = spec.bed_cache.empty() ? out_dir + "/beds" : spec.bed_cache;
     if (std::error_code ec; fs::exists(cache, ec) && !fs::is_directory(cache, ec))
       throw InputError("campaign.bed_cache = '" + cache + "' names a file, not a directory");
+    if (const std::string why = cannot_make_directory(cache); !why.empty())
+      throw InputError("campaign.bed_cache = '" + cache + "' cannot be used: " + why);
     e = expand(spec);
     slice = slice_cases(e, opt.slice_i, opt.slice_n);
     // Every case's scene is valid, or nothing runs (--list and --status show the invalid ones).

@@ -11,6 +11,7 @@
 
 #include "base/error.hpp"
 #include "base/text_util.hpp"
+#include "base/usable_directory.hpp"
 #include "base/vec3.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/fill.hpp"
@@ -147,6 +148,17 @@ std::string range_text(const KeySpec& s) {
   return os.str();
 }
 
+// Whether `text`, written as scene_to_text writes it, reads back as itself.
+bool reads_back(const std::string& text) {
+  try {
+    const toml::table t = toml::parse("k = " + toml_quoted(text));
+    const std::optional<std::string> back = t["k"].value<std::string>();
+    return back && *back == text;
+  } catch (const toml::parse_error&) {
+    return false;
+  }
+}
+
 // Checks every key and value (range, choices) and sets them on a default scene.
 Scene apply_values(const std::map<std::string, Value>& values) {
   Scene s;
@@ -157,6 +169,13 @@ Scene apply_values(const std::map<std::string, Value>& values) {
     if (!spec) unknown_key(key, v.origin);
     const std::string where = "scene error (" + v.origin + "): key '" + key + "'";
     if (spec->type == KeySpec::Text) {
+      // Every text value is written back into the scene text that results, snapshots and
+      // checkpoints carry and a resume reads: it must read back as itself (TOML strings are
+      // UTF-8 without control characters).
+      if (!reads_back(v.text))
+        throw InputError(where +
+                         " must be UTF-8 text without control characters (newlines, "
+                         "escapes): it is written into every output file's scene");
       if (!spec->choices.empty() &&
           std::find(spec->choices.begin(), spec->choices.end(), v.text) == spec->choices.end()) {
         std::string allowed;
@@ -444,6 +463,8 @@ void validate_scene(const Scene& s) {
     if (dir.empty()) fail(key, "must name a directory (it is empty)");
     if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
       fail(key, "= '" + dir + "' names a file, not a directory");
+    const std::string why = cannot_make_directory(dir);
+    if (!why.empty()) fail(key, "= '" + dir + "' cannot be used: " + why);
   }
   if (!s.bed_file.empty()) {
     std::error_code ec;

@@ -65,8 +65,10 @@ void write_member(std::ostream& os, const Scene& s) {
       os << (s.*M).deg;  // given, or measured and filled in: the number the run uses
     else
       os << '"' << ReposeTilt::kWord << '"';
-  } else
-    os << '"' << s.*M << '"';
+  } else if constexpr (std::is_same_v<T, std::string>)
+    os << toml_quoted(s.*M);
+  else
+    os << '"' << s.*M << '"';  // an enum's name
 }
 
 struct OwnKey {
@@ -117,6 +119,15 @@ const std::vector<KeySpec>& scene_schema() {
         keys.insert(keys.end(), law.keys.begin(), law.keys.end());
   }
   return keys;
+}
+
+std::string toml_quoted(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + '"';
 }
 
 std::string default_text(const KeySpec& spec) {

@@ -93,6 +93,7 @@ FIXTURES = {
     "c_zip_pair_twice.toml": "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\n"
         "[sweep]\nzip = true\ntheta_z = [57, 30, 57]\ntheta_x = [57, 57, 57]\n",
     "a_file": "not a directory\n",
+    "name_newline.toml": "[scene]\nname = \"two\\nlines\"\n" + TINY_BODY,
     "not_hdf5.h5": "these bytes are no HDF5 file\n",
     "campaign_dir/": None,
     "no_partials/": None,

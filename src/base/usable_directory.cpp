@@ -1,0 +1,24 @@
+#include "base/usable_directory.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+namespace tumble {
+
+std::string cannot_make_directory(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::path p = fs::absolute(dir, ec);
+  if (ec) return ec.message();
+  while (!fs::exists(p, ec) && p != p.parent_path()) p = p.parent_path();
+  if (!fs::exists(p, ec)) return "none of its parent folders exists";
+  if (!fs::is_directory(p, ec)) return "'" + p.string() + "' is a file, not a folder";
+  if (::access(p.c_str(), W_OK | X_OK) != 0)
+    return "'" + p.string() + "' is not writable: " + std::strerror(errno);
+  return "";
+}
+
+}  // namespace tumble

@@ -1,0 +1,14 @@
+#pragma once
+// Whether a directory a run will write into can be made and written, asked before any work: found
+// out when the bed had settled (minutes) or the first file was written, the error named no key.
+#include <string>
+
+namespace tumble {
+
+// "" if `dir` exists as a directory this process may write into, or can be made: its nearest
+// existing ancestor is a writable directory. Otherwise why not ("'/a/b' is a file, not a folder",
+// "'/x' is not writable: Permission denied"). (As root, only a file in the way or a read-only
+// file system shows here.)
+std::string cannot_make_directory(const std::string& dir);
+
+}  // namespace tumble
