@@ -272,6 +272,11 @@ Sweep parse_sweep(const Ctx& c, const toml::table& t, int index) {
     const NamedParam* named = nullptr;
     for (const auto& p : named_params())
       if (key == p.name) named = &p;
+    // A scene key that a parameter name stands for ("protocol.theta_z" for theta_z) is that
+    // parameter: two sweeps that give the same point by either name give one point (before, two
+    // points with the same seed and physics, run twice).
+    for (const auto& p : named_params())
+      if (!named && p.scene_key && key == p.scene_key) named = &p;
     if (!named && std::find(skeys.begin(), skeys.end(), key) == skeys.end())
       c.unknown(
           full, known,
@@ -293,7 +298,7 @@ Sweep parse_sweep(const Ctx& c, const toml::table& t, int index) {
     if (named && std::string(named->name) == "size_ratio")
       for (const auto& v : values)
         if (v.num < 1) c.fail(full, "= " + display_number(v.num) + " must be >= 1");
-    sw.axes.emplace_back(key, std::move(values));
+    sw.axes.emplace_back(named ? std::string(named->name) : key, std::move(values));
   }
   if (sw.zip) {
     std::size_t len = 1;

@@ -61,6 +61,24 @@ ranks_per_case = 4
   }
 }
 
+// A parameter's scene key ("protocol.theta_z") is that parameter: two sweeps that name one point
+// by either give one point (before: two points of the same seed and physics, run twice).
+TEST(Expand, AParameterAndItsSceneKeyGiveOnePoint) {
+  const CampaignSpec s = parse_campaign(with_campaign(R"(
+[[sweep]]
+theta_z = 57
+"particles.large_fraction" = 0.2
+[[sweep]]
+"protocol.theta_z" = 57
+f = 0.2
+)"),
+                                        "test.toml", ".");
+  const Expansion e = expand(s);
+  ASSERT_EQ(e.points.size(), 1u);
+  EXPECT_NE(e.cases.front().params_text.find("theta_z=57;theta_x=57;f=0.2;"), std::string::npos)
+      << e.cases.front().params_text;
+}
+
 TEST(CampaignSpec, UnknownKeysGetASuggestion) {
   const std::string e = error_of(with_campaign("", "replicaz = 3"));
   EXPECT_NE(e.find("unknown key 'campaign.replicaz'"), std::string::npos) << e;
