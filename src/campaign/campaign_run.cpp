@@ -521,9 +521,15 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
     in.done_before = done;
     in.failed_before = failed;
     if (opt.status) {
+      // (A directory holding another campaign is refused by the run: its status says so, rather
+      // than "to run" for cases that never would.)
+      check_same_campaign(dir, e, opt.file);
       out << "campaign " << spec.name << " slice " << slice_text << ": " << slice.size()
           << " cases: " << done << " done, " << failed << " failed, " << pending.size()
           << " to run\n";
+      if (torn > 0)
+        out << "  ignored " << torn << " manifest line(s) that do not read (a crash mid-write, "
+            << "or edited): the cases they recorded count as their earlier lines say\n";
       // A case whose last record says "running" may be running now if a campaign holds the
       // directory (its record cannot tell this invocation from one that died before it).
       const int runner = DirectoryLock::running_process(dir);

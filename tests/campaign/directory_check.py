@@ -83,6 +83,11 @@ if r.returncode != 2 or "holds another campaign" not in r.stderr:
     cc.fail("another campaign into the directory: exit %d, %s" % (r.returncode, r.stderr))
 if open(os.path.join(out, "campaign.toml")).read() != before:
     cc.fail("the refused campaign replaced campaign.toml")
+# Its --status says so too (before: exit 10, "to run", for cases the run would refuse).
+r = subprocess.run([a.tumble, "campaign", a.other_campaign, "--output", out, "--status"],
+                   capture_output=True, text=True, timeout=60)
+if r.returncode != 2 or "holds another campaign" not in r.stderr:
+    cc.fail("--status of another campaign's directory: exit %d, %s" % (r.returncode, r.stderr))
 # The first campaign's statistics (here: the CI campaign's, standing in for them) must not
 # survive --force: `tumble merge` folded them into the new campaign's ensemble.
 ci_partial = os.path.join("ci_full", "partials", "slice_1_of_1.h5")
