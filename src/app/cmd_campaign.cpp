@@ -37,9 +37,11 @@ void register_campaign(CLI::App& app) {
   cmd->add_option("--max-memory", opts->max_memory,
                   "a case whose scene is estimated to need more memory than this is invalid (e.g. "
                   "2G; default: the machine's available memory)");
-  cmd->add_flag("--list", opts->run.list, "print the expanded cases of the slice and exit");
+  CLI::Option* list =
+      cmd->add_flag("--list", opts->run.list, "print the expanded cases of the slice and exit");
   cmd->add_flag("--status", opts->run.status,
-                "print what is done/failed/left in the slice; exit 0 if nothing is left to run");
+                "print what is done/failed/left in the slice; exit 0 if nothing is left to run")
+      ->excludes(list);  // (both: --list won, and a script reading the exit code got 0)
   cmd->add_flag("--retry-failed", opts->run.retry_failed,
                 "run failed cases again (their attempts keep counting)");
   cmd->add_flag("--force", opts->run.force,

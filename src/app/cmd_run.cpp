@@ -40,8 +40,10 @@ void register_run(CLI::App& app) {
   auto opts = std::make_shared<Opts>();
   cmd->add_option("scene", opts->scene, "scene file (TOML)");
   cmd->add_option("--set,-s", opts->overrides, "override a key: section.key=value (repeatable)");
-  cmd->add_option("--restart", opts->restart, "continue from this checkpoint file");
-  cmd->add_flag("--resume", opts->resume, "continue from OUTPUT_DIR/checkpoint.h5 if present");
+  CLI::Option* restart =
+      cmd->add_option("--restart", opts->restart, "continue from this checkpoint file");
+  cmd->add_flag("--resume", opts->resume, "continue from OUTPUT_DIR/checkpoint.h5 if present")
+      ->excludes(restart);  // (two checkpoints named: which one goes on is not for us to guess)
   // The value as CLI11 will read it (" -1" passes a test of the text): -1, the default, meant
   // "no limit", and a given -5 silently so. A check, not the command's own test, so that mpirun
   // agrees on it with the other refusals of the command line (app/command_line.hpp).

@@ -21,8 +21,9 @@ both ranks, is said once (before: once per rank). `tumble campaign` likewise for
 campaign file rank 1 cannot read (before: rank 1's message was lost, and rank 0 began the
 campaign and waited for rank 1 for ever).
 
-Files rank 0 writes for all: a checkpoint it cannot rename into place, an output folder under a
-file, a drift grid it cannot rename end both ranks, exit 1, said once (before: each a hang).
+Files rank 0 writes for all: a checkpoint it cannot rename into place, a drift grid it cannot
+rename end both ranks, exit 1, said once; an output folder under a file is refused before any
+work, exit 2, said once (before: each a hang).
 
 usage: env_one_rank_check.py TUMBLE MPIEXEC SCENE CAMPAIGN WORKDIR
 """
@@ -86,8 +87,9 @@ checks += [
 ]
 # Files rank 0 writes for all: its error is every rank's, said once, exit 1. A checkpoint that
 # cannot be renamed into place (a directory in the way; before: rank 1 stepped on while rank 0,
-# its error unsaid, waited for it for ever), an output folder under a file (before: rank 1 waited
-# at the barrier for ever), a drift grid that cannot be renamed (before: a hang at the run's end).
+# its error unsaid, waited for it for ever), a drift grid that cannot be renamed (before: a hang
+# at the run's end). An output folder under a file is now bad input, refused before any work
+# (exit 2; before: rank 1 waited at the barrier after rank 0 failed to make it, for ever).
 blocked, blocked_drift = os.path.join(work, "blocked"), os.path.join(work, "blocked_drift")
 os.makedirs(os.path.join(blocked, "checkpoint.h5", "in_the_way"), exist_ok=True)
 os.makedirs(os.path.join(blocked_drift, "drift_grid.h5", "in_the_way"), exist_ok=True)
@@ -99,7 +101,7 @@ checks += [
     ("ckpt dir", [tumble] + run + own_bed + to, [tumble] + run + own_bed + to, "cannot rename", 1),
     ("out file", [tumble] + run + own_bed + ["--set", "scene.output_dir=" + a_file + "/sub"],
      [tumble] + run + own_bed + ["--set", "scene.output_dir=" + a_file + "/sub"],
-     "cannot create directories", 1),
+     "is a file, not a folder", 2),
     ("drift", [tumble] + run + own_bed + ["--set", "scene.output_dir=" + blocked_drift,
                                            "--set", "output.drift_grid=on"],
      [tumble] + run + own_bed + ["--set", "scene.output_dir=" + blocked_drift,
