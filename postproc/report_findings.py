@@ -206,6 +206,7 @@ def enrichment_sentences(pts):
     # Holm over every comparison on the page: with k island points each against the others, a
     # raw p < 0.05 would call some pair "significant" by chance in a large campaign.
     holm = holm_adjust([c["p"] for *_, c in tests]) if tests else []
+    n_tested = int(np.isfinite(np.asarray(holm, float)).sum()) if tests else 0
     for (P, Q, pe, qe, c), p_holm in zip(tests, holm):
         pname = html.escape(P["short"])
         sig = np.isfinite(p_holm) and p_holm < ALPHA and excludes_none(c)
@@ -222,15 +223,17 @@ def enrichment_sentences(pts):
                     why.append(f"the interval of the {c['kind']} includes "
                                f"{'1' if c['kind'] == 'ratio' else '0'}")
                 elif np.isfinite(p_holm):
-                    why.append(f"not below {ALPHA:g} once adjusted for the {len(tests)} "
+                    why.append(f"not below {ALPHA:g} once adjusted for the {n_tested} "
                                "comparisons (Holm)")
+                else:
+                    why.append("no test (the replicas do not vary)")
             else:
                 why.append("no interval (fewer than 2 replicas)")
             if pe["n"] >= 2 and pe["lower"] <= 1 <= pe["upper"]:
                 why.append(f"{pname}'s own interval includes 1")
             verdict = "inconclusive: " + ", ".join(why)
         how = ("ratio of the geometric means" if c["kind"] == "ratio" else "difference")
-        holm_text = f", Holm-adjusted {p_text(p_holm)[2:]}" if len(tests) > 1 else ""
+        holm_text = f", Holm-adjusted {p_text(p_holm)[2:]}" if n_tested > 1 else ""
         test = (f"Welch 95% on the logarithms, {p_text(c['p'])}{holm_text}" if c["kind"] == "ratio"
                 else f"Welch 95%, {p_text(c['p'])}{holm_text}")
         cmp_text = f"{how} {comparison_text(c)}" + (f" ({test})" if np.isfinite(c["p"]) else "")

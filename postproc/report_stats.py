@@ -109,26 +109,28 @@ def fmt_num(x, digits=3):
     return f"{x:.{digits}g}" if np.isfinite(x) else "–"
 
 
-def _round_out(x, digits, up):
-    """x to `digits` significant figures, rounded away from the interval's inside."""
-    if not np.isfinite(x) or x == 0:
-        return x
-    e = math.floor(math.log10(abs(x))) - digits + 1
-    f = 10.0 ** e
-    return (math.ceil(x / f) if up else math.floor(x / f)) * f
-
-
 def interval_bounds_text(b, digits=2):
-    """(lower, upper) as printed: rounded outwards to `digits` significant figures, then kept
-    within the quantity's bounds (the rounding must neither narrow the interval nor leave them)."""
-    lo = b.get("lo")
-    hi = b.get("hi")
-    lower, upper = _round_out(b["lower"], digits, False), _round_out(b["upper"], digits, True)
+    """(lower, upper) as printed: rounded outwards at the `digits`-th significant figure of the
+    interval's width (so that [122.5, 124.5] prints as such, not as [120, 130]: a rounding at
+    the values' own figures widened a narrow interval of large numbers five times), then kept
+    within the quantity's bounds (the rounding must neither narrow the interval nor leave them).
+    An interval of width 0 prints its value."""
+    lo, hi = b.get("lo"), b.get("hi")
+    lower, upper = float(b["lower"]), float(b["upper"])
+    width = upper - lower
+    decimals = None
+    if np.isfinite(width) and width > 0:
+        e = math.floor(math.log10(width)) - (digits - 1)
+        step = 10.0 ** e
+        lower, upper = math.floor(lower / step) * step, math.ceil(upper / step) * step
+        decimals = max(0, -e)
     if lo is not None:
         lower = max(lower, lo)
     if hi is not None and np.isfinite(hi):
         upper = min(upper, hi)
-    return f"{lower:.{digits + 1}g}", f"{upper:.{digits + 1}g}"
+    if decimals is None:
+        return f"{lower:.{digits + 1}g}", f"{upper:.{digits + 1}g}"
+    return f"{lower:.{decimals}f}", f"{upper:.{decimals}f}"
 
 
 def fmt_interval(b, digits=3, n=True):

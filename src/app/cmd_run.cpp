@@ -13,6 +13,7 @@
 #include "base/exit_codes.hpp"
 #include "base/memory.hpp"
 #include "base/stop_request.hpp"
+#include "base/usable_directory.hpp"
 #include "run/realization.hpp"
 #include "scene/fill.hpp"
 #include "scene/scene.hpp"
@@ -83,6 +84,15 @@ void register_run(CLI::App& app) {
         throw InputError("scene: a scene file is required (or --list-keys to list the keys)");
       arm_memory_limit(opts->max_memory);
       loaded = load_scene(opts->scene, opts->overrides);
+      // The folders this run writes into can be made and written (a file in the way, no
+      // permission): asked here, of the run's own scene, not in every scene read back from a
+      // file (another user's results, a read-only shared bed cache).
+      for (const auto& [key, dir] :
+           {std::pair<const char*, const std::string&>{"scene.output_dir", loaded->output_dir},
+            {"fill.bed_cache", loaded->bed_cache}})
+        if (const std::string why = cannot_make_directory(dir); !why.empty())
+          throw InputError("scene error: key '" + std::string(key) + "' = '" + dir +
+                           "' cannot be used: " + why);
       // A missing checkpoint is bad input (exit 2), found before the bed is made or the HDF5
       // library is asked to open it.
       if (!opts->restart.empty() && !std::filesystem::is_regular_file(opts->restart))

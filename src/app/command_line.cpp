@@ -18,24 +18,34 @@ std::string failure_message(const CLI::App* app, const CLI::Error& e) {
 // CLI11 (2.1) reads an integer with strtoll(text, 0): "010" as octal 8 (`merge --slices 010`
 // looked for 8 slices), "0x8" as hex, and a number past the type's range as its limit, silently
 // (`--max-steps 99999999999999999999`: no limit). Tumble's integers are decimal and in range.
-std::string decimal_integer(std::string& text) {
+std::string decimal_integer(std::string& text, bool is_unsigned) {
   const std::size_t i = !text.empty() && (text[0] == '+' || text[0] == '-') ? 1 : 0;
   if (text.size() > i + 1 && text[i] == '0' &&
       std::string("0123456789xXbBoO").find(text[i + 1]) != std::string::npos)
     return "'" + text + "' is not a decimal integer (a leading 0 reads as octal or hex)";
   if (text.size() == i || text.find_first_not_of("0123456789", i) != std::string::npos)
     return "";  // (not an integer at all: CLI11's own conversion says so)
+  // (CLI11 turns -5 into 2^64 - 5 for an unsigned option)
+  if (is_unsigned && text[0] == '-') return "'" + text + "' must not be negative";
   errno = 0;
-  (void)std::strtoll(text.c_str(), nullptr, 10);
+  if (is_unsigned)
+    (void)std::strtoull(text.c_str(), nullptr, 10);
+  else
+    (void)std::strtoll(text.c_str(), nullptr, 10);
   if (errno == ERANGE) return "'" + text + "' is out of range";
   return "";
 }
 
 // Every integer option of `app` and its subcommands, checked as decimal_integer.
 void check_integers(CLI::App& app) {
-  for (CLI::Option* o : app.get_options())
-    if (o->get_type_name().find("INT") != std::string::npos)
-      o->check(CLI::Validator(decimal_integer, "", "decimal integer"));
+  for (CLI::Option* o : app.get_options()) {
+    const std::string type = o->get_type_name();
+    if (type.find("INT") == std::string::npos) continue;
+    const bool is_unsigned = type.find("UINT") != std::string::npos;
+    o->check(CLI::Validator(
+        [is_unsigned](std::string& text) { return decimal_integer(text, is_unsigned); }, "",
+        "decimal integer"));
+  }
   for (CLI::App* sub : app.get_subcommands({})) check_integers(*sub);
 }
 

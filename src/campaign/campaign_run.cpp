@@ -466,7 +466,8 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
     const std::string cache = spec.bed_cache.empty() ? out_dir + "/beds" : spec.bed_cache;
     if (std::error_code ec; fs::exists(cache, ec) && !fs::is_directory(cache, ec))
       throw InputError("campaign.bed_cache = '" + cache + "' names a file, not a directory");
-    if (const std::string why = cannot_make_directory(cache); !why.empty())
+    if (const std::string why = cannot_make_directory(cache);
+        !why.empty() && !fs::is_directory(cache))  // (one that exists may be read-only: shared)
       throw InputError("campaign.bed_cache = '" + cache + "' cannot be used: " + why);
     e = expand(spec);
     slice = slice_cases(e, opt.slice_i, opt.slice_n);
@@ -523,7 +524,7 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
     if (opt.status) {
       // (A directory holding another campaign is refused by the run: its status says so, rather
       // than "to run" for cases that never would.)
-      check_same_campaign(dir, e, opt.file);
+      if (!opt.force) check_same_campaign(dir, e, opt.file);  // (the job scripts pass --force on)
       out << "campaign " << spec.name << " slice " << slice_text << ": " << slice.size()
           << " cases: " << done << " done, " << failed << " failed, " << pending.size()
           << " to run\n";

@@ -228,6 +228,7 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
   stats_.cases_run += 1;
   stats_.rank_seconds += o.wall * k;
   std::string what;
+  bool appended = false;
   if (o.failure == "stopped") {  // neither done nor failed: the rerun continues the same attempt
     r.status = "stopped";
     r.diagnostic = o.diagnostic;
@@ -273,8 +274,12 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
     // When stopping, no retry starts here; the rerun makes it (a stop loses nothing), so the
     // failure is final only if no attempt is left.
     const bool may_retry = o.retryable && t.attempt < ctx_.spec->max_attempts;
-    const bool retry = may_retry && !stopping() && !halted();
     r.final_failure = !may_retry;
+    // The line first: if it is the one the manifest cannot take, the campaign halts here and
+    // queues no retry (the log said "retrying" beside HALTED, and the retry never came).
+    append(r);
+    appended = true;
+    const bool retry = may_retry && !stopping() && !halted();
     what = "FAILED (" + o.failure + "): " + o.diagnostic;
     if (retry) {
       const Case& c = ctx_.expansion->cases[t.case_index];
@@ -294,7 +299,7 @@ std::vector<int> Dispatcher::finished(const CaseTask& t, const CaseOutcome& o) {
         what += "; the rerun retries it (attempt " + std::to_string(t.attempt + 1) + ")";
     }
   }
-  append(r);
+  if (!appended) append(r);
   if (!in_.quiet && !held.start_line.empty() && !ended_not_begun(o))
     line(held.start_line);  // (it began, though the stop came before its predecessor's result)
   if (!o.ok || !in_.quiet)

@@ -11,7 +11,6 @@
 
 #include "base/error.hpp"
 #include "base/text_util.hpp"
-#include "base/usable_directory.hpp"
 #include "base/vec3.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/fill.hpp"
@@ -463,8 +462,6 @@ void validate_scene(const Scene& s) {
     if (dir.empty()) fail(key, "must name a directory (it is empty)");
     if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
       fail(key, "= '" + dir + "' names a file, not a directory");
-    const std::string why = cannot_make_directory(dir);
-    if (!why.empty()) fail(key, "= '" + dir + "' cannot be used: " + why);
   }
   if (!s.bed_file.empty()) {
     std::error_code ec;

@@ -187,6 +187,11 @@ def group_bounded():
     good.append(truth("printed upper of 145.8 in [0, 146] is at most 146 and covers it",
                       145.8 <= float(hi_s) <= 146.0, hi_s))
     good.append(truth("printed lower rounded down", float(lo_s) <= 3.14, lo_s))
+    # Rounded at the width's second figure, not the values': a narrow interval of large numbers
+    # keeps its width (Δψ 122.5-124.5 printed [120, 130] before).
+    lo_s, hi_s = interval_bounds_text(dict(lower=122.53, upper=124.47, lo=0.0, hi=180.0))
+    good.append(truth("[122.53, 124.47] prints as [122.5, 124.5]", (lo_s, hi_s) == ("122.5", "124.5"),
+                      f"{lo_s}, {hi_s}"))
     return good
 
 
