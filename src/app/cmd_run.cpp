@@ -14,6 +14,7 @@
 #include "base/memory.hpp"
 #include "base/stop_request.hpp"
 #include "base/usable_directory.hpp"
+#include "io/checkpoint.hpp"
 #include "run/realization.hpp"
 #include "scene/fill.hpp"
 #include "scene/scene.hpp"
@@ -97,6 +98,7 @@ void register_run(CLI::App& app) {
       // library is asked to open it.
       if (!opts->restart.empty() && !std::filesystem::is_regular_file(opts->restart))
         throw InputError("--restart '" + opts->restart + "': no such checkpoint file");
+      if (!opts->restart.empty()) io::check_is_checkpoint(opts->restart);
     });
     const Scene& scene = *loaded;
     // (The engine and the domain read the environment only after the bed is made.)

@@ -231,6 +231,12 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
   out.commit();
 }
 
+void check_is_checkpoint(const std::string& path) {
+  const H5File f(path, H5File::Mode::Read);
+  if (!f.has_attr("/", "kind") || f.attr_string("/", "kind") != "tumble checkpoint")
+    throw InputError("'" + path + "' is not a Tumble checkpoint");
+}
+
 CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
   int rank = 0, size = 1;
   if (comm != MPI_COMM_NULL) {

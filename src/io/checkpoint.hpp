@@ -53,6 +53,11 @@ void write_checkpoint(const std::string& path, const Simulation& sim, const Scen
 // species other than 0 and 1, values that are not finite, non-positive radii, contact pairs of
 // particles that do not exist. Every rank throws the same error.
 CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm = MPI_COMM_NULL);
+// Whether `path` opens as a checkpoint Tumble wrote (its header only, no MPI): asked of
+// `run --restart FILE` with the other input, so that a file that is not one is refused before
+// the output folder is made or `--check` says the input is fine. CorruptInputError for a file
+// HDF5 cannot open (damaged), InputError for an HDF5 file that is not a Tumble checkpoint.
+void check_is_checkpoint(const std::string& path);
 // The checks that need the scene the run restarts with (collective over `comm` like
 // read_checkpoint): each particle's radius is its species' diameter (within particles.size_spread),
 // every centre lies inside the tumbler within one d_large, and the time agrees with step x dt.
