@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <tuple>
 
 #include "app/commands.hpp"
 #include "base/agreed_input.hpp"
@@ -87,11 +88,12 @@ void register_run(CLI::App& app) {
       loaded = load_scene(opts->scene, opts->overrides);
       // The folders this run writes into can be made and written (a file in the way, no
       // permission): asked here, of the run's own scene, not in every scene read back from a
-      // file (another user's results, a read-only shared bed cache).
-      for (const auto& [key, dir] :
-           {std::pair<const char*, const std::string&>{"scene.output_dir", loaded->output_dir},
-            {"fill.bed_cache", loaded->bed_cache}})
-        if (const std::string why = cannot_make_directory(dir); !why.empty())
+      // file (another user's results). A bed cache that exists may be read-only (beds shared).
+      for (const auto& [key, dir, read_only_ok] :
+           {std::tuple<const char*, const std::string&, bool>{"scene.output_dir",
+                                                              loaded->output_dir, false},
+            {"fill.bed_cache", loaded->bed_cache, true}})
+        if (const std::string why = cannot_make_directory(dir, read_only_ok); !why.empty())
           throw InputError("scene error: key '" + std::string(key) + "' = '" + dir +
                            "' cannot be used: " + why);
       // A missing checkpoint is bad input (exit 2), found before the bed is made or the HDF5

@@ -8,9 +8,10 @@
 
 namespace tumble {
 
-std::string cannot_make_directory(const std::string& dir) {
+std::string cannot_make_directory(const std::string& dir, bool read_only_ok) {
   namespace fs = std::filesystem;
   std::error_code ec;
+  if (read_only_ok && fs::is_directory(dir, ec)) return "";
   fs::path p = fs::absolute(dir, ec);
   if (ec) return ec.message();
   while (!fs::exists(p, ec) && p != p.parent_path()) p = p.parent_path();

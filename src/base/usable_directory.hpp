@@ -9,6 +9,7 @@ namespace tumble {
 // existing ancestor is a writable directory. Otherwise why not ("'/a/b' is a file, not a folder",
 // "'/x' is not writable: Permission denied"). (As root, only a file in the way or a read-only
 // file system shows here.)
-std::string cannot_make_directory(const std::string& dir);
+// `read_only_ok`: a directory that exists is enough (a cache of beds shared read-only).
+std::string cannot_make_directory(const std::string& dir, bool read_only_ok = false);
 
 }  // namespace tumble

@@ -457,17 +457,13 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
     if (!opt.output.empty()) spec.output_dir = opt.output;
     if (opt.ranks_per_case > 0) spec.ranks_per_case = opt.ranks_per_case;
     const std::string& out_dir = spec.output_dir;
-    if (std::error_code ec; fs::exists(out_dir, ec) && !fs::is_directory(out_dir, ec))
-      throw InputError("campaign.output_dir (or --output) = '" + out_dir +
-                       "' names a file, not a directory");
+    // (A file in the way, or a folder that cannot be written; a bed cache that exists may be
+    // read-only: beds shared.)
     if (const std::string why = cannot_make_directory(out_dir); !why.empty())
       throw InputError("campaign.output_dir (or --output) = '" + out_dir +
                        "' cannot be used: " + why);
     const std::string cache = spec.bed_cache.empty() ? out_dir + "/beds" : spec.bed_cache;
-    if (std::error_code ec; fs::exists(cache, ec) && !fs::is_directory(cache, ec))
-      throw InputError("campaign.bed_cache = '" + cache + "' names a file, not a directory");
-    if (const std::string why = cannot_make_directory(cache);
-        !why.empty() && !fs::is_directory(cache))  // (one that exists may be read-only: shared)
+    if (const std::string why = cannot_make_directory(cache, true); !why.empty())
       throw InputError("campaign.bed_cache = '" + cache + "' cannot be used: " + why);
     e = expand(spec);
     slice = slice_cases(e, opt.slice_i, opt.slice_n);
