@@ -132,4 +132,6 @@ void thrown_together(MPI_Comm comm, const std::function<void()>& work) {
   }
 }
 
+void error_said() { std::cerr.clear(); }
+
 }  // namespace tumble

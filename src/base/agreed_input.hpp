@@ -35,4 +35,9 @@ void thrown_together(MPI_Comm comm, const std::function<void()>& work);
 void on_rank_0_agreed(MPI_Comm comm, const std::function<void()>& work,
                       const std::function<void()>& meet = {});
 
+// Undoes the silencing above once the error has been handled and the process goes on (a
+// campaign's next case on the same group): left silenced, a later error that each rank says for
+// itself (memory, a scheduler failure) would go unsaid on every rank but 0.
+void error_said();
+
 }  // namespace tumble

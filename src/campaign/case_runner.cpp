@@ -8,6 +8,7 @@
 #include <memory>
 #include <ostream>
 
+#include "base/agreed_input.hpp"
 #include "base/comm.hpp"
 #include "base/error.hpp"
 #include "base/hash.hpp"
@@ -239,6 +240,7 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
     out.diagnostic = e.what();
     out.retryable = true;
   }
+  error_said();  // (a failure agreed over the group silenced std::cerr on its other ranks)
   out.end = utc_now();
   out.wall = std::chrono::duration<double>(Clock::now() - t0).count();
   if (log.is_open())
