@@ -15,6 +15,7 @@
 #include "base/memory.hpp"
 #include "base/stop_request.hpp"
 #include "base/usable_directory.hpp"
+#include "io/bed_io.hpp"
 #include "io/checkpoint.hpp"
 #include "run/realization.hpp"
 #include "scene/fill.hpp"
@@ -101,6 +102,13 @@ void register_run(CLI::App& app) {
       if (!opts->restart.empty() && !std::filesystem::is_regular_file(opts->restart))
         throw InputError("--restart '" + opts->restart + "': no such checkpoint file");
       if (!opts->restart.empty()) io::check_is_checkpoint(opts->restart);
+      // A bed the user names is read and checked now, before the output folder is made (the run
+      // reads it again when it starts: 0.1 s for 89k particles), unless a checkpoint replaces it.
+      const bool from_checkpoint =
+          !opts->restart.empty() ||
+          (opts->resume && std::filesystem::exists(loaded->output_dir + "/checkpoint.h5"));
+      if (!loaded->bed_file.empty() && !from_checkpoint)
+        (void)io::read_bed(loaded->bed_file, *loaded);
     });
     const Scene& scene = *loaded;
     // (The engine and the domain read the environment only after the bed is made.)

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "app/campaign_commands.hpp"
 #include "app/commands.hpp"
@@ -11,8 +12,26 @@
 
 namespace tumble::app {
 namespace {
+// CLI11's message, but for a first word that is no command: CLI11 says only "A subcommand is
+// required" (`tumble fun` for `tumble run`); this names the word and the commands.
+std::string parse_failure(const CLI::App* app, const CLI::Error& e) {
+  const std::vector<std::string> rest = app->remaining();
+  if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && app->get_subcommands().empty() &&
+      !rest.empty()) {
+    std::string names;
+    for (const CLI::App* sub : app->get_subcommands({}))
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    const std::string& word = rest.front();
+    return (word[0] == '-'
+                ? "unknown option '" + word + "' (tumble's options come after its command)"
+                : "unknown command '" + word + "'") +
+           "; the commands are " + names + " (tumble --help)\n";
+  }
+  return CLI::FailureMessage::simple(app, e);
+}
+
 std::string failure_message(const CLI::App* app, const CLI::Error& e) {
-  return "tumble: " + CLI::FailureMessage::simple(app, e);
+  return "tumble: " + parse_failure(app, e);
 }
 
 // CLI11 (2.1) reads an integer with strtoll(text, 0): "010" as octal 8 (`merge --slices 010`
@@ -49,6 +68,18 @@ void check_integers(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands({})) check_integers(*sub);
 }
 
+// Every text option of `app` and its subcommands refuses an empty value: `--max-memory ""` (a
+// job script's unset variable) meant the default, `cm poincare -o ""` wrote to the default file.
+void check_texts(CLI::App& app) {
+  for (CLI::Option* o : app.get_options()) {
+    if (o->get_type_name().find("TEXT") == std::string::npos) continue;
+    o->check(CLI::Validator(
+        [](std::string& text) { return text.empty() ? std::string("an empty value") : ""; }, "",
+        "not empty"));
+  }
+  for (CLI::App* sub : app.get_subcommands({})) check_texts(*sub);
+}
+
 void add_commands(CLI::App& app) {
   app.set_version_flag("--version", std::string(kVersion) + " (" + kGitHash + ")");
   app.require_subcommand(1);
@@ -59,6 +90,7 @@ void add_commands(CLI::App& app) {
   register_cm(app);
   register_analyze(app);
   check_integers(app);
+  check_texts(app);
 }
 
 // An app that stops once the command line is parsed and checked, before any subcommand's callback
@@ -90,7 +122,7 @@ void check_command_line(int argc, char** argv) {
     // (--help and --version, bundled where main's look for them misses them, `-qh`: the real
     // parse prints them)
     if (e.get_exit_code() == 0) return;
-    std::string message = CLI::FailureMessage::simple(&app, e);
+    std::string message = parse_failure(&app, e);
     while (!message.empty() && message.back() == '\n') message.pop_back();
     throw InputError(message);  // (main prints it after "tumble: ", as the real parse would)
   }
