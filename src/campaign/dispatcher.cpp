@@ -125,6 +125,21 @@ long long Dispatcher::preparing_its_files(const CaseTask& t, const std::vector<i
   return -1;
 }
 
+int Dispatcher::files_left_to_prepare() {
+  std::set<std::string> made, left;
+  const std::map<std::vector<int>, std::size_t> first_of_group = running_cases();
+  for (const auto& [ranks, idx] : first_of_group)
+    made.insert(running_.at(idx).prepares.begin(), running_.at(idx).prepares.end());
+  const auto add = [&](const CaseTask& t) {
+    for (const std::string& f : files_to_prepare(t))
+      if (!made.count(f) && !left.count(f) && !fs::exists(f)) left.insert(f);
+  };
+  for (const CaseTask& t : queue_) add(t);
+  for (const auto& [idx, held] : running_)  // (held next on a group: not begun)
+    if (first_of_group.at(held.ranks) != idx) add(held.task);
+  return static_cast<int>(left.size());
+}
+
 void Dispatcher::pop() {
   ++changes_;
   not_before_.erase(peeked_->case_index);
@@ -333,10 +348,18 @@ void Dispatcher::progress(const CaseProgress& p) {
   const auto it = running_.find(p.case_index);
   if (it == running_.end() || it->second.task.attempt != p.attempt) return;
   ++changes_;  // (a protocol's first report ends its case's preparation)
-  it->second.preparing = p.preparing;
+  Held& h = it->second;
+  if (p.preparing && !h.preparing) h.preparing_since = Clock::now();
+  // Its preparation's cost, for the ETA of those still to come (a β measurement that went on
+  // from a kept turn counts only its rest: the measure errs short after a stop).
+  if (!p.preparing && h.preparing && !h.prepares.empty()) {
+    prepared_rank_seconds_ += since(h.preparing_since) * static_cast<double>(h.ranks.size());
+    prepared_files_ += static_cast<int>(h.prepares.size());
+  }
+  h.preparing = p.preparing;
   if (p.preparing) {
-    it->second.recent.clear();
-    it->second.reported_at = Clock::now();
+    h.recent.clear();
+    h.reported_at = Clock::now();
     return;
   }
   if (p.total_steps <= 0) return;
@@ -420,6 +443,10 @@ void Dispatcher::line(const std::string& event, bool counts) {
   for (const auto& t : queue_)
     eta_in.queued_by_point[ctx_.expansion->cases[t.case_index].point_id] += cost(t);
   eta_in.ranks = std::max(1, ranks_);
+  if (prepared_files_ > 0) {
+    eta_in.rank_seconds_per_file = prepared_rank_seconds_ / prepared_files_;
+    eta_in.queued_files = files_left_to_prepare();
+  }
   // A group that still runs a case may already hold its next one (started() says "next"): that
   // one has not begun. It is charged as queued, not credited with the time it waits, and counted
   // as next, not as running, so "running" never exceeds the groups.
@@ -433,6 +460,8 @@ void Dispatcher::line(const std::string& event, bool counts) {
     EtaInput::Running r{c, since(held.handed), static_cast<int>(held.ranks.size())};
     r.point = ctx_.expansion->cases[idx].point_id;
     r.preparing = held.preparing;
+    r.files = static_cast<int>(held.prepares.size());
+    r.preparing_for = held.preparing ? since(held.preparing_since) : 0.0;
     if (!held.recent.empty()) {
       // The rate over the recent reports (from the call's start while there is one report).
       const CaseProgress &first = held.recent.front(), &last = held.recent.back();

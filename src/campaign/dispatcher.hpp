@@ -103,6 +103,7 @@ class Dispatcher {
     std::deque<CaseProgress> recent;
     Clock::time_point reported_at;
     bool preparing = false;             // it said so and its protocol has not begun (bed, β)
+    Clock::time_point preparing_since;  // when it said so
     std::vector<std::string> prepares;  // the files it makes before its protocol (as handed out)
     std::string start_line;  // held, and its group's last case ended while stopping: its start
                              // line, logged with its result unless that says "not begun"
@@ -122,6 +123,12 @@ class Dispatcher {
   std::string last_append_error_;   // why the last write of a waiting line failed
   double done_cost_ = 0, done_rank_seconds_ = 0;
   std::map<std::string, EtaInput::Rate> done_by_point_;  // the cases done, by point (the ETA)
+  // The preparations that ended in this invocation: their rank-seconds and the files they made.
+  double prepared_rank_seconds_ = 0;
+  int prepared_files_ = 0;
+  // The distinct files the cases not begun will make that exist nowhere yet and that no running
+  // case makes (the ETA; scenes are read only once a preparation has been measured).
+  int files_left_to_prepare();
   ScheduleStats stats_;
   Clock::time_point t0_ = Clock::now(), last_tick_ = Clock::now(), last_line_ = Clock::now();
 };

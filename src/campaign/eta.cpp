@@ -34,6 +34,8 @@ double estimate_eta(const EtaInput& in) {
   };
   double rank_seconds = in.queued_cost / rate("");
   for (const auto& [point, cost] : in.queued_by_point) rank_seconds += cost / rate(point);
+  const double per_file = std::max(0.0, in.rank_seconds_per_file);
+  rank_seconds += std::max(0, in.queued_files) * per_file;
   double longest = 0;
   for (const auto& r : in.running) {
     const int k = std::max(1, r.ranks);
@@ -51,8 +53,11 @@ double estimate_eta(const EtaInput& in) {
                         : r.reported
                             ? std::max(0.0, r.cost * (1 - r.done_share) - p * k * r.since_report)
                             : std::max(0.0, r.cost - p * k * r.age);
-    rank_seconds += rest / p;
-    longest = std::max(longest, rest / (p * k));
+    // (rank-seconds; a preparation that runs past its measure is taken to end now)
+    const double preparation_left =
+        r.preparing ? std::max(0.0, r.files * per_file - r.preparing_for * k) : 0.0;
+    rank_seconds += rest / p + preparation_left;
+    longest = std::max(longest, (rest / p + preparation_left) / k);
   }
   return std::max(rank_seconds / std::max(1, in.ranks), longest);
 }

@@ -29,13 +29,22 @@ struct EtaInput {
     double done_share = 0, call_share = 0, call_seconds = 0, since_report = 0;
     std::string point = {};  // its point's id ("": charged at the common rate)
     // It said it is preparing (settling its bed, measuring β) and its protocol has not begun:
-    // none of its cost is done, whatever its age (the preparation is not in the cost model).
+    // none of its cost is done, whatever its age (the preparation is not in the cost model);
+    // `files` it makes, for `preparing_for` seconds so far.
     bool preparing = false;
+    int files = 0;
+    double preparing_for = 0;
   };
   std::vector<Running> running;
   double queued_cost = 0;                         // cost of the cases not started yet, no point
   std::map<std::string, double> queued_by_point;  // the same, by point
   int ranks = 1;  // ranks that run cases (the world less any left idle)
+  // The preparations (a settled bed, a measured β: files of the bed cache) are outside the cost
+  // model: each costs the rank-seconds per file measured on the preparations that ended in this
+  // invocation (0: none yet, and the preparations are left out), for the files the queued cases
+  // will make (each once, whichever case makes it) and what a preparing case has left of its own.
+  double rank_seconds_per_file = 0;
+  int queued_files = 0;
 };
 
 // Seconds until the last case ends, NaN before any case has finished or reported. A rate is cost
@@ -46,7 +55,7 @@ struct EtaInput {
 // progress reports. A running case that reported is left with what its own rate leaves of it;
 // one that did not is credited with the work its age implies at its point's rate. So the
 // estimate falls while cases run. The work left, in rank-seconds, is shared by all ranks; the
-// result is at least the longest running case's remainder.
+// result is at least the longest running case's remainder. Preparations are added as above.
 double estimate_eta(const EtaInput& in);
 
 }  // namespace tumble::campaign

@@ -178,5 +178,38 @@ TEST(Eta, PreparingCaseHasDoneNoneOfItsCost) {
   EXPECT_NEAR(estimate_eta(in), 500, 1e-9);
 }
 
+// Preparations (settled beds, measured βs) once one has been measured: 1800 rank-seconds per
+// file (one case made its bed and β in 1800 s on a group of 2). One case done in 1000 s (cost 1)
+// on one rank; 2 ranks run cases; one case of cost 1 queued, whose bed and β are 2 files still
+// to make: 1000 + 2 x 1800 rank-seconds over 2 ranks.
+TEST(Eta, PreparationsToComeAreChargedTheirMeasuredCost) {
+  EtaInput in;
+  in.ranks = 2;
+  in.done_cost = 1;
+  in.done_rank_seconds = 1000;
+  in.queued_cost = 1;
+  EXPECT_NEAR(estimate_eta(in), 500, 1e-9);  // none measured yet: left out, as before
+  in.rank_seconds_per_file = 3600.0 / 2;
+  in.queued_files = 2;
+  EXPECT_NEAR(estimate_eta(in), (1000 + 2 * 1800) / 2.0, 1e-9);
+  // A case of cost 1 preparing 2 files on one rank for 1000 s so far: 3600 - 1000 rank-seconds
+  // of preparation left, then its whole protocol; it is the longest, so it sets the estimate.
+  in.queued_files = 0;
+  in.queued_cost = 0;
+  EtaInput::Running preparing{1, 1000};
+  preparing.preparing = true;
+  preparing.files = 2;
+  preparing.preparing_for = 1000;
+  in.running = {preparing};
+  EXPECT_NEAR(estimate_eta(in), 2600 + 1000, 1e-9);
+  // A preparation past its measure is taken to end now: only the protocol is left.
+  in.running[0].preparing_for = 5000;
+  EXPECT_NEAR(estimate_eta(in), 1000, 1e-9);
+  // On a group of 2 ranks it has 3600 - 2 x 1000 rank-seconds left, 800 s of the group's.
+  in.running[0].preparing_for = 1000;
+  in.running[0].ranks = 2;
+  EXPECT_NEAR(estimate_eta(in), (1600 + 1000) / 2.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace tumble::campaign
