@@ -130,9 +130,16 @@ int Dispatcher::files_left_to_prepare() {
   const std::map<std::vector<int>, std::size_t> first_of_group = running_cases();
   for (const auto& [ranks, idx] : first_of_group)
     made.insert(running_.at(idx).prepares.begin(), running_.at(idx).prepares.end());
+  // (A file found on disk is not asked again: on a cluster the bed cache is on a shared file
+  // system, and each progress line would stat every queued case's files.)
   const auto add = [&](const CaseTask& t) {
     for (const std::string& f : files_to_prepare(t))
-      if (!made.count(f) && !left.count(f) && !fs::exists(f)) left.insert(f);
+      if (!made.count(f) && !left.count(f) && !on_disk_.count(f)) {
+        if (fs::exists(f))
+          on_disk_.insert(f);
+        else
+          left.insert(f);
+      }
   };
   for (const CaseTask& t : queue_) add(t);
   for (const auto& [idx, held] : running_)  // (held next on a group: not begun)
@@ -349,7 +356,12 @@ void Dispatcher::progress(const CaseProgress& p) {
   if (it == running_.end() || it->second.task.attempt != p.attempt) return;
   ++changes_;  // (a protocol's first report ends its case's preparation)
   Held& h = it->second;
-  if (p.preparing && !h.preparing) h.preparing_since = Clock::now();
+  if (p.preparing && !h.preparing) {
+    h.preparing_since = Clock::now();
+    // Its files as it begins: a case held next on its group was handed out while the case before
+    // it made the bed and β they share (one replica's points run in a row), and loads them now.
+    h.prepares = missing_preparation_files(ctx_, h.task);
+  }
   // Its preparation's cost, for the ETA of those still to come (a β measurement that went on
   // from a kept turn counts only its rest: the measure errs short after a stop).
   if (!p.preparing && h.preparing && !h.prepares.empty()) {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -129,6 +130,7 @@ class Dispatcher {
   // The distinct files the cases not begun will make that exist nowhere yet and that no running
   // case makes (the ETA; scenes are read only once a preparation has been measured).
   int files_left_to_prepare();
+  std::set<std::string> on_disk_;  // the files it found made
   ScheduleStats stats_;
   Clock::time_point t0_ = Clock::now(), last_tick_ = Clock::now(), last_line_ = Clock::now();
 };
