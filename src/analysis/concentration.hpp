@@ -22,7 +22,8 @@ struct ShellBins {
 ShellBins bin_shell(const Particles& p, const Mat3& to_frame, const LambertGrid& grid, double R,
                     double inner);
 
-// Danckwerts' intensity of segregation of one sample: the volume-weighted standard deviation of
+// The square root of Danckwerts' intensity of segregation (his is a ratio of variances) of one
+// sample, a ratio of standard deviations: the volume-weighted standard deviation of
 // c_L over the cells, divided by its value for complete segregation, sqrt(c(1 - c)) with c the
 // shell's mean. 0 = evenly mixed (up to sampling noise), 1 = fully segregated; NaN if the shell
 // holds one species only or nothing.

@@ -37,6 +37,7 @@ SnapshotData read_snapshot(const std::string& path) {
   s.density_ratio = sc.density_ratio;
   s.shape = name_of(sc.shape);
   s.mode = name_of(sc.mode);
+  s.mixture = mixture_of(sc);
   return s;
 }
 

@@ -8,6 +8,7 @@
 
 #include "base/particles.hpp"
 #include "base/vec3.hpp"
+#include "scene/mixture.hpp"
 
 namespace tumble::analysis {
 
@@ -24,6 +25,9 @@ struct SnapshotData {
   // tumbler.shape and protocol.mode as the scene file writes them: the maps of the sphere and the
   // islands of the biaxial protocol are not those of a cylinder or of another protocol.
   std::string shape = "sphere", mode = "biaxial";
+  // Which species is which (the scene's mixture): the analyses count its mapped species, the
+  // large one of a size-bidisperse bed and the light one of a density-bidisperse bed.
+  Mixture mixture;
 
   std::size_t size() const { return id.size(); }
   // The particles in the layout of the engine (positions, radii, species only), for the analyses

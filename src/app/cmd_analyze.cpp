@@ -88,22 +88,25 @@ void register_classify(CLI::App& an) {
     const SnapshotData s0 = read_snapshot(a->from), s1 = read_snapshot(a->to);
     require_sphere(s0, true);
     require_sphere(s1, true);
-    const IslandMask mask(shell_polygons(a->islands.all(s0, false), a->islands.r));
-    const FateResult r = classify_fates(s0, s1, mask);
+    // (The mixture's mapped species, as a campaign counts: species 1 of a density-bidisperse bed
+    // is its heavy majority. The mask groups chain islands with their primary, as a campaign's.)
+    const int mapped = s0.mixture.mapped;
+    const IslandMask mask = shell_mask(a->islands.all(s0, false), a->islands.r);
+    const FateResult r = classify_fates(s0, s1, mask, mapped);
     const auto& c = r.counts;
     std::printf("islands: %d covering %.4f of the view from below\n", mask.size(),
                 mask.area_fraction());
     const FateExpectation e = chance_fates(r);
     std::printf(
-        "iterations %.3g -> %.3g, %lld large particles: persistent (same island) %lld, switched "
+        "iterations %.3g -> %.3g, %lld %s particles: persistent (same island) %lld, switched "
         "island %lld, captured %lld, dispersed %lld, other %lld\n"
         "by chance (end positions relabelled at random): persistent %.1f, switched %.1f, "
         "captured %.1f, dispersed %.1f, other %.1f\n",
         s0.iteration, s1.iteration, static_cast<long long>(c.total()),
-        static_cast<long long>(c.persistent), static_cast<long long>(c.switched),
-        static_cast<long long>(c.captured), static_cast<long long>(c.dispersed),
-        static_cast<long long>(c.other), e.persistent, e.switched, e.captured, e.dispersed,
-        e.other);
+        s0.mixture.name[mapped].c_str(), static_cast<long long>(c.persistent),
+        static_cast<long long>(c.switched), static_cast<long long>(c.captured),
+        static_cast<long long>(c.dispersed), static_cast<long long>(c.other), e.persistent,
+        e.switched, e.captured, e.dispersed, e.other);
     if (!a->out.empty()) {
       write_fates(a->out, s0, s1, r);
       std::printf("wrote %s\n", a->out.c_str());
@@ -245,12 +248,12 @@ void register_enrichment(CLI::App& an) {
     std::vector<double> v;
     for (const SnapshotData& s : snaps) {
       const std::string& p = s.path;
-      const IslandMask mask(shell_polygons(a->islands.all(s, false), a->islands.r));
-      values.push_back(enrichment_from_particles(s, mask, a->inner));
+      const IslandMask mask = shell_mask(a->islands.all(s, false), a->islands.r);
+      values.push_back(enrichment_from_particles(s, mask, a->inner, s.mixture.mapped));
       v.push_back(values.back().value);
-      std::printf("%s: enrichment %.4f (inside %.4f of %g large, islands %.4f of the view)\n",
+      std::printf("%s: enrichment %.4f (inside %.4f of %g %s, islands %.4f of the view)\n",
                   p.c_str(), values.back().value, values.back().inside_share, values.back().counted,
-                  values.back().area_share);
+                  s.mixture.name[s.mixture.mapped].c_str(), values.back().area_share);
     }
     const MeanCI m = mean_ci95(v);
     std::printf("mean %.4f +- %.4f (95%% CI, N = %d)\n", m.mean, m.ci95, m.n);

@@ -71,14 +71,6 @@ std::vector<FieldsDpsiMap> read_dpsi_maps(const io::H5File& f) {
   return out;
 }
 
-// The mask of a point's islands; a secondary chain's islands count as the primary island they
-// surround (the Fig. 8 fates' "same island").
-IslandMask mask_of(const std::vector<cm::Island>& islands) {
-  std::vector<cm::Polygon> polys;
-  for (const auto& is : islands) polys.push_back(is.boundary);
-  return IslandMask(std::move(polys), cm::primary_island_of(islands));
-}
-
 std::vector<CaseFields> read_cases(const std::string& dir) {
   std::vector<CaseFields> out;
   const fs::path cases = fs::path(dir) / "cases";
@@ -375,7 +367,7 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
     for (const auto& is : p.islands)  // the primary islands' period (chains: n q)
       if (is.parent_orbit < 0)
         p.island_period = p.island_period == 0 ? is.period : std::lcm(p.island_period, is.period);
-    const IslandMask mask = mask_of(p.islands);
+    const IslandMask mask = grouped_mask(p.islands);
     p.island_area_fraction = mask.area_fraction();
     p.coverage = mask.cell_coverage(LambertGrid(p.grid_n));
     r_large = std::max(r_large, largest_radius(c.dir));
@@ -415,7 +407,7 @@ std::vector<PointAnalysis> analyze_campaign(const std::string& dir,
   // Pass 2: every case.
   for (const auto& c : cases) {
     PointAnalysis& p = points.at(c.point_id);
-    const IslandMask mask = mask_of(p.islands);
+    const IslandMask mask = grouped_mask(p.islands);
     const LambertGrid grid(p.grid_n);
     CaseAnalysis ca;
     ca.case_id = c.case_id;

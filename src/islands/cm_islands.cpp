@@ -49,4 +49,14 @@ std::vector<cm::Polygon> shell_polygons(const std::vector<cm::Island>& all, doub
   return out;
 }
 
+IslandMask grouped_mask(const std::vector<cm::Island>& on_shell) {
+  std::vector<cm::Polygon> polys;
+  for (const auto& is : on_shell) polys.push_back(is.boundary);
+  return IslandMask(std::move(polys), cm::primary_island_of(on_shell));
+}
+
+IslandMask shell_mask(const std::vector<cm::Island>& all, double r) {
+  return grouped_mask(cm::islands_on_shell(all, r));
+}
+
 }  // namespace tumble::analysis

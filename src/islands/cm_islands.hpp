@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cm/island.hpp"
+#include "islands/island_mask.hpp"
 
 namespace tumble::analysis {
 
@@ -25,7 +26,13 @@ std::vector<cm::Island> load_islands(const std::string& path);
 std::vector<cm::Island> protocol_islands(double theta_z, double theta_x, const CmIslandOptions& opt,
                                          const std::string& cache_dir);
 
-// The polygons of the islands on shell r (the mask the classification and enrichment use).
+// The polygons of the islands on shell r.
 std::vector<cm::Polygon> shell_polygons(const std::vector<cm::Island>& all, double r);
+
+// The mask of islands on one shell, a secondary chain's islands counting as the primary island
+// they surround (the Fig. 8 fates' "same island"): what the classification and enrichment use,
+// from a campaign and from the command line alike. shell_mask takes the islands of shell r.
+IslandMask grouped_mask(const std::vector<cm::Island>& on_shell);
+IslandMask shell_mask(const std::vector<cm::Island>& all, double r);
 
 }  // namespace tumble::analysis
