@@ -79,6 +79,14 @@ std::vector<CaseFields> read_cases(const std::string& dir) {
     const fs::path fp = e.path() / "fields.h5";
     if (!fs::exists(fp)) continue;  // not finished (or failed): not part of the ensemble
     io::H5File f(fp.string(), io::H5File::Mode::Read);
+    // Every analysis here sets the maps against the CM islands, which sit still in the lab frame
+    // at the end of each iteration; in the tumbler's frame they turn with it.
+    if (f.has_attr("/", "frame") && f.attr_string("/", "frame") != "lab")
+      throw InputError("'" + dir + "': its fields were collected with collect.frame = \"" +
+                       f.attr_string("/", "frame") + "\" (" + fp.string() +
+                       "); `tumble analyze campaign` compares them with the continuum model's "
+                       "islands, which stand still in the lab frame only: collect with frame = "
+                       "\"lab\"");
     CaseFields c;
     c.dir = e.path().string();
     c.case_id = f.attr_string("/", "case_id");

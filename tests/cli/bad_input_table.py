@@ -29,6 +29,8 @@ import sys
 import tempfile
 import time
 
+import h5py
+
 TINY_BODY = """
 [tumbler]
 radius = 0.020
@@ -128,7 +130,20 @@ def make_tumble_fixtures(tumble, fx, scenes, limit):
             sys.exit("fixture %s: tumble %s failed (rc %s):\n%s" % (name, " ".join(args), rc, out))
 
 
+# name -> the root attributes of an HDF5 file the script writes (fields.h5 as a campaign's case
+# leaves it, only what the refusal reads).
+H5_FIXTURES = {
+    "campaign_tumbler/cases/c1/fields.h5": {"frame": "tumbler"},
+}
+
+
 def write_fixtures(fx, scenes):
+    for name, attrs in H5_FIXTURES.items():
+        path = os.path.join(fx, name)
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with h5py.File(path, "w") as f:
+            for k, v in attrs.items():
+                f.attrs[k] = v
     for name, text in FIXTURES.items():
         path = os.path.join(fx, name)
         if text is None:
