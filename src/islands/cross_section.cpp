@@ -53,6 +53,7 @@ SectionPlane upright(const SectionPlane& p) {
 }
 
 void SectionMap::add(const SnapshotData& s, const SectionPlane& plane, double half_width) {
+  const int mapped = s.mixture.mapped;
   for (std::size_t i = 0; i < s.size(); ++i) {
     if (std::abs(dot(s.x[i], plane.normal)) > half_width) continue;
     const double s1 = dot(s.x[i], plane.e1) / s.R, s2 = dot(s.x[i], plane.e2) / s.R;
@@ -60,7 +61,7 @@ void SectionMap::add(const SnapshotData& s, const SectionPlane& plane, double ha
     const int b = static_cast<int>(std::floor((s2 + 1) * 0.5 * n_));
     if (a < 0 || a >= n_ || b < 0 || b >= n_) continue;
     const double r = s.radius[i];
-    (s.species[i] == 1 ? large : small)[a * n_ + b] += 4.0 / 3.0 * kPi * r * r * r;
+    (s.species[i] == mapped ? large : small)[a * n_ + b] += 4.0 / 3.0 * kPi * r * r * r;
   }
   ++samples;
 }

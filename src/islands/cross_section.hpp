@@ -43,7 +43,10 @@ class SectionMap {
   void add(const SnapshotData& s, const SectionPlane& plane, double half_width);
   std::vector<double> c_large() const;  // NaN where nothing was binned
 
-  std::vector<double> large, small;  // solid volume per bin, summed over configurations
+  // Solid volume per bin, summed over configurations: `large` holds the mixture's mapped species
+  // (the large one of a size-bidisperse bed, the light one of a density-bidisperse bed, as the
+  // maps), `small` the other.
+  std::vector<double> large, small;
   int samples = 0;
 
  private:

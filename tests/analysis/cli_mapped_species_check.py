@@ -6,7 +6,8 @@ mapped species, as `analyze campaign` does, not species 1 whatever the bed.
 Two snapshots of the CLI's bst_tiny run (size-bidisperse: 2040 small, 45 large) are copied with
 their stored scene rewritten to a density-bidisperse bed of equal sizes: with density_ratio = 3
 species 0 is the light one, with 1/3 species 1 is. The classification must then count "light"
-particles, as many as that species has; the original snapshots, "large", species 1. (Before
+particles, as many as that species has; the original snapshots, "large", species 1; and the
+section (Fig. 5) through two islands maps that species' share. (Before
 2026-11-29 the command line counted species 1 in every bed: in a density bed with R_rho > 1, the
 heavy majority reported as the mapped particles.)"""
 import os
@@ -58,6 +59,7 @@ def rewrite(src, dst, density_ratio):
 
 
 counts = species_counts(os.path.join(snaps, names[0]))
+sections = {}
 cases = [("original", None, "large", 1)]
 cases += [("density_ratio_3", 3.0, "light", 0), ("density_ratio_third", 1 / 3, "light", 1)]
 for label, ratio, word, species in cases:
@@ -77,12 +79,31 @@ for label, ratio, word, species in cases:
     if name != word or n != counts[species]:
         fail("%s: classify counted %d %s particles; want %d %s (species %d)"
              % (label, n, name, counts[species], word, species))
+    # Fig. 5's section through the same islands: the mapped species' share, so a bed whose
+    # mapped species is species 0 shows 1 - the original's share in every binned cell.
+    section = os.path.join(work, label + "_section.h5")
+    run(["section", paths[1], "-o", section])
+    with h5py.File(section, "r") as f:
+        sections[label] = f["c_L"][()]
     out = run(["enrichment"] + paths)
     got = re.findall(r"inside [0-9.]+ of (\d+) (\w+),", out)
     print("%s: enrichment counted %s" % (label, got))
     if len(got) != 2 or any(w != word for _, w in got) or \
             any(int(k) > counts[species] or int(k) == 0 for k, _ in got):
         fail("%s: enrichment counted %s; want up to %d %s each" % (label, got, counts[species], word))
+
+base = sections.get("original")
+for label, species in (("density_ratio_3", 0), ("density_ratio_third", 1)):
+    c = sections.get(label)
+    if base is None or c is None:
+        continue
+    want = 1 - base if species == 0 else base
+    seen = ~np.isnan(base)
+    if not np.array_equal(np.isnan(c), ~seen) or np.max(np.abs(c[seen] - want[seen])) > 1e-12:
+        fail("%s: the section's share is not species %d's (max difference %.3g)"
+             % (label, species, np.nanmax(np.abs(c - want))))
+    else:
+        print("%s: section = species %d's share in all %d binned cells" % (label, species, seen.sum()))
 
 if failures:
     sys.exit(1)
