@@ -196,11 +196,10 @@ TEST(Eta, PreparationsToComeAreChargedTheirMeasuredCost) {
   // of preparation left, then its whole protocol; it is the longest, so it sets the estimate.
   in.queued_files = 0;
   in.queued_cost = 0;
-  EtaInput::Running preparing{1, 1000};
-  preparing.preparing = true;
-  preparing.files = 2;
-  preparing.preparing_for = 1000;
-  in.running = {preparing};
+  in.running = {{1, 1000}};
+  in.running[0].preparing = true;
+  in.running[0].files = 2;
+  in.running[0].preparing_for = 1000;
   EXPECT_NEAR(estimate_eta(in), 2600 + 1000, 1e-9);
   // A preparation past its measure is taken to end now: only the protocol is left.
   in.running[0].preparing_for = 5000;
