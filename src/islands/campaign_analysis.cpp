@@ -81,9 +81,10 @@ std::vector<CaseFields> read_cases(const std::string& dir) {
     io::H5File f(fp.string(), io::H5File::Mode::Read);
     // Every analysis here sets the maps against the CM islands, which sit still in the lab frame
     // at the end of each iteration; in the tumbler's frame they turn with it.
-    if (f.has_attr("/", "frame") && f.attr_string("/", "frame") != "lab")
-      throw InputError("'" + dir + "': its fields were collected with collect.frame = \"" +
-                       f.attr_string("/", "frame") + "\" (" + fp.string() +
+    if (const std::string frame = f.has_attr("/", "frame") ? f.attr_string("/", "frame") : "lab";
+        frame != "lab")
+      throw InputError("'" + dir + "': its fields were collected with collect.frame = \"" + frame +
+                       "\" (" + fp.string() +
                        "); `tumble analyze campaign` compares them with the continuum model's "
                        "islands, which stand still in the lab frame only: collect with frame = "
                        "\"lab\"");

@@ -43,12 +43,6 @@ std::vector<cm::Island> protocol_islands(double theta_z, double theta_x, const C
   return islands;
 }
 
-std::vector<cm::Polygon> shell_polygons(const std::vector<cm::Island>& all, double r) {
-  std::vector<cm::Polygon> out;
-  for (const auto& is : cm::islands_on_shell(all, r)) out.push_back(is.boundary);
-  return out;
-}
-
 IslandMask grouped_mask(const std::vector<cm::Island>& on_shell) {
   std::vector<cm::Polygon> polys;
   for (const auto& is : on_shell) polys.push_back(is.boundary);

@@ -26,9 +26,6 @@ std::vector<cm::Island> load_islands(const std::string& path);
 std::vector<cm::Island> protocol_islands(double theta_z, double theta_x, const CmIslandOptions& opt,
                                          const std::string& cache_dir);
 
-// The polygons of the islands on shell r.
-std::vector<cm::Polygon> shell_polygons(const std::vector<cm::Island>& all, double r);
-
 // The mask of islands on one shell, a secondary chain's islands counting as the primary island
 // they surround (the Fig. 8 fates' "same island"): what the classification and enrichment use,
 // from a campaign and from the command line alike. shell_mask takes the islands of shell r.
