@@ -440,6 +440,24 @@ void validate_scene(const Scene& s) {
       fail("protocol.rpm", os.str());
     }
   }
+  // An interval shorter than one time step cannot be kept: it silently meant an event every step
+  // (output.checkpoint_interval = 1e-12 wrote bst_tiny's whole state each step, 40x slower).
+  struct Interval {
+    const char* key;
+    double value;
+    const char* zero;  // what 0 means for the key
+  };
+  for (const Interval& i :
+       {Interval{"output.checkpoint_interval", s.checkpoint_interval, "once per iteration"},
+        Interval{"output.snapshot_interval", s.snapshot_interval, "once per iteration"},
+        Interval{"output.analysis_interval", s.analysis_interval, "off"}}) {
+    if (i.value > 0 && i.value < s.time_step()) {
+      std::ostringstream os;
+      os << "= " << i.value << " s is shorter than one time step (" << s.time_step()
+         << " s): allowed 0 (" << i.zero << ") or at least the time step";
+      fail(i.key, os.str());
+    }
+  }
   // Snapshots are files of the whole bed: more than kMaxSnapshots of them is a typo, not a study
   // (1e-300 wrote one per step: ~160 GB for bst_tiny's one iteration).
   if (s.snapshot_interval > 0) {
