@@ -13,6 +13,7 @@
 
 #include "bed_fixture.hpp"
 #include "h5/hdf5_file.hpp"
+#include "run/event_steps.hpp"
 #include "run/realization.hpp"
 #include "run/snapshot_observer.hpp"
 
@@ -166,4 +167,19 @@ TEST(SnapshotSteps, AResumeWithAnotherIntervalOrMoreIterationsKeepsToTheGrid) {
   ext.erase(std::find(ext.begin(), ext.end(), first_end));
   EXPECT_EQ(ext, straight) << "the extended run's grid differs from the uninterrupted run's";
   expect_xdmf_matches_files(base + "/extended");
+}
+
+// Checkpoints and segregation samples: steps_between_events. An interval of "never" (1e9 s) at a
+// tiny time step is more steps than llround can return; before the clamp it came back LLONG_MIN
+// and the max with 1 checkpointed every step.
+TEST(EventSteps, AnIntervalPastEveryStepCountStaysNever) {
+  EXPECT_EQ(steps_between_events(1e9, 1e-10, 1.0), std::int64_t{1000000000000000000});
+  EXPECT_EQ(steps_between_events(1e9, 1e-300, 1.0), std::int64_t{1000000000000000000});
+}
+
+TEST(EventSteps, RoundsToTheNearestStepWithAtLeastOneAndZeroMeansTheFallback) {
+  EXPECT_EQ(steps_between_events(0.002, 2e-5, 12.3), 100);
+  EXPECT_EQ(steps_between_events(0.002012, 2e-5, 12.3), 101);  // 100.6
+  EXPECT_EQ(steps_between_events(0, 2e-5, 12.3), 615000);      // once per iteration
+  EXPECT_EQ(steps_between_events(1e-6, 2e-5, 12.3), 1);        // (the scene refuses it: w20-w22)
 }

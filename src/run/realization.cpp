@@ -20,6 +20,7 @@
 #include "io/snapshot.hpp"
 #include "run/checkpoint_observer.hpp"
 #include "run/drift_observer.hpp"
+#include "run/event_steps.hpp"
 #include "run/health_observer.hpp"
 #include "run/progress_observer.hpp"
 #include "run/repose_measure.hpp"
@@ -42,14 +43,6 @@ geometry::Protocol protocol_of(const Scene& scene) {
   if (scene.mode == Mode::single_axis)
     return geometry::Protocol::single_axis(name_of(scene.axis)[0], scene.omega());
   return geometry::Protocol::at_rest();
-}
-
-// Steps between two events `interval` simulated seconds apart (0: once per `fallback`).
-std::int64_t steps_for(double interval, double dt, double fallback) {
-  const double t = interval > 0 ? interval : fallback;
-  // (Clamped before rounding: an interval of 1e9 s at dt = 1e-12 s, "never", overflowed llround
-  // to LLONG_MIN, and max(1, ...) made it every step.)
-  return std::max<std::int64_t>(1, std::llround(std::min(t / dt, 1e18)));
 }
 
 // Keys that must agree between a checkpoint and the scene it is restarted with (physics and bed);
@@ -261,13 +254,15 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
     own.push_back(std::move(o));
   };
   if (scene.analysis_interval > 0)
-    add(std::make_unique<SeriesObserver>(scene, steps_for(scene.analysis_interval, dt, period)));
+    add(std::make_unique<SeriesObserver>(
+        scene, steps_between_events(scene.analysis_interval, dt, period)));
   for (Observer* o : opt.observers) observers.push_back(o);
   if (scene.drift_grid == OnOff::on) add(std::make_unique<DriftObserver>(scene));
   add(std::make_unique<HealthObserver>());
   if (opt.write_snapshots) add(std::make_unique<SnapshotObserver>(snap_steps));
   add(std::make_unique<CheckpointObserver>(
-      ckpt_path, steps_for(scene.checkpoint_interval, dt, period), scene.checkpoint_wall));
+      ckpt_path, steps_between_events(scene.checkpoint_interval, dt, period),
+      scene.checkpoint_wall));
   add(std::make_unique<ProgressObserver>(opt.on_progress));
 
   if (sim->step_count() == 0)
