@@ -22,4 +22,5 @@ tumble=${TUMBLE:-build/tumble}
 if [ "$(id -u)" = 0 ]; then  # Open MPI refuses root unless told
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fi
-exec ${MPIRUN:-mpirun} -n "$np" "$tumble" campaign "$campaign" "${group[@]}" "$@"
+# (${group[@]+...}: an empty array under set -u is an error on bash < 4.4, e.g. RHEL 7)
+exec ${MPIRUN:-mpirun} -n "$np" "$tumble" campaign "$campaign" ${group[@]+"${group[@]}"} "$@"

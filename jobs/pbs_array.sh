@@ -42,4 +42,5 @@ if [ -n "${PBS_NODEFILE:-}" ] && [ -f "$PBS_NODEFILE" ]; then
   TUMBLE_TASK_RANKS=$(wc -l < "$PBS_NODEFILE")
   export TUMBLE_TASK_RANKS
 fi
-run_slice pbs_array.sh "$PWD" "${TUMBLE_LAUNCH:-mpiexec}" "$campaign" "$i" "$n" "${extra[@]}"
+# (${a[@]+"${a[@]}"}: an empty array under set -u is an error on bash < 4.4, e.g. RHEL 7)
+run_slice pbs_array.sh "$PWD" "${TUMBLE_LAUNCH:-mpiexec}" "$campaign" "$i" "$n" ${extra[@]+"${extra[@]}"}

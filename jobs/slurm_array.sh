@@ -13,10 +13,13 @@
 # srun. The slices are a deterministic, cost-balanced split of the cases, so a task resubmitted
 # later runs the same cases; a slice with nothing left to run exits at once without starting
 # MPI, and a slice cut off by the time limit resumes from its checkpoints when resubmitted. To
-# resubmit only some tasks (e.g. --array=3,7), export TUMBLE_SLICES=N so that N is not guessed.
+# resubmit only some tasks (e.g. --array=3,7), export TUMBLE_SLICES=N so that N is not guessed
+# (and TUMBLE_FIRST_INDEX=0 if the array was numbered from 0); an array that is not a whole range
+# 1-N or 0-(N-1) is refused without it.
 #
 # Environment: TUMBLE (the binary; default SUBMIT_DIR/build/tumble, then tumble on PATH),
-# TUMBLE_LAUNCH (default "srun"), TUMBLE_SLICES (default: the array's size), TUMBLE_RANKS_PER_CASE
+# TUMBLE_LAUNCH (default "srun"), TUMBLE_SLICES (default: the array's size), TUMBLE_FIRST_INDEX
+# (0 or 1: the number of the array's first task; default: the lowest task now), TUMBLE_RANKS_PER_CASE
 # (ranks per case, default: the campaign file's campaign.ranks_per_case).
 #
 # Five minutes before the time limit Slurm sends SIGUSR1 to the tasks (--signal below): every
@@ -33,7 +36,22 @@ shift
 
 min=${SLURM_ARRAY_TASK_MIN:-1}
 max=${SLURM_ARRAY_TASK_MAX:-${SLURM_ARRAY_TASK_ID}}
-offset=$((min == 0 ? 1 : 0))  # --array=0-15 numbers slices 1..16
+count=${SLURM_ARRAY_TASK_COUNT:-$((max - min + 1))}
+# The slicing is guessed from the array only when the array is the whole range 1-N or 0-(N-1): a
+# resubmitted subset (--array=5, --array=3,7) or a stepped one (0-30:2) would give another N, and
+# another slicing deals the cases anew.
+if [ -z "${TUMBLE_SLICES:-}" ] && { [ "$min" -gt 1 ] || [ "$count" -ne $((max - min + 1)) ]; }; then
+  echo "slurm_array.sh: the array (tasks $min-$max, $count of them) is not a whole range 1-N or" \
+    "0-(N-1), so N cannot be read from it: export TUMBLE_SLICES=N (and TUMBLE_FIRST_INDEX=0 if" \
+    "the array was numbered from 0)" >&2
+  exit 2
+fi
+case ${TUMBLE_FIRST_INDEX:-} in
+  "") offset=$((min == 0 ? 1 : 0)) ;;  # --array=0-15 numbers slices 1..16
+  0) offset=1 ;;
+  1) offset=0 ;;
+  *) echo "slurm_array.sh: TUMBLE_FIRST_INDEX='${TUMBLE_FIRST_INDEX}' must be 0 or 1" >&2; exit 2 ;;
+esac
 i=$((SLURM_ARRAY_TASK_ID + offset))
 n=${TUMBLE_SLICES:-$((max + offset))}
 

@@ -63,17 +63,28 @@ int parse_ranks_per_case(const std::string& text) {
   return static_cast<int>(k);
 }
 
-std::set<std::string> case_table_ids(const std::string& dir) {
-  std::set<std::string> ids;
+std::vector<CaseTableRow> case_table(const std::string& dir) {
+  std::vector<CaseTableRow> rows;
   std::ifstream in(dir + "/cases.tsv");
   std::string line;
   while (std::getline(in, line)) {
     if (line.empty() || line[0] == '#') continue;
+    // index, case, point, replica, cost, params, scene_error (tab-separated; see cases_table)
+    std::vector<std::string> cols;
     std::istringstream fields(line);
-    std::string index, id;
-    fields >> index >> id;
-    ids.insert(id);
+    for (std::string col; std::getline(fields, col, '\t');) cols.push_back(col);
+    CaseTableRow r;
+    if (cols.size() > 1) r.id = cols[1];
+    if (cols.size() > 2) r.point = cols[2];
+    if (cols.size() > 5) r.params = cols[5];
+    rows.push_back(r);
   }
+  return rows;
+}
+
+std::set<std::string> case_table_ids(const std::string& dir) {
+  std::set<std::string> ids;
+  for (const CaseTableRow& r : case_table(dir)) ids.insert(r.id);
   return ids;
 }
 
@@ -284,6 +295,52 @@ Ensemble build_ensemble(const CampaignSpec& spec, const Expansion& e, const std:
       ps.missing.push_back(c.id);
   }
   return ens;
+}
+
+// Why the statistics of a slice whose cases all ended (`path`: the slice's partial, or for the
+// whole campaign its ensemble.h5, which `tumble merge` writes too) are not its current result,
+// "" if they are: absent, unreadable, or folding other cases than those now done and failed (a
+// partial written before the campaign grew and dealt its cases anew, or before a retry). The
+// job-array scripts skip a slice whose status is 0: a stale partial was never written again.
+std::string statistics_not_current(const std::string& path, const Expansion& e,
+                                   const std::vector<std::size_t>& slice,
+                                   const std::vector<CaseState>& states) {
+  std::error_code ec;
+  if (!fs::exists(path, ec))
+    return "statistics not written (the run that finished the cases was stopped or killed "
+           "before it wrote them)";
+  std::set<std::string> done, failed, members, excluded, missing;
+  for (std::size_t k = 0; k < slice.size(); ++k)
+    if (states[k].state == State::Done)
+      done.insert(e.cases[slice[k]].id);
+    else if (states[k].state == State::Failed)
+      failed.insert(e.cases[slice[k]].id);
+  try {
+    PetscScope petsc;  // (the reader logs through PETSc)
+    for (const auto& [id, p] : Ensemble::read(path).points) {
+      members.insert(p.members.begin(), p.members.end());
+      missing.insert(p.missing.begin(), p.missing.end());
+      for (const std::string& f : p.failed) excluded.insert(f.substr(0, f.find(':')));
+    }
+  } catch (const std::exception& x) {
+    return "statistics file " + path + " does not read (" + x.what() + ")";
+  }
+  if (members == done && excluded == failed && missing.empty()) return "";
+  std::set<std::string> mine = done, held = members;
+  mine.insert(failed.begin(), failed.end());
+  held.insert(excluded.begin(), excluded.end());
+  held.insert(missing.begin(), missing.end());
+  auto count_not_in = [](const std::set<std::string>& a, const std::set<std::string>& b) {
+    return std::count_if(a.begin(), a.end(), [&](const std::string& x) { return !b.count(x); });
+  };
+  std::ostringstream os;
+  os << "statistics file " << path << " is not this slice's current result: of the slice's "
+     << mine.size() << " ended cases it lacks " << count_not_in(mine, held) << ", it holds "
+     << count_not_in(held, mine) << " other cases, and " << missing.size()
+     << " without result; done in it " << members.size() << ", now " << done.size()
+     << "; failed in it " << excluded.size() << ", now " << failed.size()
+     << " (written before the campaign grew and dealt its cases anew, or before a retry)";
+  return os.str();
 }
 
 // This slice's statistics from the manifests and fields files (not from memory: the result is
@@ -558,11 +615,15 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
       // Nothing to run, and yet no statistics: an invocation ended by a stop (or killed) after
       // its last case. The job-array scripts skip a slice whose status is 0, so it would never
       // be folded, and `tumble merge` would wait for it for ever.
-      if (pending.empty() && !fs::exists(partial_path(dir, opt.slice_i, opt.slice_n))) {
-        out << "  statistics not written (the run that finished the cases was stopped or "
-               "killed before it wrote them): rerun the same command to write them\n";
-        status_rc = exit_code::kWorkLeft;
-      }
+      // A stale or damaged file is as good as none.
+      const std::string stats_file =
+          opt.slice_n == 1 ? dir + "/ensemble.h5" : partial_path(dir, opt.slice_i, opt.slice_n);
+      if (pending.empty())
+        if (const std::string why = statistics_not_current(stats_file, e, slice, states);
+            !why.empty()) {
+          out << "  " << why << ": rerun the same command to write them\n";
+          status_rc = exit_code::kWorkLeft;
+        }
     } else {
       fs::create_directories(dir + "/partials");
       dir_lock = std::make_unique<DirectoryLock>(dir, opt.slice_n);

@@ -6,6 +6,7 @@
 #include <iosfwd>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace tumble::campaign {
 
@@ -34,7 +35,13 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out);
 // Partial results of slice i of n live in DIR/partials/slice_I_of_N.h5; the whole campaign's
 // statistics in DIR/ensemble.h5.
 std::string partial_path(const std::string& dir, int i, int n);
-// The case ids of DIR/cases.tsv, the table of the campaign that runs there (none: empty).
+// A row of DIR/cases.tsv, the table of the campaign that runs there.
+struct CaseTableRow {
+  std::string id, point, params;  // case id, point id, the point's parameters as shown
+};
+// Its rows in table order (no table: none).
+std::vector<CaseTableRow> case_table(const std::string& dir);
+// Their case ids.
 std::set<std::string> case_table_ids(const std::string& dir);
 
 }  // namespace tumble::campaign

@@ -1,5 +1,6 @@
 #include "campaign/merge.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <ostream>
@@ -38,6 +39,46 @@ void check_cases_listed(const Ensemble& part, const std::string& file,
                          "slice");
   }
 }
+// The case ids a partial accounts for: folded in, failed (excluded) or listed without result.
+std::set<std::string> accounted_cases(const Ensemble& e) {
+  std::set<std::string> ids;
+  for (const auto& [pid, p] : e.points) {
+    ids.insert(p.members.begin(), p.members.end());
+    ids.insert(p.missing.begin(), p.missing.end());
+    for (const std::string& f : p.failed) ids.insert(f.substr(0, f.find(':')));
+  }
+  return ids;
+}
+
+// Cases of the directory's table that no partial accounts for (a slice not run yet, or one whose
+// partial predates a sweep that grew the campaign) are listed as without result, in their points
+// (declared here if no partial has them), so that the merge does not call an incomplete
+// ensemble complete. Returns how many there were.
+std::size_t add_unaccounted(Ensemble& total, const std::vector<CaseTableRow>& table) {
+  const std::set<std::string> seen = accounted_cases(total);
+  // A point no partial holds takes the campaign-wide settings of any point that one does.
+  const PointStats* any = total.points.empty() ? nullptr : &total.points.begin()->second;
+  std::size_t added = 0;
+  for (const CaseTableRow& row : table) {
+    if (seen.count(row.id)) continue;
+    PointStats& p = total.points[row.point];
+    if (p.id.empty()) {
+      p.id = row.point;
+      p.params_text = row.params;
+      // (The table shows the parameters as the sweep gave them; their values read the same.)
+      p.params_canonical = row.params;
+      if (any) {
+        p.tier = any->tier;
+        p.frame = any->frame;
+        p.grid_n = any->grid_n;
+      }
+    }
+    p.missing.push_back(row.id);
+    ++added;
+  }
+  for (auto& [pid, p] : total.points) std::sort(p.missing.begin(), p.missing.end());
+  return added;
+}
 }  // namespace
 
 int merge_campaign(const std::string& dir, int slices, std::ostream& out) {
@@ -69,11 +110,13 @@ int merge_campaign(const std::string& dir, int slices, std::ostream& out) {
                      pdir.string());
   const auto& files = found.at(slices);
 
+  const std::vector<CaseTableRow> rows = case_table(dir);
   const std::set<std::string> table = case_table_ids(dir);
   PetscScope petsc;
   Ensemble total;
   std::string sources, missing_slices, campaign;
-  for (int i = 1; i <= slices; ++i) {  // fixed order: the merge is reproducible bit for bit
+  std::map<std::string, std::string> holder;  // case id -> the partial that holds it
+  for (int i = 1; i <= slices; ++i) {         // fixed order: the merge is reproducible bit for bit
     auto it = files.find(i);
     if (it == files.end()) {
       missing_slices += (missing_slices.empty() ? "" : ",") + std::to_string(i);
@@ -81,11 +124,20 @@ int merge_campaign(const std::string& dir, int slices, std::ostream& out) {
     }
     const Ensemble part = Ensemble::read(it->second);
     check_cases_listed(part, it->second, table, dir);
+    // A case in two partials: one of them is stale (written before the campaign grew and its
+    // cases were dealt to the slices anew, or before a slicing changed). Named, both files.
+    for (const std::string& id : accounted_cases(part))
+      if (auto [at, fresh] = holder.emplace(id, it->second); !fresh)
+        throw InputError("merge: case " + id + " is in two partial results, " + at->second +
+                         " and " + it->second +
+                         ": one of them is stale; rerun the slice whose file is older (tumble "
+                         "campaign FILE --slice I/N) to write it again");
     total.merge(part);
     sources += (sources.empty() ? "" : ",") + fs::path(it->second).filename().string();
     io::H5File f(it->second, io::H5File::Mode::Read);
     if (campaign.empty() && f.has_attr("/", "campaign")) campaign = f.attr_string("/", "campaign");
   }
+  const std::size_t unaccounted = add_unaccounted(total, rows);
   total.notes["campaign"] = campaign;
   total.notes["slice"] = "merged " + std::to_string(files.size()) + " of " + std::to_string(slices);
   total.notes["sources"] = sources;
@@ -103,6 +155,10 @@ int merge_campaign(const std::string& dir, int slices, std::ostream& out) {
     for (const auto& f : p.failed) out << "merge:   excluded " << f << "\n";
   if (!missing_slices.empty())
     out << "merge: slices not run yet: " << missing_slices << " (their cases are not included)\n";
+  if (unaccounted > 0)
+    out << "merge: " << unaccounted << " case" << (unaccounted == 1 ? "" : "s") << " of " << dir
+        << "/cases.tsv in no partial result (a slice not run yet, or run before the campaign "
+           "grew: rerun its slice), counted without result\n";
   return missing_slices.empty() && total.missing_count() == 0 ? 0 : 10;
 }
 

@@ -27,9 +27,10 @@ launch = " ".join(cc.mpiexec_command(a.mpiexec, a.np_flag, 1))
 base_env = dict(os.environ, TUMBLE=a.tumble, TUMBLE_LAUNCH=launch)
 
 
-def slurm(task):
-    env = dict(base_env, SLURM_ARRAY_TASK_ID=str(task), SLURM_ARRAY_TASK_MIN="1",
-               SLURM_ARRAY_TASK_MAX="3", SLURM_ARRAY_TASK_COUNT="3", SLURM_ARRAY_JOB_ID="4242")
+def slurm(task, low=1, high=3, **extra):
+    env = dict(base_env, SLURM_ARRAY_TASK_ID=str(task), SLURM_ARRAY_TASK_MIN=str(low),
+               SLURM_ARRAY_TASK_MAX=str(high), SLURM_ARRAY_TASK_COUNT=str(high - low + 1),
+               SLURM_ARRAY_JOB_ID="4242", **extra)
     return subprocess.run(["bash", os.path.join(a.jobs, "slurm_array.sh"), a.campaign,
                            "--output", out, "--quiet"], env=env, capture_output=True, text=True)
 
@@ -65,6 +66,17 @@ if manifest_lines() != before:
     cc.fail("re-running finished slices wrote to the manifest")
 print("finished slices skipped by both scripts")
 
+# A resubmitted subset (--array=2): N cannot be read from it (it gave slice 2/2, another slicing).
+r = slurm(2, low=2, high=2)
+if r.returncode != 2 or "export TUMBLE_SLICES=N" not in r.stderr:
+    cc.fail("slurm --array=2 without TUMBLE_SLICES: exit %d\n%s%s" % (r.returncode, r.stdout, r.stderr))
+r = slurm(1, low=1, high=1, TUMBLE_SLICES="3", TUMBLE_FIRST_INDEX="0")  # task 1 of 0-2: slice 2
+if r.returncode != 0 or "-> slice 2/3" not in r.stdout or "nothing to run; skipping" not in r.stdout:
+    cc.fail("slurm --array=1 of an array 0-2: exit %d\n%s%s" % (r.returncode, r.stdout, r.stderr))
+if manifest_lines() != before:
+    cc.fail("the resubmitted subset wrote to the manifest")
+print("a resubmitted subset: refused without TUMBLE_SLICES, mapped with TUMBLE_FIRST_INDEX")
+
 r = subprocess.run([a.tumble, "merge", out], capture_output=True, text=True)
 print(r.stdout.strip())
 if r.returncode != 0:
@@ -83,3 +95,81 @@ for c, rec in latest.items():
         x.visititems(same)
 print("OK: 3 slices merged = single run (largest relative difference %.3g; case fields bitwise "
       "equal)" % worst)
+
+# --- the merged statistics as the job scripts and `--status` read them -------------------------
+def campaign(*args, out_dir=out):
+    return subprocess.run([a.tumble, "campaign", a.campaign, "--output", out_dir] + list(args),
+                          capture_output=True, text=True)
+
+
+def cases_in(path):
+    """Case ids a statistics file accounts for: members, excluded (failed) and without result."""
+    ids = set()
+    with h5py.File(path, "r") as f:
+        for g in f["points"].values():
+            for key in ("members", "missing"):
+                ids.update(x for x in cc.text(g.attrs[key]).split(",") if x)
+            ids.update(x.split(":")[0] for x in cc.text(g.attrs["failed"]).split("\n") if x)
+    return ids
+
+
+# The whole campaign's status after a sliced run and its merge: done, its statistics (the merged
+# ensemble.h5) current. Before, it said "statistics not written", and following that advice wrote
+# a 1/1 partial beside the 3 slices', which `tumble merge` then refused.
+r = campaign("--status")
+if r.returncode != 0 or "statistics" in r.stdout:
+    cc.fail("--status of the whole campaign after the merge: exit %d\n%s%s"
+            % (r.returncode, r.stdout, r.stderr))
+print("whole-campaign --status after the merge: 0")
+
+# A stale partial (here slice 1's file in slice 2's place, as a partial written before the
+# campaign grew and dealt its cases anew would be): --status must not call slice 2 done (the job
+# scripts would skip it for ever), and the merge must name both files holding a case.
+stale = out + "_stale"
+shutil.rmtree(stale, ignore_errors=True)
+shutil.copytree(out, stale)
+shutil.copy(os.path.join(stale, "partials", "slice_1_of_3.h5"),
+            os.path.join(stale, "partials", "slice_2_of_3.h5"))
+r = campaign("--slice", "2/3", "--status", out_dir=stale)
+if r.returncode != 10 or "not this slice's current result" not in r.stdout:
+    cc.fail("--status of a slice whose partial is another's: exit %d\n%s%s"
+            % (r.returncode, r.stdout, r.stderr))
+r = subprocess.run([a.tumble, "merge", stale], capture_output=True, text=True)
+if r.returncode != 2 or "slice_1_of_3.h5" not in r.stderr or "slice_2_of_3.h5" not in r.stderr:
+    cc.fail("merge of a stale partial: exit %d, want 2 naming both files\n%s%s"
+            % (r.returncode, r.stdout, r.stderr))
+# A damaged partial is no result either.
+with open(os.path.join(stale, "partials", "slice_2_of_3.h5"), "r+b") as f:
+    f.truncate(5000)
+r = campaign("--slice", "2/3", "--status", out_dir=stale)
+if r.returncode != 10 or "does not read" not in r.stdout:
+    cc.fail("--status of a slice whose partial is truncated: exit %d\n%s%s"
+            % (r.returncode, r.stdout, r.stderr))
+print("a stale or damaged partial: --status 10, merge names both files")
+
+# A slice with no partial: its cases are counted without result, in their points (before, the
+# merged file had n_missing = 0 and a point only that slice held had no row at all).
+gone = out + "_missing"
+shutil.rmtree(gone, ignore_errors=True)
+shutil.copytree(out, gone)
+third = cases_in(os.path.join(gone, "partials", "slice_3_of_3.h5"))
+os.remove(os.path.join(gone, "partials", "slice_3_of_3.h5"))
+r = subprocess.run([a.tumble, "merge", gone], capture_output=True, text=True)
+print(r.stdout.strip())
+if r.returncode != 10:
+    cc.fail("merge without slice 3: exit %d, want 10\n%s%s" % (r.returncode, r.stdout, r.stderr))
+with h5py.File(os.path.join(gone, "ensemble.h5"), "r") as f, \
+        h5py.File(os.path.join(out, "ensemble.h5"), "r") as full:
+    if sorted(f["points"]) != sorted(full["points"]):
+        cc.fail("merge without slice 3: points %s, want %s" % (sorted(f["points"]),
+                                                              sorted(full["points"])))
+    missing = set()
+    for g in f["points"].values():
+        ids = [x for x in cc.text(g.attrs["missing"]).split(",") if x]
+        if len(ids) != int(g.attrs["n_missing"]):
+            cc.fail("n_missing disagrees with the missing list")
+        missing.update(ids)
+if missing != third:
+    cc.fail("merge without slice 3: without result %s, want slice 3's cases %s"
+            % (sorted(missing), sorted(third)))
+print("OK: a slice not merged counts its %d cases without result, in their points" % len(third))
