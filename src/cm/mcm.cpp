@@ -65,19 +65,25 @@ McmResult run_mcm(const Protocol& pr, const DriftGrid& grid, const McmOptions& o
     const Vec3 f = to_frame(a, p);
     return to_lab(a, mcm_flow_z(f, pr.theta(a), pr.eps, chart.footprint(), grid, opt, rng));
   };
-  const double work = static_cast<double>(last) * x.size();
-  for (int n = 1; n <= last; ++n) {
-    for (std::size_t k = 0; k < x.size(); ++k) {
-      x[k] = phase(Axis::X, phase(Axis::Z, x[k]));
-      if ((k & 255) == 255) report(progress, ((n - 1.0) * x.size() + k + 1) / work);
-    }
-    report(progress, n * static_cast<double>(x.size()) / work);
+  const double work = std::max(1.0, static_cast<double>(last) * x.size());
+  // The positions after n iterations, where the options ask for them (n = 0: the seeds; --snapshot
+  // 0 gave an empty snapshot and --cumulative 0,N began at 1).
+  const auto record = [&](int n) {
     if (n == opt.snapshot) res.snapshot = x;
     if (n >= opt.cumulative_from && n <= opt.cumulative_to &&
         (n - opt.cumulative_from) % std::max(opt.cumulative_stride, 1) == 0) {
       res.cumulative.insert(res.cumulative.end(), x.begin(), x.end());
       res.cumulative_iteration.insert(res.cumulative_iteration.end(), x.size(), n);
     }
+  };
+  record(0);
+  for (int n = 1; n <= last; ++n) {
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      x[k] = phase(Axis::X, phase(Axis::Z, x[k]));
+      if ((k & 255) == 255) report(progress, ((n - 1.0) * x.size() + k + 1) / work);
+    }
+    report(progress, n * static_cast<double>(x.size()) / work);
+    record(n);
   }
   return res;
 }

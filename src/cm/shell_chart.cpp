@@ -74,7 +74,7 @@ std::vector<Vec3> ShellChart::random_seeds(int n, std::mt19937_64& rng) const {
   std::vector<Vec3> out;
   out.reserve(n);
   for (int k = 0; k < n; ++k) {
-    const double rad = rim_ * std::sqrt(u(rng)), a = 2 * kPi * u(rng);
+    const double rad = outer_ * std::sqrt(u(rng)), a = 2 * kPi * u(rng);
     out.push_back(from_chart({rad * std::cos(a), rad * std::sin(a)}));
   }
   return out;

@@ -47,7 +47,11 @@ class ShellChart {
   std::vector<Vec3> equal_area_seeds(int n) const;
   // n seeds evenly spaced on the interface circle (Yu 2022 Sec. IV C, Fig. 12(a)).
   std::vector<Vec3> interface_seeds(int n) const;
-  // n uniformly random points on the bulk part (MCM initial condition, Yu 2022 Sec. III B).
+  // n random points on the whole shell, bulk and layer, uniform in the flow's invariant measure
+  // (uniform in the chart's disc |v| <= outer()): the MCM's initial condition, "randomly
+  // distributed on a hemispherical shell" (Yu 2022 Sec. III B). A distribution the CM keeps: seeds
+  // on the bulk part alone spread into the layer, so that the share of the bulk's tracers inside
+  // the islands rose from the islands' area share (0.150) to 0.170 without drift or diffusion.
   std::vector<Vec3> random_seeds(int n, std::mt19937_64& rng) const;
 
  private:
