@@ -11,6 +11,7 @@
 #include "base/comm.hpp"
 #include "base/error.hpp"
 #include "base/exit_codes.hpp"
+#include "base/temporary_files.hpp"
 #include "contact/laws.hpp"
 #include "h5/hdf5_file.hpp"
 
@@ -35,6 +36,9 @@ int main(int argc, char** argv) {
   // No threads make MPI calls: a campaign's rank 0 dispatches between its own case's time steps.
   const bool mpi = needs_mpi(argc, argv);
   if (mpi) MPI_Init(&argc, &argv);
+  // A temporary file being written is removed if SIGTERM, SIGINT or SIGHUP ends the process (run
+  // and campaign replace the first two with their stop handlers, which do the same on a second).
+  tumble::remove_temporaries_on_signal();
   std::cout.setf(std::ios::unitbuf);  // progress lines reach logs and pipes at once
   tumble::contact::register_laws();   // before any scene is read (scene/law_registry.hpp)
   const std::unique_ptr<CLI::App> app = tumble::app::make_command_line();

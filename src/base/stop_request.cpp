@@ -2,6 +2,8 @@
 
 #include <csignal>
 
+#include "base/temporary_files.hpp"
+
 namespace tumble {
 namespace {
 volatile std::sig_atomic_t g_stop = 0;
@@ -10,6 +12,7 @@ bool g_installed = false;
 extern "C" void on_stop_signal(int signal) {
   // A second terminating signal while a stop is pending: the default action, now.
   if (g_stop != 0 && signal != SIGUSR1) {
+    remove_temporaries_now();  // (a file being written is not renamed into place now)
     std::signal(signal, SIG_DFL);
     std::raise(signal);
     return;

@@ -17,6 +17,7 @@
 #include "base/hash.hpp"
 #include "base/student_t.hpp"
 #include "base/sync_to_disk.hpp"
+#include "base/temporary_files.hpp"
 #include "h5/hdf5_file.hpp"
 
 namespace tumble::campaign {
@@ -378,7 +379,13 @@ struct UnfinishedWrite {
   PetscViewer* viewer;
   std::string tmp;
   bool renamed = false;
+  UnfinishedWrite(PetscViewer* v, std::string path) : viewer(v), tmp(std::move(path)) {
+    register_temporary(tmp);  // (removed should a signal end the process while it is open)
+  }
+  UnfinishedWrite(const UnfinishedWrite&) = delete;
+  UnfinishedWrite& operator=(const UnfinishedWrite&) = delete;
   ~UnfinishedWrite() {
+    forget_temporary(tmp);
     if (renamed) return;
     if (*viewer) PetscViewerDestroy(viewer);
     std::remove(tmp.c_str());
@@ -395,7 +402,7 @@ struct UnfinishedWrite {
 void Ensemble::write(const std::string& path) const {
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   PetscViewer v = nullptr;
-  UnfinishedWrite unfinished{&v, tmp};
+  UnfinishedWrite unfinished(&v, tmp);
   check(PetscViewerHDF5Open(PETSC_COMM_SELF, tmp.c_str(), FILE_MODE_WRITE, &v),
         "PetscViewerHDF5Open");
   std::vector<const PointStats*> rows;

@@ -11,6 +11,7 @@
 #include "base/agreed_input.hpp"
 #include "base/error.hpp"
 #include "base/sync_to_disk.hpp"
+#include "base/temporary_files.hpp"
 
 namespace tumble::io {
 namespace {
@@ -508,6 +509,7 @@ bool H5File::has_attr(const std::string& obj, const std::string& name) const {
 
 AtomicH5Writer::AtomicH5Writer(const std::string& final_path)
     : final_path_(final_path), tmp_path_(final_path + ".tmp." + std::to_string(::getpid())) {
+  register_temporary(tmp_path_);  // (removed should a signal end the process while it is open)
   file_ = new H5File(tmp_path_, H5File::Mode::Truncate);
 }
 
@@ -523,6 +525,7 @@ AtomicH5Writer::AtomicH5Writer(const std::string& final_path, MPI_Comm comm)
   long pid = ::getpid();
   if (size > 1) MPI_Bcast(&pid, 1, MPI_LONG, 0, comm);
   tmp_path_ = final_path + ".tmp." + std::to_string(pid);
+  register_temporary(tmp_path_);
   file_ = new H5File(tmp_path_, H5File::Mode::Truncate, comm_);
 }
 
@@ -554,6 +557,7 @@ void AtomicH5Writer::commit() {
                      std::strerror(errno));
   });
   committed_ = true;
+  forget_temporary(tmp_path_);
 }
 
 AtomicH5Writer::~AtomicH5Writer() {
@@ -561,6 +565,7 @@ AtomicH5Writer::~AtomicH5Writer() {
   int rank = 0;
   if (comm_ != MPI_COMM_NULL) MPI_Comm_rank(comm_, &rank);
   if (!committed_ && rank == 0) std::remove(tmp_path_.c_str());
+  forget_temporary(tmp_path_);
 }
 
 }  // namespace tumble::io

@@ -17,6 +17,7 @@ memory use:
              warning naming what is missing; a damaged islands table is refused (exit 3), its
              attributes copied by h5py read back whole; a drift grid with a NaN cell is refused
              (exit 2, the cell named); one written by h5py is read, string attribute included.
+  signals    SIGTERM or SIGINT while the output is written removes its temporary.
 
 usage: cm_robustness_check.py TUMBLE WORK_DIR     exit 0 when every check holds
 """
@@ -177,6 +178,32 @@ with h5py.File(h5py_grid, "w") as f:
 rc, out, err, _ = run(["cm", "mcm"] + P57 + SHORT + ["--drift", h5py_grid, "-o", path("mh.h5")])
 check(rc == 0 and "drift grid: measured by hand," in out,
       "a drift grid written by h5py is read with its source attribute", out + err)
+
+# --- a signal while the output is being written ------------------------------------------------
+# SIGTERM (or Ctrl-C) while the output's temporary is open: it is removed, and the final name is
+# never made (it stayed behind, NAME.tmp.<pid>, up to gigabytes, before 2026-11-29).
+import glob  # noqa: E402
+import signal  # noqa: E402
+import time  # noqa: E402
+
+for sig in (signal.SIGTERM, signal.SIGINT):
+    final = path("signalled_%d.h5" % sig)
+    proc = subprocess.Popen([TUMBLE, "cm", "manifolds"] + P57 +
+                            ["--orbits", ORBITS, "--max-points", "5000000", "--iterations", "30",
+                             "-o", final], cwd=WORK, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+    deadline = time.time() + 120
+    while not glob.glob(final + ".tmp.*") and proc.poll() is None and time.time() < deadline:
+        time.sleep(0.02)
+    if proc.poll() is not None or not glob.glob(final + ".tmp.*"):
+        proc.kill()
+        check(False, "%s: no temporary seen while the command ran" % signal.Signals(sig).name)
+        continue
+    proc.send_signal(sig)
+    rc = proc.wait(timeout=120)
+    left = glob.glob(final + "*")
+    check(rc == -sig and not left, "%s while writing: the temporary removed, no final file"
+          % signal.Signals(sig).name, "rc %s, left %s" % (rc, left))
 
 print("\n%d failures" % len(failures))
 for f in failures:
