@@ -96,20 +96,21 @@ void require_file(const std::string& path, const std::string& option) {
     throw InputError(option + " '" + path + "' is not a file (a directory?)");
 }
 
-// The drift grid of --drift. A file that is no HDF5 or lacks the grid's datasets is the wrong
-// file (bad input, exit 2), like a grid with a bad cell (read_drift_grid); a grid whose data fail
-// their checksums is a damaged file (exit 3).
-DriftGrid read_drift_file(const std::string& path) {
-  require_file(path, "--drift");
+// The drift grid of --drift (or one of --merge). A file that is no HDF5 or lacks the grid's
+// datasets is the wrong file (bad input, exit 2), like a grid with a bad cell (read_drift_grid); a
+// grid whose data fail their checksums is a damaged file (exit 3). (--merge called any wrong file
+// damaged, exit 3.)
+DriftGrid read_drift_file(const std::string& path, const std::string& option = "--drift") {
+  require_file(path, option);
   bool grid = false;
   try {
     const io::H5File f(path, io::H5File::Mode::Read);
     grid = f.exists("/v_ax") && f.exists("/sigma_ax");
   } catch (const std::exception& e) {
-    throw InputError("--drift '" + path + "' cannot be read as HDF5: " + e.what());
+    throw InputError(option + " '" + path + "' cannot be read as HDF5: " + e.what());
   }
   if (!grid)
-    throw InputError("--drift '" + path +
+    throw InputError(option + " '" + path +
                      "' is not a drift grid: it has no /v_ax and /sigma_ax (docs/cm.md)");
   return read_drift_grid(path);
 }
@@ -607,7 +608,7 @@ void register_drift(CLI::App& cm) {
       std::vector<DriftGrid> grids;
       std::string source = "merged:";
       for (const auto& path : args->merge) {
-        grids.push_back(read_drift_grid(path));
+        grids.push_back(read_drift_file(path, "--merge"));
         grids.back().source = path;
         source += " " + path;
       }

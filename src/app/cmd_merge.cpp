@@ -17,7 +17,8 @@ void register_merge(CLI::App& app) {
   cmd->add_option("dir", opts->dir, "campaign directory")->required();
   cmd->add_option("--slices", opts->slices,
                   "merge the partial results of this many slices (default: the only slicing "
-                  "present)");
+                  "present)")
+      ->check(CLI::Range(1, 1000000));
   cmd->callback([opts]() {
     const int rc = campaign::merge_campaign(opts->dir, opts->slices, std::cout);
     if (rc != 0) throw CLI::RuntimeError(rc);

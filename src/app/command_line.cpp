@@ -15,17 +15,28 @@ namespace {
 // CLI11's message, but for a first word that is no command: CLI11 says only "A subcommand is
 // required" (`tumble fun` for `tumble run`); this names the word and the commands.
 std::string parse_failure(const CLI::App* app, const CLI::Error& e) {
-  const std::vector<std::string> rest = app->remaining();
-  if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && app->get_subcommands().empty() &&
-      !rest.empty()) {
+  // The command that wanted a subcommand: tumble itself, or the deepest one given (`tumble cm
+  // foo` said only "A subcommand is required").
+  const CLI::App* at = app;
+  std::string path = "tumble";
+  while (!at->get_subcommands().empty()) {
+    at = at->get_subcommands().front();
+    path += " " + at->get_name();
+  }
+  const std::vector<std::string> rest = at->remaining();
+  if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && !at->get_subcommands({}).empty() &&
+      (!rest.empty() || std::string(e.what()).find("subcommand") != std::string::npos)) {
     std::string names;
-    for (const CLI::App* sub : app->get_subcommands({}))
+    for (const CLI::App* sub : at->get_subcommands({}))
       names += (names.empty() ? "" : ", ") + sub->get_name();
+    if (rest.empty())
+      return "a command is required" + (at == app ? "" : " after '" + path + "'") + ": " + names +
+             " (" + path + " --help)\n";
     const std::string& word = rest.front();
     return (word[0] == '-'
-                ? "unknown option '" + word + "' (tumble's options come after its command)"
-                : "unknown command '" + word + "'") +
-           "; the commands are " + names + " (tumble --help)\n";
+                ? "unknown option '" + word + "' (" + path + "'s options come after its command)"
+                : "unknown command '" + word + "'" + (at == app ? "" : " of " + path)) +
+           "; the commands are " + names + " (" + path + " --help)\n";
   }
   return CLI::FailureMessage::simple(app, e);
 }

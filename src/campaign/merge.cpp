@@ -91,8 +91,16 @@ int merge_campaign(const std::string& dir, int slices, std::ostream& out) {
   for (const auto& entry : fs::directory_iterator(pdir)) {
     std::smatch m;
     const std::string f = entry.path().filename().string();
-    if (std::regex_match(f, m, name))
-      found[std::stoi(m[2])][std::stoi(m[1])] = entry.path().string();
+    if (!std::regex_match(f, m, name)) continue;
+    // (A name no slicing writes, slice_3_of_2.h5 or numbers past any int, is a stray file: named,
+    // not read as a slice of something, nor left to std::stoi to reject with "stoi".)
+    const std::string i = m[1], n = m[2];
+    if (i.size() > 7 || n.size() > 7 || std::stoi(n) > 1000000 || std::stoi(i) < 1 ||
+        std::stoi(i) > std::stoi(n))
+      throw InputError("merge: " + entry.path().string() +
+                       " is no slice's partial result (slice_I_of_N.h5 with 1 <= I <= N <= "
+                       "1000000): remove it");
+    found[std::stoi(n)][std::stoi(i)] = entry.path().string();
   }
   if (found.empty()) throw InputError("merge: no partial results in " + pdir.string());
   if (slices == 0) {
@@ -122,7 +130,15 @@ int merge_campaign(const std::string& dir, int slices, std::ostream& out) {
       missing_slices += (missing_slices.empty() ? "" : ",") + std::to_string(i);
       continue;
     }
-    const Ensemble part = Ensemble::read(it->second);
+    Ensemble part;
+    try {
+      part = Ensemble::read(it->second);
+    } catch (const CorruptInputError& e) {
+      // (The way out named: the slice is folded again from its cases' fields files.)
+      throw CorruptInputError(std::string(e.what()) + "; remove " + it->second +
+                              " and rerun slice " + std::to_string(i) + "/" +
+                              std::to_string(slices) + " (it folds its finished cases again)");
+    }
     check_cases_listed(part, it->second, table, dir);
     // A case in two partials: one of them is stale (written before the campaign grew and its
     // cases were dealt to the slices anew, or before a slicing changed). Named, both files.
