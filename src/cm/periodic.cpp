@@ -106,18 +106,39 @@ bool has_lower_period(const Protocol& pr, const Vec3& p, int n) {
   return false;
 }
 
-void group_orbits(const SectionMap& map, std::vector<PeriodicPoint>& pts, double merge) {
+// Groups the points into orbits (P maps each member to the next) and completes each orbit: a
+// member that no start of the grid converged to (one in the layer's ring, or between starts) is
+// the image of one that was found, added and classified where its Jacobian agrees on the kind.
+// Before, orbits were listed with members missing: at (57°,57°) on grid 40, 7 of 24 hyperbolic
+// orbits (a period-2 orbit of 1 point), at (45°,45°) on grid 20 an elliptic period-3 orbit of 2,
+// so one of its islands was never traced.
+void group_orbits(const SectionMap& map, std::vector<PeriodicPoint>& pts,
+                  const PeriodicSearch& opt) {
   int next = 0;
-  for (std::size_t i = 0; i < pts.size(); ++i) {
+  const std::size_t found = pts.size();
+  for (std::size_t i = 0; i < found; ++i) {
     if (pts[i].orbit >= 0) continue;
     pts[i].orbit = next;
+    const int period = pts[i].period;
+    const Stability type = pts[i].type;
     Vec3 q = pts[i].p;
-    for (int k = 1; k < pts[i].period; ++k) {
+    for (int k = 1; k < period; ++k) {
       q = period_map(map.protocol(), q);
       const Vec2 v = map.chart().to_chart(q);
+      bool member = false;
       for (auto& other : pts)
-        if (other.orbit < 0 && other.period == pts[i].period && (other.v - v).norm() < 10 * merge)
-          other.orbit = next;
+        if (other.period == period && (other.v - v).norm() < 10 * opt.merge) {
+          if (other.orbit < 0) other.orbit = next;
+          member = member || other.orbit == next;
+        }
+      if (member || !map.chart().inside(v)) continue;
+      PeriodicPoint pt;
+      pt.v = v;
+      pt.period = period;
+      classify(map, pt, opt);
+      if (pt.type != type) continue;  // (a Jacobian across the chart's edge: not trusted)
+      pt.orbit = next;
+      pts.push_back(pt);
     }
     ++next;
   }
@@ -159,7 +180,7 @@ std::vector<PeriodicPoint> find_periodic_points(const SectionMap& map, const Per
   std::stable_sort(found.begin(), found.end(), [](const PeriodicPoint& a, const PeriodicPoint& b) {
     return a.period < b.period;
   });
-  group_orbits(map, found, opt.merge);
+  group_orbits(map, found, opt);
   std::stable_sort(found.begin(), found.end(), [](const PeriodicPoint& a, const PeriodicPoint& b) {
     return a.period != b.period ? a.period < b.period : a.orbit < b.orbit;
   });

@@ -1,8 +1,10 @@
 // Periodic points and their classification (Yu 2022 Secs. I, II A, IV; App. B).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <set>
+#include <vector>
 
 #include "cm/periodic.hpp"
 
@@ -50,6 +52,36 @@ TEST(PeriodicPoints, Protocol57HasTwoOrbitsOfEllipticPeriod3Points) {
                 1e-5 * std::abs(p.lambda));
     }
   EXPECT_GE(hyperbolic, 3);
+}
+
+// Every orbit is listed whole, each member the image of the one before (P maps it, to Newton's
+// tolerance), of one kind. On grid 20 the (45°, 45°) search found an elliptic period-3 orbit with
+// 2 members and a hyperbolic one with 1, and (57°, 57°) a period-2 orbit of 1.
+TEST(PeriodicPoints, EveryOrbitIsComplete) {
+  for (const double theta : {45.0, 57.0}) {
+    const Protocol pr = Protocol::degrees(theta, theta);
+    const SectionMap map(pr, ShellChart(0.95, pr.eps));
+    PeriodicSearch opt;
+    opt.max_period = 3;
+    opt.grid = 20;
+    const auto pts = find_periodic_points(map, opt);
+    std::map<int, std::vector<const PeriodicPoint*>> orbits;
+    for (const auto& p : pts) orbits[p.orbit].push_back(&p);
+    for (const auto& [orbit, members] : orbits) {
+      ASSERT_EQ(static_cast<int>(members.size()), members.front()->period)
+          << "(" << theta << ", " << theta << ") orbit " << orbit;
+      for (const PeriodicPoint* m : members) {
+        EXPECT_EQ(m->type, members.front()->type);
+        const Vec2 image = map.chart().to_chart(period_map(pr, m->p));
+        double nearest = 1e9;
+        for (const PeriodicPoint* o : members) nearest = std::min(nearest, (o->v - image).norm());
+        EXPECT_LT(nearest, 1e-7) << "(" << theta << ", " << theta << ") orbit " << orbit;
+      }
+    }
+    if (theta == 45.0) {
+      EXPECT_EQ(count(pts, 3, Stability::Elliptic), 6);
+    }
+  }
 }
 
 TEST(PeriodicPoints, Protocol90HasFourPeriod2Islands) {
