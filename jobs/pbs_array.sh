@@ -16,7 +16,8 @@
 # Environment: CAMPAIGN, TUMBLE_SLICES (required: PBS does not export the array size),
 # TUMBLE_ARGS (extra options), TUMBLE (default PBS_O_WORKDIR/build/tumble, then tumble on PATH),
 # TUMBLE_LAUNCH (default "mpiexec"), TUMBLE_RANKS_PER_CASE (ranks per case, default: the
-# campaign file's campaign.ranks_per_case).
+# campaign file's campaign.ranks_per_case), TUMBLE_JOBS (this jobs/ folder, for a spooled copy
+# submitted from outside the repository).
 #PBS -N tumble-campaign
 #PBS -j oe
 set -euo pipefail
@@ -33,9 +34,15 @@ i=$((index + offset))
 extra=(${TUMBLE_ARGS:-} "$@")
 
 echo "pbs_array.sh: array index $index -> slice $i/$n of $campaign"
-# The scheduler may run a spooled copy of this script: then find the helper in the submit directory.
+# The scheduler may run a spooled copy of this script: then find the helper in TUMBLE_JOBS, or in
+# the submit directory's jobs/.
 here=$(dirname "${BASH_SOURCE[0]}")
-[ -f "$here/run_slice.sh" ] || here=${PBS_O_WORKDIR:-$PWD}/jobs
+[ -f "$here/run_slice.sh" ] || here=${TUMBLE_JOBS:-${PBS_O_WORKDIR:-$PWD}/jobs}
+[ -f "$here/run_slice.sh" ] || {
+  echo "pbs_array.sh: cannot find run_slice.sh beside this script or in $here: submit from the" \
+    "repository's root, or export TUMBLE_JOBS=/path/to/tumble/jobs" >&2
+  exit 2
+}
 # shellcheck source=jobs/run_slice.sh
 source "$here/run_slice.sh"
 if [ -n "${PBS_NODEFILE:-}" ] && [ -f "$PBS_NODEFILE" ]; then

@@ -23,7 +23,9 @@ run_slice() {
   fi
   local tumble=${TUMBLE:-} c
   if [ -z "$tumble" ]; then
-    for c in "$dir/build/tumble" "$(command -v tumble || true)"; do
+    # (the submit directory's build, this repository's build, then PATH)
+    for c in "$dir/build/tumble" "$(dirname "${BASH_SOURCE[0]}")/../build/tumble" \
+      "$(command -v tumble || true)"; do
       if [ -n "$c" ] && [ -x "$c" ]; then tumble=$c; break; fi
     done
   fi

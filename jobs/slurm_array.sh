@@ -20,7 +20,8 @@
 # Environment: TUMBLE (the binary; default SUBMIT_DIR/build/tumble, then tumble on PATH),
 # TUMBLE_LAUNCH (default "srun"), TUMBLE_SLICES (default: the array's size), TUMBLE_FIRST_INDEX
 # (0 or 1: the number of the array's first task; default: the lowest task now), TUMBLE_RANKS_PER_CASE
-# (ranks per case, default: the campaign file's campaign.ranks_per_case).
+# (ranks per case, default: the campaign file's campaign.ranks_per_case), TUMBLE_JOBS (this jobs/
+# folder, for a spooled copy submitted from outside the repository).
 #
 # Five minutes before the time limit Slurm sends SIGUSR1 to the tasks (--signal below): every
 # running case writes a checkpoint at its next neighbour rebuild, no case starts any more, and the
@@ -56,9 +57,15 @@ i=$((SLURM_ARRAY_TASK_ID + offset))
 n=${TUMBLE_SLICES:-$((max + offset))}
 
 echo "slurm_array.sh: array task ${SLURM_ARRAY_TASK_ID} -> slice $i/$n of $campaign"
-# The scheduler may run a spooled copy of this script: then find the helper in the submit directory.
+# The scheduler may run a spooled copy of this script: then find the helper in TUMBLE_JOBS, or in
+# the submit directory's jobs/.
 here=$(dirname "${BASH_SOURCE[0]}")
-[ -f "$here/run_slice.sh" ] || here=${SLURM_SUBMIT_DIR:-$PWD}/jobs
+[ -f "$here/run_slice.sh" ] || here=${TUMBLE_JOBS:-${SLURM_SUBMIT_DIR:-$PWD}/jobs}
+[ -f "$here/run_slice.sh" ] || {
+  echo "slurm_array.sh: cannot find run_slice.sh beside this script or in $here: submit from the" \
+    "repository's root, or export TUMBLE_JOBS=/path/to/tumble/jobs" >&2
+  exit 2
+}
 # shellcheck source=jobs/run_slice.sh
 source "$here/run_slice.sh"
 export TUMBLE_TASK_RANKS=${SLURM_NTASKS:-}

@@ -77,6 +77,24 @@ if manifest_lines() != before:
     cc.fail("the resubmitted subset wrote to the manifest")
 print("a resubmitted subset: refused without TUMBLE_SLICES, mapped with TUMBLE_FIRST_INDEX")
 
+# A spooled copy of the script (what Slurm runs), submitted from outside the repository: it finds
+# its helper through TUMBLE_JOBS, and without it says so (before: "No such file", exit 1).
+spool = os.path.abspath("spool")
+os.makedirs(spool, exist_ok=True)
+shutil.copy(os.path.join(a.jobs, "slurm_array.sh"), os.path.join(spool, "slurm_script"))
+for jobs_var, want in ((None, 2), (os.path.abspath(a.jobs), 0)):
+    env = dict(base_env, SLURM_ARRAY_TASK_ID="1", SLURM_ARRAY_TASK_MIN="1",
+               SLURM_ARRAY_TASK_MAX="3", SLURM_SUBMIT_DIR=spool)
+    if jobs_var:
+        env["TUMBLE_JOBS"] = jobs_var
+    r = subprocess.run(["bash", os.path.join(spool, "slurm_script"), a.campaign, "--output", out,
+                        "--quiet"], env=env, capture_output=True, text=True)
+    said = "nothing to run; skipping" in r.stdout if want == 0 else "TUMBLE_JOBS" in r.stderr
+    if r.returncode != want or not said:
+        cc.fail("spooled script, TUMBLE_JOBS=%s: exit %d\n%s%s" % (jobs_var, r.returncode, r.stdout,
+                                                                  r.stderr))
+print("a spooled copy finds its helper through TUMBLE_JOBS")
+
 r = subprocess.run([a.tumble, "merge", out], capture_output=True, text=True)
 print(r.stdout.strip())
 if r.returncode != 0:
