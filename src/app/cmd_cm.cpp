@@ -222,26 +222,37 @@ void register_poincare(CLI::App& cm) {
 struct OrbitArgs {
   PeriodicSearch search;
   IslandOptions islands;
-  void add(CLI::App* cmd) {
-    cmd->add_option("--max-period", search.max_period, "largest period searched");
-    cmd->add_option("--grid", search.grid, "Newton starting points per chart axis");
-    cmd->add_option("--island-iterations", islands.iterations,
-                    "iterates of P^n per island test orbit");
-    cmd->add_option("--boundary-iterations", islands.final_iterations,
-                    "iterates of the island boundary orbit");
-    cmd->add_option("--island-rays", islands.rays,
-                    "rays scanned from each elliptic point; the largest certified curve is the "
-                    "boundary (docs/cm.md: more rays find larger islands, closer to the regular "
-                    "set)");
-    cmd->add_option("--island-chains", islands.max_chain_q,
-                    "largest q of the secondary island chains (resonances p/q outside an "
-                    "island's last invariant curve) given islands of their own; 0: none "
-                    "(docs/cm.md)")
-        ->capture_default_str();
-    cmd->add_option("--island-order", order,
-                    "how a boundary orbit is ordered and certified: circle (by k rho mod 1, the "
-                    "default) or angle (about the centre: star-shaped curves only; docs/cm.md)")
-        ->capture_default_str();
+  // The options of the search, and with `with_islands` of the island scan. Returned, so that a
+  // command that can read them from a file instead excludes them there (they were silently
+  // ignored: `cm mcm --islands F --grid 8`).
+  std::vector<CLI::Option*> add(CLI::App* cmd, bool with_islands = true) {
+    std::vector<CLI::Option*> added;
+    added.push_back(cmd->add_option("--max-period", search.max_period, "largest period searched"));
+    added.push_back(
+        cmd->add_option("--grid", search.grid, "Newton starting points per chart axis"));
+    if (!with_islands) return added;
+    added.push_back(cmd->add_option("--island-iterations", islands.iterations,
+                                    "iterates of P^n per island test orbit"));
+    added.push_back(cmd->add_option("--boundary-iterations", islands.final_iterations,
+                                    "iterates of the island boundary orbit"));
+    added.push_back(cmd->add_option(
+        "--island-rays", islands.rays,
+        "rays scanned from each elliptic point; the largest certified curve is the "
+        "boundary (docs/cm.md: more rays find larger islands, closer to the regular "
+        "set)"));
+    added.push_back(
+        cmd->add_option("--island-chains", islands.max_chain_q,
+                        "largest q of the secondary island chains (resonances p/q outside an "
+                        "island's last invariant curve) given islands of their own; 0: none "
+                        "(docs/cm.md)")
+            ->capture_default_str());
+    added.push_back(
+        cmd->add_option(
+               "--island-order", order,
+               "how a boundary orbit is ordered and certified: circle (by k rho mod 1, the "
+               "default) or angle (about the centre: star-shaped curves only; docs/cm.md)")
+            ->capture_default_str());
+    return added;
   }
   std::string order = "circle";
   void validate() {
@@ -346,6 +357,7 @@ void register_manifolds(CLI::App& cm) {
     ManifoldOptions opt;
     double r = 0.95;
     std::string which = "both", orbits_file, out;
+    bool max_period_given = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = cm.add_subcommand("manifolds",
@@ -353,9 +365,13 @@ void register_manifolds(CLI::App& cm) {
   args->proto.add(cmd, true);
   cmd->add_option("--r", args->r, "shell radius");
   args->orbits.search.max_period = 3;
-  args->orbits.add(cmd);
-  cmd->add_option("--orbits", args->orbits_file,
-                  "read the periodic points from this orbits file (same protocol and --r)");
+  // (No island options: manifolds need none. With --orbits, --max-period picks the periods traced.)
+  const auto search = args->orbits.add(cmd, false);
+  search[0]->description("largest period searched, or with --orbits traced");
+  auto* orbits_file =
+      cmd->add_option("--orbits", args->orbits_file,
+                      "read the periodic points from this orbits file (same protocol and --r)");
+  search[1]->excludes(orbits_file);
   cmd->add_option("--kind", args->which, "stable | unstable | both");
   cmd->add_option("--iterations", args->opt.iterations, "protocol iterations");
   cmd->add_option("--length", args->opt.length, "initial segment length (R)");
@@ -365,7 +381,8 @@ void register_manifolds(CLI::App& cm) {
                   "an iteration that would exceed them");
   cmd->add_option("-o,--output", args->out, "HDF5 output (default results/cm/manifolds_TZ_TX.h5)");
   args->run.add(cmd);
-  cmd->callback([args] {
+  cmd->callback([args, max_period = search[0]] {
+    args->max_period_given = max_period->count() > 0;
     const Protocol pr = args->proto.validate();
     check_radius(args->r, pr);
     args->orbits.validate();
@@ -406,12 +423,15 @@ void register_manifolds(CLI::App& cm) {
                             ? find_periodic_points(map, args->orbits.search,
                                                    progress.stage(args->orbits.search_stage()))
                             : read_periodic_points(args->orbits_file);
-    // One point per orbit: the manifolds of the others are its images under P.
+    // One point per orbit: the manifolds of the others are its images under P. (From a file, the
+    // periods up to --max-period where it is given: it was ignored, every period traced.)
+    const int max_period =
+        args->orbits_file.empty() || args->max_period_given ? args->orbits.search.max_period : 1000;
     std::vector<std::size_t> traced;
     std::vector<int> done_orbit;
     for (std::size_t i = 0; i < points.size(); ++i) {
       const auto& h = points[i];
-      if (h.type != Stability::Hyperbolic) continue;
+      if (h.type != Stability::Hyperbolic || h.period > max_period) continue;
       if (std::find(done_orbit.begin(), done_orbit.end(), h.orbit) != done_orbit.end()) continue;
       done_orbit.push_back(h.orbit);
       traced.push_back(i);
@@ -470,7 +490,7 @@ void register_mcm(CLI::App& cm) {
       "mcm", "modified continuum model: tracers with axial drift and diffusion (Yu 2022 Fig. 9)");
   args->proto.add(cmd, false);
   args->orbits.search.max_period = 3;
-  args->orbits.add(cmd);
+  const auto island_search = args->orbits.add(cmd);
   cmd->add_option("--r", args->opt.r, "tracer shell radius");
   cmd->add_option("--tracers", args->opt.tracers, "number of tracers");
   cmd->add_option("--drift", args->drift,
@@ -485,9 +505,11 @@ void register_mcm(CLI::App& cm) {
   cmd->add_option("--dt", args->opt.dt, "layer integration step (1/omega)");
   cmd->add_option("--dt-ref", args->opt.dt_ref, "diffusion time step of the paper (1/omega)");
   cmd->add_option("--seed", args->opt.seed, "random seed");
-  cmd->add_option("--islands", args->islands_file,
-                  "orbits file with the CM islands of this protocol and shell (default: computed "
-                  "on the shell --r)");
+  auto* islands_file =
+      cmd->add_option("--islands", args->islands_file,
+                      "orbits file with the CM islands of this protocol and shell (default: "
+                      "computed on the shell --r)");
+  for (CLI::Option* o : island_search) o->excludes(islands_file);
   cmd->add_option("--island-length", args->island_length, "L_island of the Peclet number (R)");
   cmd->add_option("-o,--output", args->out, "HDF5 output (default results/cm/mcm_TZ_TX_cC.h5)");
   args->run.add(cmd);
