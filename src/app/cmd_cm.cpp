@@ -438,6 +438,11 @@ void register_manifolds(CLI::App& cm) {
     }
     const int kinds = args->which == "both" ? 2 : 1;
     const std::size_t total = traced.size() * kinds;
+    if (traced.empty()) {  // (said: the file has an empty /manifolds, not a silent gap)
+      std::string where = args->orbits_file.empty() ? "" : " in " + args->orbits_file;
+      if (max_period < 1000) where += " up to period " + std::to_string(max_period);
+      std::printf("no hyperbolic periodic point%s: no manifolds to trace\n", where.c_str());
+    }
     ManifoldsWriter writer(out, pr, args->r, points);
     std::size_t count = 0;
     for (std::size_t i : traced) {

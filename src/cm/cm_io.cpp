@@ -267,6 +267,7 @@ ManifoldsWriter::ManifoldsWriter(const std::string& path, const Protocol& pr, do
     periods_.push_back(p.period);
   }
   write_vecs<2>(f, "/points/chart", pts);
+  f.create_group("/manifolds");  // (there even when no point is hyperbolic: the layout is kept)
 }
 
 void ManifoldsWriter::add(const Manifold& m) {

@@ -179,6 +179,17 @@ rc, out, err, _ = run(["cm", "mcm"] + P57 + SHORT + ["--drift", h5py_grid, "-o",
 check(rc == 0 and "drift grid: measured by hand," in out,
       "a drift grid written by h5py is read with its source attribute", out + err)
 
+# --- no hyperbolic point: said, and the file keeps its layout ----------------------------------
+# (180°, 180°) is the identity map: no hyperbolic points. Before, nothing was said and the file had
+# no /manifolds group (the plot script failed on it).
+empty = path("m180.h5")
+rc, out, err, _ = run(["cm", "manifolds", "--theta-z", "180", "--theta-x", "180", "--max-period",
+                       "2", "--grid", "10", "-o", empty])
+with h5py.File(empty, "r") as f:
+    has_group = "manifolds" in f and len(f["manifolds"]) == 0
+check(rc == 0 and "no hyperbolic periodic point" in out and has_group,
+      "manifolds without hyperbolic points: said, an empty /manifolds", out + err)
+
 # --- a signal while the output is being written ------------------------------------------------
 # SIGTERM (or Ctrl-C) while the output's temporary is open: it is removed, and the final name is
 # never made (it stayed behind, NAME.tmp.<pid>, up to gigabytes, before 2026-11-29).
