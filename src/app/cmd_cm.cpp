@@ -529,7 +529,10 @@ void register_mcm(CLI::App& cm) {
     require(o.snapshot >= 0 && o.snapshot <= 100000, "--snapshot", "in [0, 1e5]", o.snapshot);
     require(args->cumulative.size() == 2 && args->cumulative[0] >= 0 &&
                 args->cumulative[0] <= args->cumulative[1] && args->cumulative[1] <= 100000,
-            "--cumulative", "FROM,TO with 0 <= FROM <= TO <= 1e5", args->cumulative.size());
+            "--cumulative", "FROM,TO with 0 <= FROM <= TO <= 1e5",
+            args->cumulative.size() == 2  // (the values, not how many: "(got 2)" for 45,30)
+                ? std::to_string(args->cumulative[0]) + "," + std::to_string(args->cumulative[1])
+                : std::to_string(args->cumulative.size()) + " values");
     require(o.cumulative_stride >= 1, "--stride", ">= 1", o.cumulative_stride);
     // (Below 1e-7 the layer crossings take more steps than any run: --dt 1e-300 never ended.)
     require(o.dt >= 1e-7 && o.dt <= 0.1, "--dt", "in [1e-7, 0.1]", o.dt);
