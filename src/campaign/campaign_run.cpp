@@ -627,6 +627,7 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
     } else {
       fs::create_directories(dir + "/partials");
       dir_lock = std::make_unique<DirectoryLock>(dir, opt.slice_n);
+      const CaseTableLock table_lock(dir);  // (until the table below is written)
       if (!opt.force)
         check_same_campaign(dir, e, opt.file);
       else

@@ -66,4 +66,26 @@ DirectoryLock::~DirectoryLock() {
   if (fd_ >= 0) ::close(fd_);  // releases the lock
 }
 
+CaseTableLock::CaseTableLock(const std::string& dir) {
+  const std::string path = dir + "/campaign.table.lock";
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw RunError("cannot open '" + path + "': " + std::strerror(errno));
+  struct flock mine {};
+  mine.l_type = F_WRLCK;
+  mine.l_whence = SEEK_SET;
+  int rc;
+  while ((rc = ::fcntl(fd_, F_SETLKW, &mine)) != 0 && errno == EINTR) {
+  }
+  if (rc != 0) {
+    const int e = errno;
+    ::close(fd_);
+    fd_ = -1;
+    throw RunError("cannot lock '" + path + "': " + std::strerror(e));
+  }
+}
+
+CaseTableLock::~CaseTableLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the lock
+}
+
 }  // namespace tumble::campaign

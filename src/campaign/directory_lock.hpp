@@ -26,4 +26,19 @@ class DirectoryLock {
   int fd_ = -1;
 };
 
+// Held while a run checks that the directory holds its campaign and writes its case table
+// (DIR/campaign.table.lock, an exclusive lock, waited for): two campaigns started at once into an
+// empty directory, as slices of the same slicing, both found no table and both ran; now the second
+// finds the first's table and is refused.
+class CaseTableLock {
+ public:
+  explicit CaseTableLock(const std::string& dir);
+  ~CaseTableLock();
+  CaseTableLock(const CaseTableLock&) = delete;
+  CaseTableLock& operator=(const CaseTableLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 }  // namespace tumble::campaign

@@ -110,3 +110,30 @@ if r.returncode != 2 or "does not list" not in r.stderr or "slice_1_of_2.h5" not
 print("OK: another slicing and a second run refused while the campaign ran; another campaign "
       "refused without --force, run with it, the other's statistics removed; merge refuses "
       "another campaign's partial")
+
+# 4. Two campaigns started at once into one empty directory, as slices of one slicing (which the
+# slicing lock lets run together): before, both found no case table and both ran; now the table
+# is checked and written under a lock, and the second finds the first's table and is refused.
+race = "one_directory_race"
+shutil.rmtree(race, ignore_errors=True)
+procs = [subprocess.Popen([a.tumble, "campaign", c, "--output", race, "--slice", s],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+         for c, s in ((a.other_campaign, "1/2"), (a.kill_campaign, "2/2"))]
+refused = None
+deadline = time.time() + 120
+while refused is None and time.time() < deadline:
+    for k, p in enumerate(procs):
+        if p.poll() == 2:
+            refused = k
+    if all(p.poll() is not None for p in procs):
+        break
+    time.sleep(0.05)
+outputs = []
+for p in procs:
+    if p.poll() is None:
+        p.kill()
+    outputs.append(p.communicate()[0])
+if refused is None or "holds another campaign" not in outputs[refused]:
+    cc.fail("two campaigns started at once into one directory: neither refused (exit codes %s)\n%s"
+            % ([p.returncode for p in procs], "\n".join(outputs)))
+print("OK: of two campaigns started at once into one directory, the second is refused")
