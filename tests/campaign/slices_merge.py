@@ -120,6 +120,14 @@ def campaign(*args, out_dir=out):
                           capture_output=True, text=True)
 
 
+def copy_of_out(suffix):
+    """A fresh copy of the merged campaign directory, to damage."""
+    d = out + suffix
+    shutil.rmtree(d, ignore_errors=True)
+    shutil.copytree(out, d)
+    return d
+
+
 def cases_in(path):
     """Case ids a statistics file accounts for: members, excluded (failed) and without result."""
     ids = set()
@@ -143,9 +151,7 @@ print("whole-campaign --status after the merge: 0")
 # A stale partial (here slice 1's file in slice 2's place, as a partial written before the
 # campaign grew and dealt its cases anew would be): --status must not call slice 2 done (the job
 # scripts would skip it for ever), and the merge must name both files holding a case.
-stale = out + "_stale"
-shutil.rmtree(stale, ignore_errors=True)
-shutil.copytree(out, stale)
+stale = copy_of_out("_stale")
 shutil.copy(os.path.join(stale, "partials", "slice_1_of_3.h5"),
             os.path.join(stale, "partials", "slice_2_of_3.h5"))
 r = campaign("--slice", "2/3", "--status", out_dir=stale)
@@ -167,9 +173,7 @@ print("a stale or damaged partial: --status 10, merge names both files")
 
 # A slice with no partial: its cases are counted without result, in their points (before, the
 # merged file had n_missing = 0 and a point only that slice held had no row at all).
-gone = out + "_missing"
-shutil.rmtree(gone, ignore_errors=True)
-shutil.copytree(out, gone)
+gone = copy_of_out("_missing")
 third = cases_in(os.path.join(gone, "partials", "slice_3_of_3.h5"))
 os.remove(os.path.join(gone, "partials", "slice_3_of_3.h5"))
 r = subprocess.run([a.tumble, "merge", gone], capture_output=True, text=True)
