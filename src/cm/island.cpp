@@ -282,6 +282,41 @@ std::vector<int> orbit_members(const SectionMap& map, const std::vector<Periodic
 // launch mapped by P onto the next members in turn (P preserves orientation, so the order along
 // the curve is kept); centres[k] and point_of[k] are member k's. Empty if an image does not hold
 // its member's centre (not this orbit's curve after all).
+// Where an image edge's chord strays from the image curve by more than this (chart units), the
+// image of the edge's midpoint is inserted (up to kChordDepth halvings).
+constexpr double kChordTol = 1e-6;
+constexpr int kChordDepth = 12;
+
+// Appends to `out` the images of the points of the edge a-b between A = P(a) and B = P(b)
+// (exclusive) that the image curve needs for its chords to keep within kChordTol of it.
+void refine_image_edge(const SectionMap& map, const Vec2& a, const Vec2& A, const Vec2& b,
+                       const Vec2& B, int depth, std::vector<Vec2>& out) {
+  const Vec2 m = 0.5 * (a + b), M = map(m, 1);
+  if (depth >= kChordDepth || (M - 0.5 * (A + B)).norm() <= kChordTol) return;
+  refine_image_edge(map, a, A, m, M, depth + 1, out);
+  out.push_back(M);
+  refine_image_edge(map, m, M, b, B, depth + 1, out);
+}
+
+// The image under P of a polygon whose vertices lie on an invariant curve: the vertices' images,
+// and between them the images of edge points where the image is curved. In the layer's thin ring
+// the chart bends P's image of a straight edge, and the images' chords alone cut an island short:
+// at (45°, 45°) the member in the ring came out 3.4% smaller than its two images (0.02677 of the
+// chart against 0.0277), and points inside it left it under P^3.
+Polygon image_polygon(const SectionMap& map, const Polygon& poly) {
+  const std::vector<Vec2>& v = poly.vertices;
+  std::vector<Vec2> images(v.size());
+  for (std::size_t k = 0; k < v.size(); ++k) images[k] = map(v[k], 1);
+  Polygon out;
+  out.vertices.reserve(v.size());
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const std::size_t next = (k + 1) % v.size();
+    out.vertices.push_back(images[k]);
+    refine_image_edge(map, v[k], images[k], v[next], images[next], 0, out.vertices);
+  }
+  return out;
+}
+
 std::vector<Island> map_around_orbit(const SectionMap& map, const Island& best, int first,
                                      const std::vector<Vec2>& centres,
                                      const std::vector<int>& point_of) {
@@ -300,7 +335,7 @@ std::vector<Island> map_around_orbit(const SectionMap& map, const Island& best, 
     isl.boundary = boundary;
     if (!isl.boundary.contains(centres[k])) return {};
     launch = map(launch, 1);
-    for (Vec2& v : boundary.vertices) v = map(v, 1);
+    boundary = image_polygon(map, boundary);
   }
   return out;
 }
