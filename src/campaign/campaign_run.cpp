@@ -320,7 +320,8 @@ std::string statistics_not_current(const std::string& path, const Expansion& e,
     for (const auto& [id, p] : Ensemble::read(path).points) {
       members.insert(p.members.begin(), p.members.end());
       missing.insert(p.missing.begin(), p.missing.end());
-      for (const std::string& f : p.failed) excluded.insert(f.substr(0, f.find(':')));
+      const std::set<std::string> f = p.failed_ids();
+      excluded.insert(f.begin(), f.end());
     }
   } catch (const std::exception& x) {
     return "statistics file " + path + " does not read (" + x.what() + ")";

@@ -26,12 +26,17 @@ Holder holder(int fd, off_t start, off_t len) {
   if (::fcntl(fd, F_GETLK, &q) != 0 || q.l_type == F_UNLCK) return {};
   return {true, q.l_pid};
 }
+
+// The lock file at `path`, made if missing.
+int open_lock_file(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) throw RunError("cannot open '" + path + "': " + std::strerror(errno));
+  return fd;
+}
 }  // namespace
 
 DirectoryLock::DirectoryLock(const std::string& dir, int slicing) {
-  const std::string path = dir + "/campaign.lock";
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw RunError("cannot open '" + path + "': " + std::strerror(errno));
+  fd_ = open_lock_file(dir + "/campaign.lock");
   struct flock mine {};
   mine.l_type = F_RDLCK;
   mine.l_whence = SEEK_SET;
@@ -68,8 +73,7 @@ DirectoryLock::~DirectoryLock() {
 
 CaseTableLock::CaseTableLock(const std::string& dir) {
   const std::string path = dir + "/campaign.table.lock";
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw RunError("cannot open '" + path + "': " + std::strerror(errno));
+  fd_ = open_lock_file(path);
   struct flock mine {};
   mine.l_type = F_WRLCK;
   mine.l_whence = SEEK_SET;

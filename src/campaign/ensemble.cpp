@@ -212,6 +212,19 @@ std::vector<double> FieldStats::ci95() const {
   return out;
 }
 
+std::set<std::string> PointStats::failed_ids() const {
+  std::set<std::string> ids;
+  for (const std::string& f : failed) ids.insert(f.substr(0, f.find(':')));
+  return ids;
+}
+
+std::set<std::string> PointStats::case_ids() const {
+  std::set<std::string> ids = failed_ids();
+  ids.insert(members.begin(), members.end());
+  ids.insert(missing.begin(), missing.end());
+  return ids;
+}
+
 PointStats& Ensemble::point(const Point& p, const CampaignSpec& spec) {
   PointStats& ps = points[p.id];
   if (ps.id.empty()) {

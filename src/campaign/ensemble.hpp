@@ -8,6 +8,7 @@
 #include <petscvec.h>
 
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,10 @@ struct PointStats {
   std::vector<std::string> members;  // case ids folded in, sorted
   std::vector<std::string> failed;   // "case_id: diagnostic" of excluded failed cases
   std::vector<std::string> missing;  // case ids with no result yet (not run, or running)
+  // The ids of the failed cases ("case_id: diagnostic" entries).
+  std::set<std::string> failed_ids() const;
+  // Every case the point accounts for: folded in, failed or without result.
+  std::set<std::string> case_ids() const;
   std::vector<double> series_time, series_iteration;
   std::map<std::string, FieldStats> fields;
 };

@@ -26,26 +26,21 @@ namespace {
 void check_cases_listed(const Ensemble& part, const std::string& file,
                         const std::set<std::string>& table, const std::string& dir) {
   if (table.empty()) return;  // (no case table: a campaign directory from before it)
-  for (const auto& [pid, p] : part.points) {
-    std::vector<std::string> ids = p.members;
-    ids.insert(ids.end(), p.missing.begin(), p.missing.end());
-    for (const std::string& f : p.failed) ids.push_back(f.substr(0, f.find(':')));
-    for (const std::string& id : ids)
+  for (const auto& [pid, p] : part.points)
+    for (const std::string& id : p.case_ids())
       if (!table.count(id))
         throw InputError("merge: " + file + " holds case " + id + " (point " + pid + "), which " +
                          dir +
                          "/cases.tsv does not list: it is another campaign's partial result "
                          "(left by a run with --force, or copied in); remove it, or rerun its "
                          "slice");
-  }
 }
 // The case ids a partial accounts for: folded in, failed (excluded) or listed without result.
 std::set<std::string> accounted_cases(const Ensemble& e) {
   std::set<std::string> ids;
   for (const auto& [pid, p] : e.points) {
-    ids.insert(p.members.begin(), p.members.end());
-    ids.insert(p.missing.begin(), p.missing.end());
-    for (const std::string& f : p.failed) ids.insert(f.substr(0, f.find(':')));
+    const std::set<std::string> mine = p.case_ids();
+    ids.insert(mine.begin(), mine.end());
   }
   return ids;
 }
