@@ -12,6 +12,40 @@
 
 namespace tumble::app {
 namespace {
+// CLI11 says "Could not convert: --seeds = 3000000000" for a value that is no number of the
+// option's type: for an integer past an int's range (decimal_integer below lets through what fits
+// a long long) as for "abc". This says which it is. "" where the message is not of that form.
+std::string conversion_failure(const CLI::App* at, const std::string& what) {
+  const std::string head = "Could not convert: ";
+  const std::size_t eq = what.find(" = ");
+  if (what.rfind(head, 0) != 0 || eq == std::string::npos) return "";
+  const std::string name = what.substr(head.size(), eq - head.size());
+  const std::string value = what.substr(eq + 3);
+  const CLI::Option* o = at->get_option_no_throw(name);
+  if (o == nullptr) return "";
+  const std::string type = o->get_type_name();
+  const std::string quoted = name + ": '" + value + "' ";
+  if (type.find("FLOAT") != std::string::npos) return quoted + "is not a number";
+  if (type.find("INT") == std::string::npos) return "";
+  const std::size_t sign = !value.empty() && (value[0] == '+' || value[0] == '-') ? 1 : 0;
+  const bool digits =
+      value.size() > sign && value.find_first_not_of("0123456789", sign) == std::string::npos;
+  return quoted + (digits ? "is out of range for this option" : "is not an integer");
+}
+
+// An option that takes files took the next option as one: `cm drift --merge -o x.h5` said "File
+// does not exist: -o". This says that the files are missing before it; "" for any other message.
+std::string option_for_a_path(const CLI::App* at, const std::string& what) {
+  const std::string tag = "does not exist: ";
+  const std::size_t i = what.find(tag);
+  const std::size_t colon = what.find(": ");
+  if (i == std::string::npos || colon == std::string::npos) return "";
+  const std::string value = what.substr(i + tag.size());
+  if (value.empty() || value[0] != '-' || at->get_option_no_throw(value) == nullptr) return "";
+  return what.substr(0, colon) + ": '" + value + "' is one of this command's options, not a " +
+         "path (the option's value is missing before it)";
+}
+
 // CLI11's message, but for a first word that is no command: CLI11 says only "A subcommand is
 // required" (`tumble fun` for `tumble run`); this names the word and the commands.
 std::string parse_failure(const CLI::App* app, const CLI::Error& e) {
@@ -37,6 +71,14 @@ std::string parse_failure(const CLI::App* app, const CLI::Error& e) {
                 ? "unknown option '" + word + "' (" + path + "'s options come after its command)"
                 : "unknown command '" + word + "'" + (at == app ? "" : " of " + path)) +
            "; the commands are " + names + " (" + path + " --help)\n";
+  }
+  if (dynamic_cast<const CLI::ValidationError*>(&e) != nullptr) {
+    const std::string said = option_for_a_path(at, e.what());
+    if (!said.empty()) return said + " (" + path + " --help)\n";
+  }
+  if (dynamic_cast<const CLI::ConversionError*>(&e) != nullptr) {
+    const std::string said = conversion_failure(at, e.what());
+    if (!said.empty()) return said + " (" + path + " --help)\n";
   }
   return CLI::FailureMessage::simple(app, e);
 }
