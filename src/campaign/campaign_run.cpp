@@ -38,6 +38,9 @@ void parse_slice(const std::string& text, int& i, int& n) {
   const auto slash = text.find('/');
   try {
     if (slash == std::string::npos) throw std::invalid_argument("no /");
+    // (digits only: std::stoi skips leading blanks, so " 1/2" passed where "1/2 " did not)
+    if (text.find_first_not_of("0123456789/") != std::string::npos)
+      throw std::invalid_argument("not digits");
     std::size_t a = 0, b = 0;
     i = std::stoi(text.substr(0, slash), &a);
     n = std::stoi(text.substr(slash + 1), &b);
@@ -307,8 +310,10 @@ std::string statistics_not_current(const std::string& path, const Expansion& e,
                                    const std::vector<CaseState>& states) {
   std::error_code ec;
   if (!fs::exists(path, ec))
-    return "statistics not written (the run that finished the cases was stopped or killed "
-           "before it wrote them)";
+    return slice.empty() ? "statistics not written (this slice holds no case: more slices than "
+                           "cases; one run writes its empty partial, which tumble merge expects)"
+                         : "statistics not written (the run that finished the cases was stopped "
+                           "or killed before it wrote them)";
   std::set<std::string> done, failed, members, excluded, missing;
   for (std::size_t k = 0; k < slice.size(); ++k)
     if (states[k].state == State::Done)
@@ -538,7 +543,10 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
   if (opt.list) {
     if (rank == 0) {
       out << "# campaign " << spec.name << ": " << e.cases.size() << " cases in " << e.points.size()
-          << " points; slice " << slice_text << " holds " << slice.size() << "\n";
+          << " points; slice " << slice_text << " holds " << slice.size()
+          << (slice.empty() ? " (more slices than cases: its run only writes an empty partial)"
+                            : "")
+          << "\n";
       out << "# case\tpoint\treplica\tseed\tcost(particle-steps)\tparams\n";
       for (std::size_t idx : slice) {
         const Case& c = e.cases[idx];
@@ -646,6 +654,10 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
           << " done before, " << failed << " failed before, " << in.tasks.size() << " to run on "
           << size << " rank" << (size > 1 ? "s" : "") << " (" << group_layout(e, slice, size)
           << "); output in " << dir << std::endl;
+      if (slice.empty())
+        out << "[campaign] slice " << slice_text << " holds no case (" << e.cases.size()
+            << " cases in " << opt.slice_n << " slices): it writes an empty partial, which "
+            << "tumble merge expects of every slice" << std::endl;
       if (torn > 0)
         out << "[campaign] ignored " << torn << " torn manifest line(s) (a crash mid-write)\n";
     }
