@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "base/error.hpp"
+#include "base/exit_codes.hpp"
 #include "base/version.hpp"
 #include "campaign/campaign_run.hpp"
 #include "campaign/ensemble.hpp"
@@ -170,7 +171,15 @@ int merge_campaign(const std::string& dir, int slices, std::ostream& out) {
     out << "merge: " << unaccounted << " case" << (unaccounted == 1 ? "" : "s") << " of " << dir
         << "/cases.tsv in no partial result (a slice not run yet, or run before the campaign "
            "grew: rerun its slice), counted without result\n";
-  return missing_slices.empty() && total.missing_count() == 0 ? 0 : 10;
+  if (!missing_slices.empty() || total.missing_count() > 0) return exit_code::kWorkLeft;
+  // (as the campaign that ends with failed cases: a job script's `merge && report` stops alike)
+  if (total.failed_count() > 0) {
+    out << "merge: " << total.failed_count() << " case" << (total.failed_count() == 1 ? "" : "s")
+        << " failed and excluded from the ensemble (rerun their slices with --retry-failed to "
+           "try them again); exit code 4\n";
+    return exit_code::kFailedCases;
+  }
+  return exit_code::kOk;
 }
 
 }  // namespace tumble::campaign

@@ -7,7 +7,8 @@
 namespace tumble::campaign {
 
 // `slices` = 0: the only slicing present (an error if several are); otherwise that N. Returns the
-// exit code: 0, or 10 when slices or cases are still missing (the ensemble is written anyway).
+// exit code: 0, 10 when slices or cases are still missing (the ensemble is written anyway), else 4
+// when cases failed and are excluded (as the campaign itself).
 int merge_campaign(const std::string& dir, int slices, std::ostream& out);
 
 }  // namespace tumble::campaign

@@ -97,8 +97,9 @@ print("a spooled copy finds its helper through TUMBLE_JOBS")
 
 r = subprocess.run([a.tumble, "merge", out], capture_output=True, text=True)
 print(r.stdout.strip())
-if r.returncode != 0:
-    cc.fail("tumble merge exited with %d: %s" % (r.returncode, r.stderr))
+# (the CI campaign's two failing cases are excluded: exit 4, as the campaign's own run)
+if r.returncode != 4 or "exit code 4" not in r.stdout:
+    cc.fail("tumble merge exited with %d (want 4: two cases failed): %s" % (r.returncode, r.stderr))
 worst = cc.compare_ensembles(os.path.join(out, "ensemble.h5"), os.path.join(a.full, "ensemble.h5"),
                              1e-12)
 _, latest = cc.manifest(out)
