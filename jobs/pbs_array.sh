@@ -28,10 +28,20 @@ if [ $# -gt 0 ]; then shift; fi
 index=${PBS_ARRAY_INDEX:-${PBS_ARRAYID:-}}
 [ -n "$index" ] || { echo "pbs_array.sh: not a PBS array subjob (PBS_ARRAY_INDEX is unset)" >&2; exit 2; }
 n=${TUMBLE_SLICES:?pbs_array.sh: set TUMBLE_SLICES to the number of subjobs}
-offset=$((${TUMBLE_FIRST_INDEX:-1} == 0 ? 1 : 0))  # qsub -J 0-15: set TUMBLE_FIRST_INDEX=0
+case ${TUMBLE_FIRST_INDEX:-1} in  # qsub -J 0-15: set TUMBLE_FIRST_INDEX=0
+  0) offset=1 ;;
+  1) offset=0 ;;
+  # (it went into $((...)), which reads a word as a variable's name: "abc" counted as 0)
+  *) echo "pbs_array.sh: TUMBLE_FIRST_INDEX='${TUMBLE_FIRST_INDEX}' must be 0 or 1" >&2; exit 2 ;;
+esac
+[[ $index =~ ^[0-9]+$ ]] || { echo "pbs_array.sh: array index '$index' is not a whole number" >&2; exit 2; }
 i=$((index + offset))
-# shellcheck disable=SC2206  # TUMBLE_ARGS holds several options
+# TUMBLE_ARGS holds several options, split at blanks but not globbed (set -f): `--set a=*`
+# became the names of the files in the directory.
+set -f
+# shellcheck disable=SC2206
 extra=(${TUMBLE_ARGS:-} "$@")
+set +f
 
 echo "pbs_array.sh: array index $index -> slice $i/$n of $campaign"
 # The scheduler may run a spooled copy of this script: then find the helper in TUMBLE_JOBS, or in

@@ -35,9 +35,10 @@ def slurm(task, low=1, high=3, **extra):
                            "--output", out, "--quiet"], env=env, capture_output=True, text=True)
 
 
-def pbs(index):
+def pbs(index, **extra):
     env = dict(base_env, PBS_ARRAY_INDEX=str(index), TUMBLE_SLICES="3", CAMPAIGN=a.campaign,
                TUMBLE_ARGS="--output %s --quiet" % out)
+    env.update(extra)
     env.pop("PBS_O_WORKDIR", None)
     return subprocess.run(["bash", os.path.join(a.jobs, "pbs_array.sh")], env=env,
                           capture_output=True, text=True)
@@ -76,6 +77,17 @@ if r.returncode != 0 or "-> slice 2/3" not in r.stdout or "nothing to run; skipp
 if manifest_lines() != before:
     cc.fail("the resubmitted subset wrote to the manifest")
 print("a resubmitted subset: refused without TUMBLE_SLICES, mapped with TUMBLE_FIRST_INDEX")
+
+# PBS: TUMBLE_FIRST_INDEX=abc went into $((...)) and counted as 0 (slice i+1); TUMBLE_ARGS was
+# globbed (a '*' became the names of the files here). TUMBLE=echo shows the options passed.
+r = pbs(1, TUMBLE_FIRST_INDEX="abc")
+if r.returncode != 2 or "TUMBLE_FIRST_INDEX='abc' must be 0 or 1" not in r.stderr:
+    cc.fail("pbs TUMBLE_FIRST_INDEX=abc: exit %d\n%s%s" % (r.returncode, r.stdout, r.stderr))
+open("scene.name=matched", "w").close()  # (what the old script's glob turned the '*' into)
+r = pbs(1, TUMBLE="/bin/echo", TUMBLE_ARGS="--set scene.name=* --output %s" % out)
+if r.returncode != 0 or "--set scene.name=* --output" not in r.stdout:
+    cc.fail("pbs TUMBLE_ARGS with '*': exit %d\n%s%s" % (r.returncode, r.stdout, r.stderr))
+print("pbs: TUMBLE_FIRST_INDEX checked, TUMBLE_ARGS not globbed")
 
 # A spooled copy of the script (what Slurm runs), submitted from outside the repository: it finds
 # its helper through TUMBLE_JOBS, and without it says so (before: "No such file", exit 1).
