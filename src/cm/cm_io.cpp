@@ -232,6 +232,19 @@ std::vector<Island> read_islands(const std::string& path) {
                               " is not in order within the vertices (0 .. " +
                               std::to_string(vertices.size()) + ")");
   }
+  // A NaN vertex or centre made no point inside its island, silently (every test against it is
+  // false); a radius outside the ball or a period < 1 is no island Tumble writes.
+  auto finite = [](const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); };
+  for (std::size_t k = 0; k < vertices.size(); ++k)
+    if (!finite(vertices[k]))
+      throw CorruptInputError("'" + path + "': /islands/vertices[" + std::to_string(k) +
+                              "] is not finite");
+  for (std::size_t k = 0; k < n; ++k)
+    if (!finite(center[k]) || !finite(launch[k]) || !(r[k] > 0 && r[k] <= 1) || period[k] < 1)
+      throw CorruptInputError(
+          "'" + path + "': island " + std::to_string(k) +
+          " has a centre or launch point that is not finite, r = " + std::to_string(r[k]) +
+          " (in (0, 1]) or period " + std::to_string(period[k]) + " (>= 1)");
   std::vector<Island> out(n);
   for (std::size_t k = 0; k < out.size(); ++k) {
     auto& isl = out[k];

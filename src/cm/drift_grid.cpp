@@ -138,6 +138,11 @@ DriftGrid read_drift_grid(const std::string& path) {
   if (f.shape("/sigma_ax") != shape)
     throw InputError("drift grid '" + path + "': /sigma_ax must have the shape of /v_ax");
   g.n = static_cast<int>(shape[0]);
+  // (the attribute a reader of the file trusts; a grid whose datasets were replaced by another n)
+  if (f.has_attr("/", "n") && f.attr_int64("/", "n") != g.n)
+    throw InputError("drift grid '" + path +
+                     "': its attribute n = " + std::to_string(f.attr_int64("/", "n")) +
+                     " but /v_ax is " + std::to_string(g.n) + " x " + std::to_string(g.n));
   g.v_ax = f.read_double("/v_ax");
   g.sigma_ax = f.read_double("/sigma_ax");
   // A NaN here would reach every tracer that enters its cell, and a negative sigma flips kicks.

@@ -113,6 +113,7 @@ TUMBLE_FIXTURES = {
     "orbits_68.h5": "cm orbits --theta-z 68 --theta-x 68 --max-period 1 --grid 8 --no-kam -o OUT",
     "mcm_57.h5": "cm mcm --theta-z 57 --theta-x 57 --islands {fx}/orbits_57.h5 --tracers 10 "
                  "--snapshot 1 --cumulative 1,1 -o OUT",
+    "drift_4.h5": "cm drift --n 4 -o OUT",
     # Snapshots of step 0 of a cylinder run and of a single-axis sphere run (the island analyses
     # refuse them), and of a biaxial one (they take it).
     "cyl_run": "run {scenes}/rapaport/mini/E.toml --max-steps 1 --set scene.output_dir=OUT "
@@ -131,6 +132,26 @@ def make_tumble_fixtures(tumble, fx, scenes, limit):
         rc, out, _ = run(tumble, args, limit)
         if rc != 0:
             sys.exit("fixture %s: tumble %s failed (rc %s):\n%s" % (name, " ".join(args), rc, out))
+
+
+def damage_tumble_fixtures(fx):
+    """Copies of Tumble's files with one value a reader must refuse."""
+    # an island with a NaN vertex (it contained no point, silently)
+    shutil.copy(os.path.join(fx, "orbits_57.h5"), os.path.join(fx, "orbits_nan.h5"))
+    with h5py.File(os.path.join(fx, "orbits_nan.h5"), "r+") as f:
+        g = f["islands"]
+        square = [[0.1, 0.1], [0.2, 0.1], [float("nan"), 0.2], [0.1, 0.2]]
+        for name, value in (("vertices", square), ("offsets", [0, 4]), ("center", [[0.15, 0.15]]),
+                            ("launch", [[0.2, 0.15]]), ("r", [0.95]), ("area", [0.01]),
+                            ("period", [1]), ("orbit", [0]), ("point", [0]),
+                            ("parent_orbit", [-1])):
+            dtype = g[name].dtype
+            del g[name]
+            g.create_dataset(name, data=value, dtype=dtype)
+    # a drift grid whose attribute n is not its datasets' n
+    shutil.copy(os.path.join(fx, "drift_4.h5"), os.path.join(fx, "drift_n5.h5"))
+    with h5py.File(os.path.join(fx, "drift_n5.h5"), "r+") as f:
+        f.attrs["n"] = 5
 
 
 # name -> the root attributes of an HDF5 file the script writes (fields.h5 as a campaign's case
@@ -222,6 +243,7 @@ def main():
     shutil.rmtree(cwd, ignore_errors=True)
     write_fixtures(fx, scenes)
     make_tumble_fixtures(a.tumble, fx, scenes, 60)
+    damage_tumble_fixtures(fx)
     failures = []
 
     # Controls: good input is still accepted (a binary that refuses everything must not pass).
