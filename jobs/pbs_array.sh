@@ -17,7 +17,9 @@
 # TUMBLE_ARGS (extra options), TUMBLE (default PBS_O_WORKDIR/build/tumble, then tumble on PATH),
 # TUMBLE_LAUNCH (default "mpiexec"), TUMBLE_RANKS_PER_CASE (ranks per case, default: the
 # campaign file's campaign.ranks_per_case), TUMBLE_JOBS (this jobs/ folder, for a spooled copy
-# submitted from outside the repository).
+# submitted from outside the repository), TUMBLE_STOP_AFTER (seconds after which the campaign is
+# asked to stop at its checkpoints; default: the walltime qstat reports, less TUMBLE_STOP_MARGIN,
+# 300 s by default).
 #PBS -N tumble-campaign
 #PBS -j oe
 set -euo pipefail
@@ -55,6 +57,26 @@ here=$(dirname "${BASH_SOURCE[0]}")
 }
 # shellcheck source=jobs/run_slice.sh
 source "$here/run_slice.sh"
+# PBS warns of nothing before its walltime (SIGTERM, then SIGKILL): unless TUMBLE_STOP_AFTER is
+# set, the campaign gets its stop request (SIGUSR1) TUMBLE_STOP_MARGIN seconds (default 300)
+# before the job's walltime, as slurm_array.sh's --signal=USR1@300 does, read from qstat where it
+# says. Raise the margin if one neighbour rebuild plus a checkpoint of the largest case can take
+# longer.
+margin=${TUMBLE_STOP_MARGIN:-300}
+[[ $margin =~ ^[1-9][0-9]*$ ]] || { echo "pbs_array.sh: TUMBLE_STOP_MARGIN='$margin' must be a whole number of seconds >= 1" >&2; exit 2; }
+if [ -z "${TUMBLE_STOP_AFTER:-}" ] && [ -n "${PBS_JOBID:-}" ] && command -v qstat > /dev/null; then
+  walltime=$(qstat -f "$PBS_JOBID" 2> /dev/null | awk -F' = ' '/Resource_List.walltime/ {print $2; exit}' || true)
+  if [[ $walltime =~ ^([0-9]+):([0-9]{2}):([0-9]{2})$ ]]; then
+    seconds=$((10#${BASH_REMATCH[1]} * 3600 + 10#${BASH_REMATCH[2]} * 60 + 10#${BASH_REMATCH[3]}))
+    if [ "$seconds" -gt $((margin + SECONDS)) ]; then
+      export TUMBLE_STOP_AFTER=$((seconds - margin - SECONDS))
+    else
+      echo "pbs_array.sh: walltime $walltime leaves no $margin s margin: no stop request before it" >&2
+    fi
+  else
+    echo "pbs_array.sh: qstat gave no walltime for $PBS_JOBID: no stop request before it (set TUMBLE_STOP_AFTER)" >&2
+  fi
+fi
 if [ -n "${PBS_NODEFILE:-}" ] && [ -f "$PBS_NODEFILE" ]; then
   TUMBLE_TASK_RANKS=$(wc -l < "$PBS_NODEFILE")
   export TUMBLE_TASK_RANKS

@@ -5,6 +5,10 @@
 # TUMBLE_RANKS_PER_CASE=K (optional) runs every case on a group of K ranks (--ranks-per-case K);
 # the task's ranks (TUMBLE_TASK_RANKS, set by the caller from the scheduler) then form
 # floor(ranks / K) groups, and a remainder stays idle (said here and in the campaign's start line).
+# TUMBLE_STOP_AFTER=S (optional, whole seconds) sends SIGUSR1 to the launcher S seconds after the
+# launch: the campaign's stop request (its cases checkpoint, exit 10), for a scheduler that gives no
+# warning before its time limit (PBS sends SIGTERM, then SIGKILL: the cases lost what they had
+# done since their last checkpoint, and the task exited 1).
 run_slice() {
   local name=$1 dir=$2 launcher=$3 campaign=$4 i=$5 n=$6
   shift 6
@@ -38,6 +42,29 @@ run_slice() {
   elif [ "$rc" -ne 10 ]; then
     exit "$rc"  # the campaign file or the options are wrong: the message is above
   fi
-  # shellcheck disable=SC2086  # the launcher is a command line, split on purpose
-  exec $launcher "$tumble" campaign "$campaign" --slice "$i/$n" "$@"
+  local stop=${TUMBLE_STOP_AFTER:-}
+  if [ -z "$stop" ]; then
+    # shellcheck disable=SC2086  # the launcher is a command line, split on purpose
+    exec $launcher "$tumble" campaign "$campaign" --slice "$i/$n" "$@"
+  fi
+  [[ $stop =~ ^[1-9][0-9]*$ ]] || { echo "$name: TUMBLE_STOP_AFTER='$stop' must be a whole number of seconds >= 1" >&2; exit 2; }
+  echo "$name: SIGUSR1 (stop at the next checkpoints) after $stop s"
+  # shellcheck disable=SC2086
+  $launcher "$tumble" campaign "$campaign" --slice "$i/$n" "$@" &
+  local pid=$! timer
+  # (the sleep killed with its subshell when the campaign ends first)
+  (
+    trap 'kill "$s" 2>/dev/null; exit 0' TERM
+    sleep "$stop" &
+    s=$!
+    wait "$s"
+    echo "$name: $stop s passed: SIGUSR1 to the campaign"
+    kill -USR1 "$pid" 2>/dev/null || true
+  ) &
+  timer=$!
+  local rc=0
+  wait "$pid" || rc=$?
+  kill "$timer" 2>/dev/null || true
+  wait "$timer" 2>/dev/null || true
+  exit "$rc"
 }

@@ -10,6 +10,7 @@ import glob
 import os
 import shutil
 import subprocess
+import time
 
 import h5py
 import numpy as np
@@ -88,6 +89,27 @@ r = pbs(1, TUMBLE="/bin/echo", TUMBLE_ARGS="--set scene.name=* --output %s" % ou
 if r.returncode != 0 or "--set scene.name=* --output" not in r.stdout:
     cc.fail("pbs TUMBLE_ARGS with '*': exit %d\n%s%s" % (r.returncode, r.stdout, r.stderr))
 print("pbs: TUMBLE_FIRST_INDEX checked, TUMBLE_ARGS not globbed")
+
+# PBS gives no warning before its walltime: pbs_array.sh reads it from qstat and sends the stop
+# request (SIGUSR1) TUMBLE_STOP_MARGIN seconds before it. A fake qstat (walltime 3 s, margin 1 s)
+# and a fake tumble that exits 10 on SIGUSR1, as the campaign does: stopped after ~2 s, exit 10.
+fake = os.path.abspath("fake_pbs")
+os.makedirs(fake, exist_ok=True)
+for name, text in (("qstat", "#!/bin/sh\necho '    Resource_List.walltime = 00:00:03'\n"),
+                   ("tumble", "#!/bin/bash\nfor x in \"$@\"; do [ \"$x\" = --status ] && exit 10; done\n"
+                              "trap 'echo fake: SIGUSR1; kill $s; exit 10' USR1\n"
+                              "sleep 60 & s=$!\nwait $s\necho fake: not stopped\n")):
+    with open(os.path.join(fake, name), "w") as f:
+        f.write(text)
+    os.chmod(os.path.join(fake, name), 0o755)
+t0 = time.time()
+r = pbs(1, TUMBLE=os.path.join(fake, "tumble"), TUMBLE_LAUNCH="env", PBS_JOBID="7.server",
+        TUMBLE_STOP_MARGIN="1", PATH=fake + os.pathsep + os.environ["PATH"])
+wall = time.time() - t0
+if r.returncode != 10 or "fake: SIGUSR1" not in r.stdout or not 1.5 < wall < 30:
+    cc.fail("pbs stop before the walltime: exit %d after %.1f s\n%s%s"
+            % (r.returncode, wall, r.stdout, r.stderr))
+print("pbs: the stop request %.1f s into a 3 s walltime (margin 1 s), exit 10" % wall)
 
 # A spooled copy of the script (what Slurm runs), submitted from outside the repository: it finds
 # its helper through TUMBLE_JOBS, and without it says so (before: "No such file", exit 1).
