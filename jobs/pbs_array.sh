@@ -65,11 +65,13 @@ source "$here/run_slice.sh"
 margin=${TUMBLE_STOP_MARGIN:-300}
 [[ $margin =~ ^[1-9][0-9]*$ ]] || { echo "pbs_array.sh: TUMBLE_STOP_MARGIN='$margin' must be a whole number of seconds >= 1" >&2; exit 2; }
 if [ -z "${TUMBLE_STOP_AFTER:-}" ] && [ -n "${PBS_JOBID:-}" ] && command -v qstat > /dev/null; then
-  walltime=$(qstat -f "$PBS_JOBID" 2> /dev/null | awk -F' = ' '/Resource_List.walltime/ {print $2; exit}' || true)
+  # (a server that does not answer must not hold the job: 30 s at most)
+  walltime=$(timeout 30 qstat -f "$PBS_JOBID" 2> /dev/null | awk -F' = ' '/Resource_List.walltime/ {print $2; exit}' || true)
   if [[ $walltime =~ ^([0-9]+):([0-9]{2}):([0-9]{2})$ ]]; then
     seconds=$((10#${BASH_REMATCH[1]} * 3600 + 10#${BASH_REMATCH[2]} * 60 + 10#${BASH_REMATCH[3]}))
     if [ "$seconds" -gt $((margin + SECONDS)) ]; then
-      export TUMBLE_STOP_AFTER=$((seconds - margin - SECONDS))
+      # (a time, not a delay: run_slice.sh takes the time the status check took off it)
+      export TUMBLE_STOP_AT=$(($(date +%s) + seconds - margin - SECONDS))
     else
       echo "pbs_array.sh: walltime $walltime leaves no $margin s margin: no stop request before it" >&2
     fi

@@ -6,12 +6,16 @@
 # the task's ranks (TUMBLE_TASK_RANKS, set by the caller from the scheduler) then form
 # floor(ranks / K) groups, and a remainder stays idle (said here and in the campaign's start line).
 # TUMBLE_STOP_AFTER=S (optional, whole seconds) sends SIGUSR1 to the launcher S seconds after the
-# launch: the campaign's stop request (its cases checkpoint, exit 10), for a scheduler that gives no
+# launch, TUMBLE_STOP_AT=T (seconds since 1970; pbs_array.sh sets it from the walltime) at time T:
+# the campaign's stop request (its cases checkpoint, exit 10), for a scheduler that gives no
 # warning before its time limit (PBS sends SIGTERM, then SIGKILL: the cases lost what they had
 # done since their last checkpoint, and the task exited 1).
 run_slice() {
   local name=$1 dir=$2 launcher=$3 campaign=$4 i=$5 n=$6
   shift 6
+  local stop=${TUMBLE_STOP_AFTER:-} stop_at=${TUMBLE_STOP_AT:-}
+  [ -z "$stop" ] || [[ $stop =~ ^[1-9][0-9]*$ ]] || { echo "$name: TUMBLE_STOP_AFTER='$stop' must be a whole number of seconds >= 1" >&2; exit 2; }
+  [ -z "$stop_at" ] || [[ $stop_at =~ ^[1-9][0-9]*$ ]] || { echo "$name: TUMBLE_STOP_AT='$stop_at' must be a time in seconds since 1970" >&2; exit 2; }
   local k=${TUMBLE_RANKS_PER_CASE:-}
   if [ -n "$k" ]; then
     [[ $k =~ ^[1-9][0-9]*$ ]] || { echo "$name: TUMBLE_RANKS_PER_CASE='$k' must be an integer >= 1" >&2; exit 2; }
@@ -42,29 +46,48 @@ run_slice() {
   elif [ "$rc" -ne 10 ]; then
     exit "$rc"  # the campaign file or the options are wrong: the message is above
   fi
-  local stop=${TUMBLE_STOP_AFTER:-}
+  if [ -z "$stop" ] && [ -n "$stop_at" ]; then
+    # (the time left now, after the status check: the margin before the walltime stays whole)
+    stop=$((stop_at - $(date +%s)))
+    [ "$stop" -ge 1 ] || stop=1
+  fi
+  # (set -f: the launcher's words are split, not globbed: "--host node[1-4]")
+  set -f
   if [ -z "$stop" ]; then
     # shellcheck disable=SC2086  # the launcher is a command line, split on purpose
     exec $launcher "$tumble" campaign "$campaign" --slice "$i/$n" "$@"
   fi
-  [[ $stop =~ ^[1-9][0-9]*$ ]] || { echo "$name: TUMBLE_STOP_AFTER='$stop' must be a whole number of seconds >= 1" >&2; exit 2; }
   echo "$name: SIGUSR1 (stop at the next checkpoints) after $stop s"
   # shellcheck disable=SC2086
   $launcher "$tumble" campaign "$campaign" --slice "$i/$n" "$@" &
-  local pid=$! timer
+  set +f
+  run_slice_launcher=$!
+  # This shell is the job's top process now (without the timer, exec made the launcher it): a
+  # stop request or a kill sent to it (qsig, Ctrl-C) is passed on to the launcher, not lost with
+  # this shell while the campaign runs on.
+  trap 'kill -USR1 "$run_slice_launcher" 2> /dev/null || true' USR1
+  trap 'kill -TERM "$run_slice_launcher" 2> /dev/null || true' TERM
+  trap 'kill -INT "$run_slice_launcher" 2> /dev/null || true' INT
+  local timer
   # (the sleep killed with its subshell when the campaign ends first)
   (
-    trap 'kill "$s" 2>/dev/null; exit 0' TERM
+    s=
+    trap '[ -z "$s" ] || kill "$s" 2> /dev/null; exit 0' TERM
     sleep "$stop" &
     s=$!
     wait "$s"
     echo "$name: $stop s passed: SIGUSR1 to the campaign"
-    kill -USR1 "$pid" 2>/dev/null || true
+    kill -USR1 "$run_slice_launcher" 2> /dev/null || true
   ) &
   timer=$!
-  local rc=0
-  wait "$pid" || rc=$?
-  kill "$timer" 2>/dev/null || true
-  wait "$timer" 2>/dev/null || true
+  local rc
+  while :; do
+    rc=0
+    wait "$run_slice_launcher" || rc=$?
+    # (wait also returns when a trapped signal comes in: the launcher still runs, wait again)
+    kill -0 "$run_slice_launcher" 2> /dev/null || break
+  done
+  kill "$timer" 2> /dev/null || true
+  wait "$timer" 2> /dev/null || true
   exit "$rc"
 }

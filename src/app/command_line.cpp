@@ -1,6 +1,7 @@
 #include "app/command_line.hpp"
 
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -24,13 +25,39 @@ std::string conversion_failure(const CLI::App* at, const std::string& what) {
   const CLI::Option* o = at->get_option_no_throw(name);
   if (o == nullptr) return "";
   const std::string type = o->get_type_name();
-  const std::string quoted = name + ": '" + value + "' ";
-  if (type.find("FLOAT") != std::string::npos) return quoted + "is not a number";
-  if (type.find("INT") == std::string::npos) return "";
-  const std::size_t sign = !value.empty() && (value[0] == '+' || value[0] == '-') ? 1 : 0;
-  const bool digits =
-      value.size() > sign && value.find_first_not_of("0123456789", sign) == std::string::npos;
-  return quoted + (digits ? "is out of range for this option" : "is not an integer");
+  const bool is_float = type.find("FLOAT") != std::string::npos;
+  if (!is_float && type.find("INT") == std::string::npos) return "";
+  // CLI11 joins a list option's values with commas ("--cumulative 45,3000000000", "--pair 1 x"):
+  // the one value that fails is named, not the list.
+  std::vector<std::string> values;
+  for (std::size_t at = 0;;) {
+    const std::size_t comma = value.find(',', at);
+    values.push_back(value.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
+    if (comma == std::string::npos) break;
+    at = comma + 1;
+  }
+  auto is_integer = [](const std::string& v) {
+    const std::size_t sign = !v.empty() && (v[0] == '+' || v[0] == '-') ? 1 : 0;
+    return v.size() > sign && v.find_first_not_of("0123456789", sign) == std::string::npos;
+  };
+  auto is_number = [](const std::string& v) {
+    char* end = nullptr;
+    errno = 0;
+    (void)std::strtod(v.c_str(), &end);
+    return !v.empty() && end == v.c_str() + v.size() && errno != ERANGE;
+  };
+  for (const std::string& v : values)
+    if (is_float ? !is_number(v) : !is_integer(v))
+      return name + ": '" + v + "' is not " + (is_float ? "a number" : "an integer");
+  if (is_float) return "";  // (every value a number: some other failure, CLI11's words)
+  // (every value an integer: one is past the option's range; an int's, unless the option is wider)
+  std::string past = value;
+  for (const std::string& v : values)
+    if (std::abs(std::strtod(v.c_str(), nullptr)) > 2147483647.0) {
+      past = v;
+      break;
+    }
+  return name + ": '" + past + "' is out of range for this option";
 }
 
 // An option that takes files took the next option as one: `cm drift --merge -o x.h5` said "File

@@ -239,12 +239,19 @@ std::vector<Island> read_islands(const std::string& path) {
     if (!finite(vertices[k]))
       throw CorruptInputError("'" + path + "': /islands/vertices[" + std::to_string(k) +
                               "] is not finite");
-  for (std::size_t k = 0; k < n; ++k)
-    if (!finite(center[k]) || !finite(launch[k]) || !(r[k] > 0 && r[k] <= 1) || period[k] < 1)
-      throw CorruptInputError(
-          "'" + path + "': island " + std::to_string(k) +
-          " has a centre or launch point that is not finite, r = " + std::to_string(r[k]) +
-          " (in (0, 1]) or period " + std::to_string(period[k]) + " (>= 1)");
+  for (std::size_t k = 0; k < n; ++k) {
+    std::string bad;
+    if (!finite(center[k]))
+      bad = "its centre is not finite";
+    else if (!finite(launch[k]))
+      bad = "its launch point is not finite";
+    else if (!(r[k] > 0 && r[k] <= 1))
+      bad = "r = " + std::to_string(r[k]) + " is not in (0, 1]";
+    else if (period[k] < 1)
+      bad = "period " + std::to_string(period[k]) + " is not >= 1";
+    if (!bad.empty())
+      throw CorruptInputError("'" + path + "': island " + std::to_string(k) + ": " + bad);
+  }
   std::vector<Island> out(n);
   for (std::size_t k = 0; k < out.size(); ++k) {
     auto& isl = out[k];

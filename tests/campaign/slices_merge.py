@@ -9,6 +9,7 @@ merge of the slices adds round-off only), and every case's fields identical bit 
 import glob
 import os
 import shutil
+import signal
 import subprocess
 import time
 
@@ -110,6 +111,24 @@ if r.returncode != 10 or "fake: SIGUSR1" not in r.stdout or not 1.5 < wall < 30:
     cc.fail("pbs stop before the walltime: exit %d after %.1f s\n%s%s"
             % (r.returncode, wall, r.stdout, r.stderr))
 print("pbs: the stop request %.1f s into a 3 s walltime (margin 1 s), exit 10" % wall)
+
+# With the timer on, the script is the job's top process: a stop request sent to it (Torque's
+# qsig signals that process) reaches the campaign. Before, it ended the script alone and left the
+# campaign and the timer running.
+env = dict(base_env, PBS_ARRAY_INDEX="1", TUMBLE_SLICES="3", CAMPAIGN=a.campaign,
+           TUMBLE=os.path.join(fake, "tumble"), TUMBLE_LAUNCH="env", TUMBLE_STOP_AFTER="100")
+p = subprocess.Popen(["bash", os.path.join(a.jobs, "pbs_array.sh")], env=env,
+                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+time.sleep(1.5)
+p.send_signal(signal.SIGUSR1)
+try:
+    stdout, stderr = p.communicate(timeout=30)
+except subprocess.TimeoutExpired:
+    p.kill()
+    cc.fail("pbs: SIGUSR1 to the script did not end the campaign")
+if p.returncode != 10 or "fake: SIGUSR1" not in stdout:
+    cc.fail("pbs: SIGUSR1 to the script: exit %d\n%s%s" % (p.returncode, stdout, stderr))
+print("pbs: a stop request sent to the script reaches the campaign (exit 10)")
 
 # A spooled copy of the script (what Slurm runs), submitted from outside the repository: it finds
 # its helper through TUMBLE_JOBS, and without it says so (before: "No such file", exit 1).
