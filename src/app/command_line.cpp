@@ -13,6 +13,12 @@
 
 namespace tumble::app {
 namespace {
+// Whether `text` is a decimal integer's text: an optional sign, then digits only.
+bool is_integer_text(const std::string& text) {
+  const std::size_t sign = !text.empty() && (text[0] == '+' || text[0] == '-') ? 1 : 0;
+  return text.size() > sign && text.find_first_not_of("0123456789", sign) == std::string::npos;
+}
+
 // CLI11 says "Could not convert: --seeds = 3000000000" for a value that is no number of the
 // option's type: for an integer past an int's range (decimal_integer below lets through what fits
 // a long long) as for "abc". This says which it is. "" where the message is not of that form.
@@ -29,17 +35,7 @@ std::string conversion_failure(const CLI::App* at, const std::string& what) {
   if (!is_float && type.find("INT") == std::string::npos) return "";
   // CLI11 joins a list option's values with commas ("--cumulative 45,3000000000", "--pair 1 x"):
   // the one value that fails is named, not the list.
-  std::vector<std::string> values;
-  for (std::size_t at = 0;;) {
-    const std::size_t comma = value.find(',', at);
-    values.push_back(value.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
-    if (comma == std::string::npos) break;
-    at = comma + 1;
-  }
-  auto is_integer = [](const std::string& v) {
-    const std::size_t sign = !v.empty() && (v[0] == '+' || v[0] == '-') ? 1 : 0;
-    return v.size() > sign && v.find_first_not_of("0123456789", sign) == std::string::npos;
-  };
+  const std::vector<std::string> values = CLI::detail::split(value, ',');
   auto is_number = [](const std::string& v) {
     char* end = nullptr;
     errno = 0;
@@ -47,7 +43,7 @@ std::string conversion_failure(const CLI::App* at, const std::string& what) {
     return !v.empty() && end == v.c_str() + v.size() && errno != ERANGE;
   };
   for (const std::string& v : values)
-    if (is_float ? !is_number(v) : !is_integer(v))
+    if (is_float ? !is_number(v) : !is_integer_text(v))
       return name + ": '" + v + "' is not " + (is_float ? "a number" : "an integer");
   if (is_float) return "";  // (every value a number: some other failure, CLI11's words)
   // (every value an integer: one is past the option's range; an int's, unless the option is wider)
@@ -122,8 +118,7 @@ std::string decimal_integer(std::string& text, bool is_unsigned) {
   if (text.size() > i + 1 && text[i] == '0' &&
       std::string("0123456789xXbBoO").find(text[i + 1]) != std::string::npos)
     return "'" + text + "' is not a decimal integer (a leading 0 reads as octal or hex)";
-  if (text.size() == i || text.find_first_not_of("0123456789", i) != std::string::npos)
-    return "";  // (not an integer at all: CLI11's own conversion says so)
+  if (!is_integer_text(text)) return "";  // (not an integer at all: conversion_failure says so)
   // (CLI11 turns -5 into 2^64 - 5 for an unsigned option)
   if (is_unsigned && text[0] == '-') return "'" + text + "' must not be negative";
   errno = 0;
