@@ -85,7 +85,15 @@ run_slice() {
     rc=0
     wait "$run_slice_launcher" || rc=$?
     # (wait also returns when a trapped signal comes in: the launcher still runs, wait again)
-    kill -0 "$run_slice_launcher" 2> /dev/null || break
+    kill -0 "$run_slice_launcher" 2> /dev/null && continue
+    # (gone: a wait cut short by a trapped signal (> 128) has not reaped it; this one gives its
+    # status, and 127 if the first had reaped it after all)
+    if [ "$rc" -gt 128 ]; then
+      local again=0
+      wait "$run_slice_launcher" 2> /dev/null || again=$?
+      [ "$again" -eq 127 ] || rc=$again
+    fi
+    break
   done
   kill "$timer" 2> /dev/null || true
   wait "$timer" 2> /dev/null || true
