@@ -15,6 +15,12 @@ the same window of the downhill speed per bin, divided by omega R, against h/R; 
 bed), and the profile error of each run, the RMS over bins of its difference from the reference
 tier's mean profile (the reference's own runs against the mean of the others: the replica
 ceiling), mean ± CI, with the Welch difference from the reference's.
+
+Last, for each rigid-bulk tier beside its own dynamic tier (flow_accuracy.sh with BULK=rigid: the
+two runs of a seed start from the same settled bed): the frozen share of the bed over 0-35° (the
+solid-body phase) and 40-80° (the flow), the paired differences rigid − dynamic by seed (Student
+t on the differences) of every observable and profile bin, and the Benjamini-Hochberg procedure
+at q = 0.05 over that family (observables and bins, Welch and paired counted as separate tests).
 """
 import glob
 import math
@@ -25,7 +31,9 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
-from postproc.report_stats import bounded_interval, compare_values, interval_bounds_text  # noqa: E402
+from postproc.report_stats import (bh_reject, bounded_interval, compare_values,  # noqa: E402
+                                   interval_bounds_text, mean_ci, welch_test)
+from scipy import stats  # noqa: E402
 
 # The observables' physical bounds (None: none): the wall's large fraction is a share.
 BOUNDS = {"wall large fraction": (0.0, 1.0)}
@@ -50,6 +58,10 @@ def run_means(path):
             prof = f["series/surface_profile"][:][win] / (omega * radius)
             with np.errstate(all="ignore"):
                 profile = (f["series/surface_profile_h"][:] / radius, np.nanmean(prof, axis=0))
+        frozen = {}
+        if "series/frozen_fraction" in f:
+            ff = f["series/frozen_fraction"][:]
+            frozen = {"0-35": np.nanmean(ff[angle <= 35]), "40-80": np.nanmean(ff[win])}
         wall_s = float(f.attrs["particles"]) * float(f.attrs["steps"]) / float(
             f.attrs["particle_steps_per_second"])
         return {
@@ -61,6 +73,9 @@ def run_means(path):
             "particles": int(f.attrs["particles"]),
             "rpm": rpm,
             "profile": profile,
+            "frozen": frozen,
+            "seed": int(f.attrs["seed"]),
+            "ranks": int(f.attrs["ranks"]) if "ranks" in f.attrs else None,
         }
 
 
@@ -109,7 +124,10 @@ def main():
         sys.exit("no dynamic runs in " + out)
     obs = ["repose angle (deg)", "surface speed (m/s)", "surface speed / (omega R)",
            "wall large fraction"]
-    print("| tier | N | particles | rpm | wall s per run (1 core) | " +
+    ranks = {r["ranks"] for runs in data.values() for r in runs}
+    on = (f"{ranks.pop()} rank{'s' if len(ranks) != 1 else ''}" if len(ranks) == 1 and None not in ranks
+          else "ranks as run")
+    print(f"| tier | N | particles | rpm | wall s per run ({on}) | " +
           " | ".join(f"{o}: mean ± CI | error vs {base} ± CI" for o in obs) + " |")
     print("|---" * (5 + 2 * len(obs)) + "|")
     for tier in tiers:
@@ -127,6 +145,57 @@ def main():
                 cells.append(error_text([r[o] for r in data[base]], [r[o] for r in runs], lo, hi))
         print("| " + " | ".join(cells) + " |")
     profile_table(data, base)
+    for tier in data:
+        if tier.endswith("-rigid") and tier[:-len("-rigid")] in data:
+            paired_table(data[tier[:-len("-rigid")]], data[tier], tier[:-len("-rigid")], tier)
+
+
+def paired_table(dyn, rig, dname, rname):
+    """Rigid against dynamic seed by seed (the same bed): frozen share, paired and Welch
+    differences of the observables and the profile bins, Benjamini-Hochberg over all of them."""
+    obs = ["repose angle (deg)", "surface speed / (omega R)", "wall large fraction"]
+    by_seed = {r["seed"]: r for r in dyn}
+    pairs = [(by_seed[r["seed"]], r) for r in rig if r["seed"] in by_seed]
+    print()
+    print(f"{rname} against {dname}, paired by seed ({len(pairs)} pairs on common beds)")
+    fr = [r["frozen"] for r in rig if r["frozen"]]
+    if fr:
+        for phase in ("0-35", "40-80"):
+            print(f"# frozen share of the bed, {phase} degrees: "
+                  + ", ".join(f"{x[phase]:.3f}" for x in fr))
+    rows = [(o, [d[o] for d, _ in pairs], [r[o] for _, r in pairs]) for o in obs]
+    if pairs and all(d["profile"] is not None and r["profile"] is not None for d, r in pairs):
+        h = pairs[0][0]["profile"][0]
+        for b, hb in enumerate(h):
+            rows.append((f"profile h/R {hb:+.2f}", [on_grid(d, h)[b] for d, _ in pairs],
+                         [on_grid(r, h)[b] for _, r in pairs]))
+    print("| observable | paired Δ (rigid − dynamic) ± 95% CI | p paired | Welch Δ ± 95% CI | p Welch |")
+    print("|---|---|---|---|---|")
+    tests = []
+    for name, dv, rv in rows:
+        dv, rv = np.asarray(dv, float), np.asarray(rv, float)
+        ok = np.isfinite(dv) & np.isfinite(rv)
+        diff = rv[ok] - dv[ok]
+        m, ci, n = mean_ci(diff)
+        pp = (float(stats.ttest_1samp(diff, 0.0).pvalue) if n >= 2 and diff.std(ddof=1) > 0
+              else float("nan"))
+        w = welch_test(rv, dv)
+        tests += [(name, "paired", pp), (name, "Welch", w["p"])]
+        half = f" ± {ci:.2g}" if np.isfinite(ci) else " (N < 2)"
+        whalf = f" ± {w['half']:.2g}" if np.isfinite(w["half"]) else " (N < 2)"
+        print(f"| {name} | {m:+.3g}{half} | {pp:.3g} | {w['diff']:+.3g}{whalf} | {w['p']:.3g} |")
+    p = np.array([t[2] for t in tests], float)
+    reject, adjusted = bh_reject(p, 0.05)
+    m = int(np.isfinite(p).sum())
+    print(f"# Benjamini-Hochberg at q = 0.05 over {m} tests: {int(reject.sum())} significant"
+          + (f"; smallest p {np.nanmin(p):.3g} ({tests[int(np.nanargmin(p))][0]},"
+             f" {tests[int(np.nanargmin(p))][1]}), adjusted {np.nanmin(adjusted):.3g}" if m else ""))
+    for (name, kind, _), r, a in zip(tests, reject, adjusted):
+        if r:
+            print(f"#   significant: {name} ({kind}), adjusted p {a:.3g}")
+    if len(pairs) < 5:
+        print(f"# warning: {len(pairs)} pairs: at N = 3 a 95% CI spans ±4.3 standard errors"
+              " (t(0.975, 2)); 'not significant' means 'not resolved at this N', not 'equal'.")
 
 
 def on_grid(run, h):

@@ -147,6 +147,8 @@ void write_results(const std::string& path, const RunState& s, const RunResult& 
   f.set_attr("/", "particles", res.particles);
   f.set_attr("/", "complete", static_cast<std::int64_t>(s.sim.step_count() >= s.total_steps));
   f.set_attr("/", "particle_steps_per_second", res.particle_steps_per_second);
+  // (the rate is the ranks' together: with their count a reader can compare runs made on others)
+  f.set_attr("/", "ranks", static_cast<std::int64_t>(size_of(comm)));
   io::write_provenance(f, s.scene);
   out.commit();
 }

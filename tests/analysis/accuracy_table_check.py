@@ -1,0 +1,129 @@
+"""jobs/accuracy/accuracy_table.py's rigid-against-dynamic section on constructed flow runs (no
+engine run): pairing by seed, the frozen share per phase and the multiplicity control.
+
+  /usr/bin/python3 accuracy_table_check.py SCRATCH_DIR
+
+1. A rigid tier whose runs are copies of the dynamic ones (same seeds, same series): every paired
+   and Welch difference is 0 and nothing is significant; the frozen share is read per phase
+   (0-35 and 40-80 degrees of rotation) from series/frozen_fraction.
+2. The rigid runs shifted in one observable (the surface speed) by an amount smaller than the
+   scatter between seeds but the same for every seed (plus a little noise): the paired test
+   resolves it, Welch's does not, and Benjamini-Hochberg counts that one test alone.
+3. The table's wall column names the rank count the runs were made on (results.h5 attribute
+   `ranks`).
+"""
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+TABLE = os.path.join(HERE, "..", "..", "jobs", "accuracy", "accuracy_table.py")
+RPM, RADIUS = 3.0, 0.07
+OMEGA = 2 * math.pi * RPM / 60
+failures = 0
+
+
+def check(name, ok, detail=""):
+    global failures
+    print(f"{'ok  ' if ok else 'FAIL'} {name}{': ' + detail if detail else ''}")
+    failures += not ok
+
+
+def write_run(path, seed, level, speed, frozen=None, ranks=2):
+    """A flow run of 81 samples (one per degree) whose observables sit at the seed's level."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    t = np.radians(np.arange(81.0)) / OMEGA
+    with h5py.File(path, "w") as f:
+        f.attrs["scene"] = f"protocol.rpm = {RPM}\ntumbler.radius = {RADIUS}\n"
+        f.attrs["particles"] = 1000
+        f.attrs["steps"] = 10000
+        f.attrs["particle_steps_per_second"] = 1e6
+        f.attrs["seed"] = seed
+        f.attrs["ranks"] = ranks
+        f.attrs["complete"] = 1
+        f.create_dataset("series/time", data=t)
+        f.create_dataset("series/repose_angle", data=np.full(81, 26.0 + level))
+        f.create_dataset("series/surface_speed", data=np.full(81, speed * OMEGA * RADIUS))
+        f.create_dataset("series/shell_large_fraction", data=np.full(81, 0.15 + level / 100))
+        h = np.array([-0.5, 0.0, 0.5]) * RADIUS
+        f.create_dataset("series/surface_profile_h", data=h)
+        f.create_dataset("series/surface_profile",
+                         data=np.tile((3.0 + level) * OMEGA * RADIUS * np.ones(3), (81, 1)))
+        if frozen is not None:
+            f.create_dataset("series/frozen_fraction",
+                             data=np.where(np.arange(81) <= 35, frozen[0], frozen[1]))
+
+
+def table(out):
+    r = subprocess.run([sys.executable, TABLE, out], capture_output=True, text=True)
+    if r.returncode != 0:
+        print(r.stdout, r.stderr)
+    return r.stdout
+
+
+def paired_rows(text):
+    """{observable: (paired Δ, p paired, Welch Δ, p Welch)} of the rigid-against-dynamic table."""
+    rows = {}
+    part = text.split("paired by seed", 1)[-1]
+    for line in part.splitlines():
+        m = re.match(r"\| ([^|]+?) \| ([-+0-9.e]+)[^|]*\| ([0-9.e]+|nan) \| ([-+0-9.e]+)[^|]*\| ([0-9.e]+|nan) \|",
+                     line)
+        if m:
+            rows[m.group(1)] = tuple(float(m.group(k)) for k in range(2, 6))
+    return rows
+
+
+def significant(text):
+    m = re.search(r"Benjamini-Hochberg at q = 0.05 over (\d+) tests: (\d+) significant", text)
+    return (int(m.group(1)), int(m.group(2))) if m else (None, None)
+
+
+work = sys.argv[1]
+shutil.rmtree(work, ignore_errors=True)
+levels = {1: 0.0, 2: 1.0, 3: -0.8}  # the seeds' beds differ by about a degree and 0.6 omega R
+speeds = {1: 3.0, 2: 3.6, 3: 2.5}
+
+# 1. Copies.
+out = os.path.join(work, "copies")
+for s in levels:
+    write_run(os.path.join(out, "standard", f"seed{s}", "results.h5"), s, levels[s], speeds[s])
+    write_run(os.path.join(out, "standard-rigid", f"seed{s}", "results.h5"), s, levels[s], speeds[s],
+              frozen=(0.7 + s / 100, 0.6 + s / 100))
+text = table(out)
+rows = paired_rows(text)
+check("copies: the paired section lists the 3 observables and 3 profile bins", len(rows) == 6, str(sorted(rows)))
+check("copies: every paired and Welch difference is 0",
+      rows and all(v[0] == 0 and v[2] == 0 for v in rows.values()), str(rows))
+tests, sig = significant(text)
+check("copies: nothing significant (paired: no variance to test; Welch p = 1)", sig == 0, f"{sig} of {tests}")
+check("copies: frozen share per phase", "0-35 degrees: 0.710, 0.720, 0.730" in text
+      and "40-80 degrees: 0.610, 0.620, 0.630" in text)
+check("the wall column names the runs' rank count", "wall s per run (2 ranks)" in text)
+
+# 2. A shift of the surface speed by 0.2 omega R in every pair (the seeds scatter by 0.55).
+out = os.path.join(work, "shifted")
+noise = {1: 0.004, 2: -0.003, 3: 0.001}
+for s in levels:
+    write_run(os.path.join(out, "standard", f"seed{s}", "results.h5"), s, levels[s], speeds[s])
+    write_run(os.path.join(out, "standard-rigid", f"seed{s}", "results.h5"), s, levels[s] + noise[s] / 10,
+              speeds[s] + 0.2 + noise[s], frozen=(0.7, 0.6))
+text = table(out)
+rows = paired_rows(text)
+speed = rows.get("surface speed / (omega R)")
+check("shifted: the paired difference is the planted 0.2", speed and abs(speed[0] - 0.2007) < 1e-3, str(speed))
+check("shifted: paired p < 0.01, Welch p > 0.5 (the beds' scatter hides it from Welch)",
+      speed and speed[1] < 0.01 and speed[3] > 0.5, str(speed))
+tests, sig = significant(text)
+check("shifted: Benjamini-Hochberg keeps exactly one test", sig == 1, f"{sig} of {tests}")
+check("shifted: the one kept is the surface speed's paired test",
+      "significant: surface speed / (omega R) (paired)" in text)
+check("a warning at N = 3", "warning: 3 pairs" in text)
+
+print(f"{failures} failure(s)")
+sys.exit(1 if failures else 0)
