@@ -39,6 +39,13 @@ from scipy import stats  # noqa: E402
 BOUNDS = {"wall large fraction": (0.0, 1.0)}
 
 
+def is_complete(path):
+    """Whether a run reached its protocol's end (results.h5 attribute `complete`; files from
+    before the attribute existed count as complete)."""
+    with h5py.File(path, "r") as f:
+        return bool(f.attrs.get("complete", 1))
+
+
 def run_means(path):
     with h5py.File(path, "r") as f:
         t = f["series/time"][:]
@@ -115,7 +122,11 @@ def main():
     tiers = [t + b for t in ["reference", "standard", "fast", "preview"] for b in ["", "-rigid"]]
     data = {}
     for tier in tiers:
-        runs = [run_means(p) for p in sorted(glob.glob(os.path.join(out, tier, "seed*", "results.h5")))]
+        paths = sorted(glob.glob(os.path.join(out, tier, "seed*", "results.h5")))
+        done = [p for p in paths if is_complete(p)]
+        for p in sorted(set(paths) - set(done)):  # stopped part-way: its window is not whole
+            print(f"# left out (stopped before its end; rerun the script to finish it): {p}")
+        runs = [run_means(p) for p in done]
         if runs:
             data[tier] = runs
     # The errors are against the most accurate dynamic tier that ran.

@@ -9,7 +9,8 @@ engine run): pairing by seed, the frozen share per phase and the multiplicity co
 2. The rigid runs shifted in one observable (the surface speed) by an amount smaller than the
    scatter between seeds but the same for every seed (plus a little noise): the paired test
    resolves it, Welch's does not, and Benjamini-Hochberg counts that one test alone.
-3. The table's wall column names the rank count the runs were made on (results.h5 attribute
+3. A run stopped part-way (results.h5 `complete` = 0) is left out with a line saying so.
+4. The table's wall column names the rank count the runs were made on (results.h5 attribute
    `ranks`).
 """
 import math
@@ -113,7 +114,13 @@ for s in levels:
     write_run(os.path.join(out, "standard", f"seed{s}", "results.h5"), s, levels[s], speeds[s])
     write_run(os.path.join(out, "standard-rigid", f"seed{s}", "results.h5"), s, levels[s] + noise[s] / 10,
               speeds[s] + 0.2 + noise[s], frozen=(0.7, 0.6))
+# A fourth seed stopped part-way (complete = 0) must be left out, not averaged in.
+write_run(os.path.join(out, "standard-rigid", "seed4", "results.h5"), 4, 50.0, 50.0, frozen=(0.7, 0.6))
+with h5py.File(os.path.join(out, "standard-rigid", "seed4", "results.h5"), "a") as f:
+    f.attrs["complete"] = 0
 text = table(out)
+check("a run stopped part-way is left out, and said so",
+      "left out (stopped before its end" in text and "seed4" in text and "| standard-rigid | 3 |" in text)
 rows = paired_rows(text)
 speed = rows.get("surface speed / (omega R)")
 check("shifted: the paired difference is the planted 0.2", speed and abs(speed[0] - 0.2007) < 1e-3, str(speed))
