@@ -16,6 +16,9 @@ bed), and the profile error of each run, the RMS over bins of its difference fro
 tier's mean profile (the reference's own runs against the mean of the others: the replica
 ceiling), mean ± CI, with the Welch difference from the reference's.
 
+--plot FILE.png draws the profiles (mean and 95% CI per bin) and the rigid runs' frozen share
+against the rotation angle.
+
 Last, for each rigid-bulk tier beside its own dynamic tier (flow_accuracy.sh with BULK=rigid: the
 two runs of a seed start from the same settled bed): the frozen share of the bed over 0-35° (the
 solid-body phase) and 40-80° (the flow), the paired differences rigid − dynamic by seed (Student
@@ -65,10 +68,11 @@ def run_means(path):
             prof = f["series/surface_profile"][:][win] / (omega * radius)
             with np.errstate(all="ignore"):
                 profile = (f["series/surface_profile_h"][:] / radius, np.nanmean(prof, axis=0))
-        frozen = {}
+        frozen, frozen_series = {}, None
         if "series/frozen_fraction" in f:
             ff = f["series/frozen_fraction"][:]
             frozen = {"0-35": np.nanmean(ff[angle <= 35]), "40-80": np.nanmean(ff[win])}
+            frozen_series = (angle, ff)
         wall_s = float(f.attrs["particles"]) * float(f.attrs["steps"]) / float(
             f.attrs["particle_steps_per_second"])
         return {
@@ -81,6 +85,7 @@ def run_means(path):
             "rpm": rpm,
             "profile": profile,
             "frozen": frozen,
+            "frozen_series": frozen_series,
             "seed": int(f.attrs["seed"]),
             "ranks": int(f.attrs["ranks"]) if "ranks" in f.attrs else None,
         }
@@ -117,7 +122,17 @@ def error_text(base, runs, lo=None, hi=None, digits=3):
 
 
 def main():
-    out = sys.argv[1]
+    args = sys.argv[1:]
+    plot = None
+    if "--plot" in args:
+        k = args.index("--plot")
+        if k + 1 >= len(args):
+            sys.exit("--plot takes a file name (.png)")
+        plot = args[k + 1]
+        del args[k:k + 2]
+    if len(args) != 1:
+        sys.exit("usage: accuracy_table.py OUT [--plot FILE.png]")
+    out = args[0]
     # Each tier, then its rigid-bulk runs (flow_accuracy.sh with BULK=rigid).
     tiers = [t + b for t in ["reference", "standard", "fast", "preview"] for b in ["", "-rigid"]]
     data = {}
@@ -159,6 +174,50 @@ def main():
     for tier in data:
         if tier.endswith("-rigid") and tier[:-len("-rigid")] in data:
             paired_table(data[tier[:-len("-rigid")]], data[tier], tier[:-len("-rigid")], tier)
+    if plot:
+        plot_runs(data, plot)
+
+
+def plot_runs(data, path):
+    """The surface velocity profile of each tier (mean and 95% CI per bin, on its own bins) and,
+    where a rigid bulk ran, its frozen share against the rotation angle (one line a seed)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    frozen = {t: runs for t, runs in data.items() if any(r["frozen_series"] is not None for r in runs)}
+    fig, axes = plt.subplots(1, 2 if frozen else 1, figsize=(11 if frozen else 5.5, 4), squeeze=False)
+    ax = axes[0][0]
+    for t, runs in data.items():
+        runs = [r for r in runs if r["profile"] is not None]
+        if not runs:
+            continue
+        h = runs[0]["profile"][0]
+        vals = np.array([on_grid(r, h) for r in runs])
+        stats_bins = [mean_ci(vals[:, b]) for b in range(len(h))]
+        m = np.array([x[0] for x in stats_bins])
+        ci = np.array([x[1] for x in stats_bins])
+        line, = ax.plot(h, m, "o-", label=f"{t} (N = {len(runs)})")
+        if np.isfinite(ci).any():
+            ax.fill_between(h, m - ci, m + ci, color=line.get_color(), alpha=0.2)
+    ax.set_xlabel("h / R (across the surface; the layer flows towards -h)")
+    ax.set_ylabel("downhill surface speed / (omega R), 40-80 deg")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    if frozen:
+        ax = axes[0][1]
+        for t, runs in frozen.items():
+            for r in runs:
+                if r["frozen_series"] is not None:
+                    ax.plot(*r["frozen_series"], lw=1, label=f"{t} seed {r['seed']}")
+        ax.axvspan(40, 80, color="0.9", zorder=0, label="the averaging window")
+        ax.set_xlabel("rotation (deg)")
+        ax.set_ylabel("frozen share of the bed")
+        ax.set_ylim(0, 1)
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"# plot: {path}")
 
 
 def paired_table(dyn, rig, dname, rname):
