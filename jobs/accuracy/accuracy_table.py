@@ -263,9 +263,14 @@ def paired_table(dyn, rig, dname, rname):
     for (name, kind, _), r, a in zip(tests, reject, adjusted):
         if r:
             print(f"#   significant: {name} ({kind}), adjusted p {a:.3g}")
-    if len(pairs) < 5:
-        print(f"# warning: {len(pairs)} pairs: at N = 3 a 95% CI spans ±4.3 standard errors"
-              " (t(0.975, 2)); 'not significant' means 'not resolved at this N', not 'equal'.")
+    n = len(pairs)
+    if n < 2:
+        print(f"# warning: {n} pair(s): no interval and no test; the differences above are one"
+              " bed's, not an estimate of the mean.")
+    elif n < 5:
+        print(f"# warning: {n} pairs: at N = {n} a 95% CI spans ±{stats.t.ppf(0.975, n - 1):.2g}"
+              f" standard errors (t(0.975, {n - 1})); 'not significant' means 'not resolved at"
+              " this N', not 'equal'.")
 
 
 def on_grid(run, h):

@@ -12,6 +12,8 @@ engine run): pairing by seed, the frozen share per phase and the multiplicity co
 3. A run stopped part-way (results.h5 `complete` = 0) is left out with a line saying so.
 4. The table's wall column names the rank count the runs were made on (results.h5 attribute
    `ranks`).
+5. The small-N warning quotes the t quantile of the pairs there are (4.3 at 3 pairs), and with a
+   single pair says there is no interval and no test.
 """
 import math
 import os
@@ -130,7 +132,15 @@ tests, sig = significant(text)
 check("shifted: Benjamini-Hochberg keeps exactly one test", sig == 1, f"{sig} of {tests}")
 check("shifted: the one kept is the surface speed's paired test",
       "significant: surface speed / (omega R) (paired)" in text)
-check("a warning at N = 3", "warning: 3 pairs" in text)
+check("a warning at N = 3 with its t quantile", "warning: 3 pairs: at N = 3 a 95% CI spans ±4.3" in text)
+
+# 5. One pair: no interval, no test, and the warning says so.
+out = os.path.join(work, "one_pair")
+write_run(os.path.join(out, "standard", "seed1", "results.h5"), 1, 0.0, 3.0)
+write_run(os.path.join(out, "standard-rigid", "seed1", "results.h5"), 1, 0.0, 3.2, frozen=(0.7, 0.6))
+text = table(out)
+check("one pair: BH over 0 tests", significant(text) == (0, 0), str(significant(text)))
+check("one pair: the warning says there is no interval", "warning: 1 pair(s): no interval" in text)
 
 print(f"{failures} failure(s)")
 sys.exit(1 if failures else 0)
