@@ -16,8 +16,9 @@ bed), and the profile error of each run, the RMS over bins of its difference fro
 tier's mean profile (the reference's own runs against the mean of the others: the replica
 ceiling), mean ± CI, with the Welch difference from the reference's.
 
---plot FILE.png draws the profiles (mean and 95% CI per bin) and the rigid runs' frozen share
-against the rotation angle.
+--plot FILE.png draws the profiles (mean and 95% CI per bin), the paired difference rigid −
+dynamic per bin (mean and 95% CI over the common beds) and the rigid runs' frozen share against
+the rotation angle.
 
 Last, for each rigid-bulk tier beside its own dynamic tier (flow_accuracy.sh with BULK=rigid: the
 two runs of a seed start from the same settled bed): the frozen share of the bed over 0-35° (the
@@ -179,14 +180,20 @@ def main():
 
 
 def plot_runs(data, path):
-    """The surface velocity profile of each tier (mean and 95% CI per bin, on its own bins) and,
-    where a rigid bulk ran, its frozen share against the rotation angle (one line a seed)."""
+    """The surface velocity profile of each tier (mean and 95% CI per bin, on its own bins); where
+    a rigid bulk ran beside its dynamic tier, the paired difference rigid - dynamic per bin (mean
+    and 95% CI over the common beds) and the frozen share against the rotation angle (a line a
+    seed). The axes are scaled to the means: the edge bins, which few samples reach, have CIs many
+    times the profile's height and would flatten it."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     frozen = {t: runs for t, runs in data.items() if any(r["frozen_series"] is not None for r in runs)}
-    fig, axes = plt.subplots(1, 2 if frozen else 1, figsize=(11 if frozen else 5.5, 4), squeeze=False)
+    rigid = [t for t in data if t.endswith("-rigid") and t[:-len("-rigid")] in data]
+    panels = 1 + bool(rigid) + bool(frozen)
+    fig, axes = plt.subplots(1, panels, figsize=(5.5 * panels, 4), squeeze=False)
     ax = axes[0][0]
+    means = []
     for t, runs in data.items():
         runs = [r for r in runs if r["profile"] is not None]
         if not runs:
@@ -196,15 +203,40 @@ def plot_runs(data, path):
         stats_bins = [mean_ci(vals[:, b]) for b in range(len(h))]
         m = np.array([x[0] for x in stats_bins])
         ci = np.array([x[1] for x in stats_bins])
+        means.append(m)
         line, = ax.plot(h, m, "o-", label=f"{t} (N = {len(runs)})")
         if np.isfinite(ci).any():
             ax.fill_between(h, m - ci, m + ci, color=line.get_color(), alpha=0.2)
+    scale_to(ax, means)
     ax.set_xlabel("h / R (across the surface; the layer flows towards -h)")
     ax.set_ylabel("downhill surface speed / (omega R), 40-80 deg")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    if frozen:
+    if rigid:
         ax = axes[0][1]
+        diffs = []
+        for t in rigid:
+            by_seed = {r["seed"]: r for r in data[t[:-len("-rigid")]] if r["profile"] is not None}
+            pairs = [(by_seed[r["seed"]], r) for r in data[t]
+                     if r["seed"] in by_seed and r["profile"] is not None]
+            if not pairs:
+                continue
+            h = pairs[0][0]["profile"][0]
+            d = np.array([on_grid(r, h) - on_grid(dyn, h) for dyn, r in pairs])
+            stats_bins = [mean_ci(d[:, b]) for b in range(len(h))]
+            m = np.array([x[0] for x in stats_bins])
+            ci = np.array([x[1] for x in stats_bins])
+            diffs.append(m)
+            ax.errorbar(h, m, yerr=np.where(np.isfinite(ci), ci, 0), fmt="o-", capsize=3,
+                        label=f"{t} - {t[:-len('-rigid')]} ({len(pairs)} beds)")
+        ax.axhline(0, color="k", lw=0.8)
+        scale_to(ax, diffs + [np.zeros(1)])
+        ax.set_xlabel("h / R")
+        ax.set_ylabel("paired difference / (omega R), mean and 95% CI")
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
+    if frozen:
+        ax = axes[0][-1]
         for t, runs in frozen.items():
             for r in runs:
                 if r["frozen_series"] is not None:
@@ -218,6 +250,16 @@ def plot_runs(data, path):
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     print(f"# plot: {path}")
+
+
+def scale_to(ax, curves):
+    """The y range of the curves' finite values, a quarter of it added either side."""
+    v = np.concatenate([np.asarray(c, float).ravel() for c in curves]) if curves else np.array([])
+    v = v[np.isfinite(v)]
+    if v.size:
+        lo, hi = v.min(), v.max()
+        pad = 0.25 * (hi - lo) if hi > lo else 0.5
+        ax.set_ylim(lo - pad, hi + pad)
 
 
 def paired_table(dyn, rig, dname, rname):

@@ -12,7 +12,9 @@ engine run): pairing by seed, the frozen share per phase and the multiplicity co
 3. A run stopped part-way (results.h5 `complete` = 0) is left out with a line saying so.
 4. The table's wall column names the rank count the runs were made on (results.h5 attribute
    `ranks`).
-5. The small-N warning quotes the t quantile of the pairs there are (4.3 at 3 pairs), and with a
+5. --plot writes a PNG with three panels: the profiles, the paired difference per bin and the
+   frozen share.
+6. The small-N warning quotes the t quantile of the pairs there are (4.3 at 3 pairs), and with a
    single pair says there is no interval and no test.
 """
 import math
@@ -63,8 +65,8 @@ def write_run(path, seed, level, speed, frozen=None, ranks=2):
                              data=np.where(np.arange(81) <= 35, frozen[0], frozen[1]))
 
 
-def table(out):
-    r = subprocess.run([sys.executable, TABLE, out], capture_output=True, text=True)
+def table(out, *extra):
+    r = subprocess.run([sys.executable, TABLE, out, *extra], capture_output=True, text=True)
     if r.returncode != 0:
         print(r.stdout, r.stderr)
     return r.stdout
@@ -134,7 +136,17 @@ check("shifted: the one kept is the surface speed's paired test",
       "significant: surface speed / (omega R) (paired)" in text)
 check("a warning at N = 3 with its t quantile", "warning: 3 pairs: at N = 3 a 95% CI spans ±4.3" in text)
 
-# 5. One pair: no interval, no test, and the warning says so.
+# 5. The plot of the shifted runs.
+png = os.path.join(work, "shifted.png")
+text = table(out, "--plot", png)
+ok = os.path.isfile(png)
+if ok:
+    from PIL import Image
+    width, height = Image.open(png).size
+check("--plot writes the figure, three panels side by side (3 x 5.5 by 4 inches at 110 dpi)",
+      ok and width == 1815 and height == 440, f"{width} x {height}" if ok else "no file")
+
+# 6. One pair: no interval, no test, and the warning says so.
 out = os.path.join(work, "one_pair")
 write_run(os.path.join(out, "standard", "seed1", "results.h5"), 1, 0.0, 3.0)
 write_run(os.path.join(out, "standard-rigid", "seed1", "results.h5"), 1, 0.0, 3.2, frozen=(0.7, 0.6))
