@@ -25,6 +25,8 @@
 # ~18 min for bst_paper's z half, N = 600000, on 2 ranks here), whose checkpoint every variant
 # then continues from (a rigid checkpoint restarts dynamic). The x half alone is so ~half the job;
 # jobs/accuracy/rigid_iteration_table.py takes the segments not run from their twins.
+# RIGID_SET="--set fidelity.bulk_calm_distance=0.02 ..." passes more keys to the rigid runs (and
+# the START run); split on blanks, not globbed. Give each setting its own OUT.
 {  # read to the closing brace before running: an edit or a `git pull` while it runs (hours)
    # cannot change what it does next
 set -euo pipefail
@@ -72,7 +74,8 @@ if [ -n "${REPORT:-}" ]; then report; exit 0; fi
 
 bench_header | tee -a "$OUT/job.log"
 echo "# $SCENE at $TIER, (57, 57), beta = 27 deg, one iteration, rigid and dynamic in turns of" \
-     "$CHUNK steps, $NP ranks" | tee -a "$OUT/job.log"
+     "$CHUNK steps, $NP ranks${RIGID_SET:+; the rigid runs with $RIGID_SET}" | tee -a "$OUT/job.log"
+read -ra rigid_set <<< "${RIGID_SET:-}"
 common=("$SCENE" --set fidelity.tier="$TIER" --set fill.bed_cache=beds --set protocol.repose=27
         --set protocol.iterations=1 --set output.analysis_interval=0.05
         --set output.snapshot_interval=1e6 --set output.checkpoint_interval=1e6
@@ -80,13 +83,14 @@ common=("$SCENE" --set fidelity.tier="$TIER" --set fill.bed_cache=beds --set pro
 
 # run_chunk VARIANT: CHUNK more steps of VARIANT; returns 1 when it has reached the end.
 run_chunk() {
-  local v=$1 dir="$OUT/$1" log first steps wall frozen bin=$BIN bulk=$1
+  local v=$1 dir="$OUT/$1" log first steps wall frozen bin=$BIN bulk=$1 extra=()
   [ "$v" = rigid_before ] && bin=$OTHER bulk=rigid
+  [ "$bulk" = rigid ] && extra=("${rigid_set[@]}")
   [ -f "$dir/finished" ] && return 1
   while [ -f "$OUT/pause" ]; do sleep 5; done
   log="$OUT/$v.last.log"
   ${MPIRUN:-mpirun} --bind-to none -n "$NP" "$bin" run "${common[@]}" --set fidelity.bulk="$bulk" \
-    --set scene.output_dir="$dir" --resume --max-steps "$CHUNK" > "$log" 2>&1 ||
+    "${extra[@]}" --set scene.output_dir="$dir" --resume --max-steps "$CHUNK" > "$log" 2>&1 ||
     { echo "# $v: run failed, see $log" | tee -a "$OUT/job.log"; exit 1; }
   cat "$log" >> "$OUT/$v.log"
   # "[run] done: N steps in W s" and the first step from the restart line (0 on a fresh start).
@@ -108,7 +112,7 @@ START=${START:-0}
 if [ "$START" -gt 0 ] && [ ! -f "$OUT/rigid/checkpoint.h5" ]; then
   echo "# START=$START: one rigid run to that step first (not timed)" | tee -a "$OUT/job.log"
   ${MPIRUN:-mpirun} --bind-to none -n "$NP" "$BIN" run "${common[@]}" --set fidelity.bulk=rigid \
-    --set scene.output_dir="$OUT/rigid" --max-steps "$START" > "$OUT/start.log" 2>&1 ||
+    "${rigid_set[@]}" --set scene.output_dir="$OUT/rigid" --max-steps "$START" > "$OUT/start.log" 2>&1 ||
     { echo "# the run to step $START failed, see $OUT/start.log"; exit 1; }
   cp "$OUT/start.log" "$OUT/rigid.log"  # its first line gives the table script the iteration's steps
   for v in "${variants[@]}"; do
