@@ -25,8 +25,9 @@
 # ~18 min for bst_paper's z half, N = 600000, on 2 ranks here), whose checkpoint every variant
 # then continues from (a rigid checkpoint restarts dynamic). The x half alone is so ~half the job;
 # jobs/accuracy/rigid_iteration_table.py takes the segments not run from their twins.
-# RIGID_SET="--set fidelity.bulk_calm_distance=0.02 ..." passes more keys to the rigid runs (and
-# the START run); split on blanks, not globbed. Give each setting its own OUT.
+# RIGID_SET="--set fidelity.bulk_calm_distance=0.02 ..." passes more keys to the rigid run (and
+# the START run), not to rigid_before: OTHER=build/tumble with RIGID_SET times a setting against
+# the defaults of the same binary. Split on blanks, not globbed. Give each setting its own OUT.
 {  # read to the closing brace before running: an edit or a `git pull` while it runs (hours)
    # cannot change what it does next
 set -euo pipefail
@@ -85,7 +86,7 @@ common=("$SCENE" --set fidelity.tier="$TIER" --set fill.bed_cache=beds --set pro
 run_chunk() {
   local v=$1 dir="$OUT/$1" log first steps wall frozen bin=$BIN bulk=$1 extra=()
   [ "$v" = rigid_before ] && bin=$OTHER bulk=rigid
-  [ "$bulk" = rigid ] && extra=("${rigid_set[@]}")
+  [ "$v" = rigid ] && extra=("${rigid_set[@]}")
   [ -f "$dir/finished" ] && return 1
   while [ -f "$OUT/pause" ]; do sleep 5; done
   log="$OUT/$v.last.log"
