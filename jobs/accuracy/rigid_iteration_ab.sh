@@ -75,7 +75,7 @@ if [ -n "${REPORT:-}" ]; then report; exit 0; fi
 
 bench_header | tee -a "$OUT/job.log"
 echo "# $SCENE at $TIER, (57, 57), beta = 27 deg, one iteration, rigid and dynamic in turns of" \
-     "$CHUNK steps, $NP ranks${RIGID_SET:+; the rigid runs with $RIGID_SET}" | tee -a "$OUT/job.log"
+     "$CHUNK steps, $NP ranks${RIGID_SET:+; the rigid run with $RIGID_SET}" | tee -a "$OUT/job.log"
 read -ra rigid_set <<< "${RIGID_SET:-}"
 common=("$SCENE" --set fidelity.tier="$TIER" --set fill.bed_cache=beds --set protocol.repose=27
         --set protocol.iterations=1 --set output.analysis_interval=0.05
