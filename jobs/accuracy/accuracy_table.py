@@ -172,9 +172,8 @@ def main():
                 cells.append(error_text([r[o] for r in data[base]], [r[o] for r in runs], lo, hi))
         print("| " + " | ".join(cells) + " |")
     profile_table(data, base)
-    for tier in data:
-        if tier.endswith("-rigid") and tier[:-len("-rigid")] in data:
-            paired_table(data[tier[:-len("-rigid")]], data[tier], tier[:-len("-rigid")], tier)
+    for dname, rname in rigid_beside_dynamic(data):
+        paired_table(data[dname], data[rname], dname, rname)
     if plot:
         plot_runs(data, plot)
 
@@ -189,7 +188,7 @@ def plot_runs(data, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     frozen = {t: runs for t, runs in data.items() if any(r["frozen_series"] is not None for r in runs)}
-    rigid = [t for t in data if t.endswith("-rigid") and t[:-len("-rigid")] in data]
+    rigid = rigid_beside_dynamic(data)
     panels = 1 + bool(rigid) + bool(frozen)
     fig, axes = plt.subplots(1, panels, figsize=(5.5 * panels, 4), squeeze=False)
     ax = axes[0][0]
@@ -199,10 +198,7 @@ def plot_runs(data, path):
         if not runs:
             continue
         h = runs[0]["profile"][0]
-        vals = np.array([on_grid(r, h) for r in runs])
-        stats_bins = [mean_ci(vals[:, b]) for b in range(len(h))]
-        m = np.array([x[0] for x in stats_bins])
-        ci = np.array([x[1] for x in stats_bins])
+        m, ci = per_bin(np.array([on_grid(r, h) for r in runs]))
         means.append(m)
         line, = ax.plot(h, m, "o-", label=f"{t} (N = {len(runs)})")
         if np.isfinite(ci).any():
@@ -215,20 +211,16 @@ def plot_runs(data, path):
     if rigid:
         ax = axes[0][1]
         diffs = []
-        for t in rigid:
-            by_seed = {r["seed"]: r for r in data[t[:-len("-rigid")]] if r["profile"] is not None}
-            pairs = [(by_seed[r["seed"]], r) for r in data[t]
-                     if r["seed"] in by_seed and r["profile"] is not None]
+        for dname, rname in rigid:
+            pairs = [(d, r) for d, r in pairs_by_seed(data[dname], data[rname])
+                     if d["profile"] is not None and r["profile"] is not None]
             if not pairs:
                 continue
             h = pairs[0][0]["profile"][0]
-            d = np.array([on_grid(r, h) - on_grid(dyn, h) for dyn, r in pairs])
-            stats_bins = [mean_ci(d[:, b]) for b in range(len(h))]
-            m = np.array([x[0] for x in stats_bins])
-            ci = np.array([x[1] for x in stats_bins])
+            m, ci = per_bin(np.array([on_grid(r, h) - on_grid(d, h) for d, r in pairs]))
             diffs.append(m)
             ax.errorbar(h, m, yerr=np.where(np.isfinite(ci), ci, 0), fmt="o-", capsize=3,
-                        label=f"{t} - {t[:-len('-rigid')]} ({len(pairs)} beds)")
+                        label=f"{rname} - {dname} ({len(pairs)} beds)")
         ax.axhline(0, color="k", lw=0.8)
         scale_to(ax, diffs + [np.zeros(1)])
         ax.set_xlabel("h / R")
@@ -252,6 +244,24 @@ def plot_runs(data, path):
     print(f"# plot: {path}")
 
 
+def rigid_beside_dynamic(data):
+    """(dynamic tier, rigid tier) for each rigid-bulk tier run beside its own dynamic tier."""
+    return [(t[:-len("-rigid")], t) for t in data
+            if t.endswith("-rigid") and t[:-len("-rigid")] in data]
+
+
+def pairs_by_seed(dyn, rig):
+    """(dynamic run, rigid run) for each seed both ran: the two runs of one settled bed."""
+    by_seed = {r["seed"]: r for r in dyn}
+    return [(by_seed[r["seed"]], r) for r in rig if r["seed"] in by_seed]
+
+
+def per_bin(vals):
+    """Mean and 95% CI half-width of each bin (column) of a runs × bins array."""
+    s = [mean_ci(vals[:, b]) for b in range(vals.shape[1])]
+    return np.array([x[0] for x in s]), np.array([x[1] for x in s])
+
+
 def scale_to(ax, curves):
     """The y range of the curves' finite values, a quarter of it added either side."""
     v = np.concatenate([np.asarray(c, float).ravel() for c in curves]) if curves else np.array([])
@@ -266,8 +276,7 @@ def paired_table(dyn, rig, dname, rname):
     """Rigid against dynamic seed by seed (the same bed): frozen share, paired and Welch
     differences of the observables and the profile bins, Benjamini-Hochberg over all of them."""
     obs = ["repose angle (deg)", "surface speed / (omega R)", "wall large fraction"]
-    by_seed = {r["seed"]: r for r in dyn}
-    pairs = [(by_seed[r["seed"]], r) for r in rig if r["seed"] in by_seed]
+    pairs = pairs_by_seed(dyn, rig)
     print()
     print(f"{rname} against {dname}, paired by seed ({len(pairs)} pairs on common beds)")
     fr = [r["frozen"] for r in rig if r["frozen"]]
