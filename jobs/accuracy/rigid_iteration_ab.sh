@@ -28,6 +28,9 @@
 # RIGID_SET="--set fidelity.bulk_calm_distance=0.02 ..." passes more keys to the rigid run (and
 # the START run), not to rigid_before: OTHER=build/tumble with RIGID_SET times a setting against
 # the defaults of the same binary. Split on blanks, not globbed. Give each setting its own OUT.
+# VARIANTS="rigid rigid_before" (with OTHER) leaves the dynamic run out: a setting against the
+# defaults in a third of the time (the dynamic run is ~60% of a three-way job's wall time); its
+# ratio to dynamic is then the defaults' one times this job's rigid_before / rigid, an estimate.
 {  # read to the closing brace before running: an edit or a `git pull` while it runs (hours)
    # cannot change what it does next
 set -euo pipefail
@@ -74,7 +77,8 @@ EOF
 if [ -n "${REPORT:-}" ]; then report; exit 0; fi
 
 bench_header | tee -a "$OUT/job.log"
-echo "# $SCENE at $TIER, (57, 57), beta = 27 deg, one iteration, rigid and dynamic in turns of" \
+echo "# $SCENE at $TIER, (57, 57), beta = 27 deg, one iteration," \
+     "${VARIANTS:-rigid dynamic ${OTHER:+rigid_before}} in turns of" \
      "$CHUNK steps, $NP ranks${RIGID_SET:+; the rigid run with $RIGID_SET}" | tee -a "$OUT/job.log"
 read -ra rigid_set <<< "${RIGID_SET:-}"
 common=("$SCENE" --set fidelity.tier="$TIER" --set fill.bed_cache=beds --set protocol.repose=27
@@ -108,7 +112,14 @@ run_chunk() {
   return 0
 }
 
-variants=(rigid dynamic ${OTHER:+rigid_before})
+read -ra variants <<< "${VARIANTS:-rigid dynamic ${OTHER:+rigid_before}}"
+for v in "${variants[@]}"; do
+  case $v in
+    rigid | dynamic) ;;
+    rigid_before) [ -n "${OTHER:-}" ] || { echo "VARIANTS: rigid_before needs OTHER=path/to/tumble" >&2; exit 2; } ;;
+    *) echo "VARIANTS: unknown run '$v' (allowed: rigid, dynamic, rigid_before)" >&2; exit 2 ;;
+  esac
+done
 START=${START:-0}
 if [ "$START" -gt 0 ] && [ ! -f "$OUT/rigid/checkpoint.h5" ]; then
   echo "# START=$START: one rigid run to that step first (not timed)" | tee -a "$OUT/job.log"
