@@ -2,15 +2,17 @@
 """The rigid bulk's speed-up over a whole iteration, from jobs/accuracy/rigid_iteration_ab.sh.
 
 usage: jobs/accuracy/rigid_iteration_table.py OUT [-o plot.png] [--boot 10000] [--rigid NAME]
-                                               [--drop FIRST_STEP ...]
+                                               [--base NAME] [--drop FIRST_STEP ...]
 
 Reads OUT/chunks.tsv (one line per chunk: variant, first step, steps, wall s) and the rigid run's
-OUT/rigid/results.h5 (--rigid rigid_before: the run of the script's OTHER binary instead) (its frozen share per analysis sample and the resolved scene, whose protocol
-gives the six segments of a biaxial iteration). Pairs each rigid chunk with the dynamic chunk over
-the same steps (run minutes apart, so the machine's load falls on both alike) and prints, per
-segment of the protocol, the steps covered, the two wall times, their ratio and the mean frozen
-share; then the iteration's ratio dynamic / rigid as the ratio of the summed wall times, with a
-95% interval from a bootstrap over the paired chunks (resampled within each segment, so that every
+OUT/rigid/results.h5 (--rigid rigid_before: the run of the script's OTHER binary instead) (its
+frozen share per analysis sample and the resolved scene, whose protocol gives the six segments of
+a biaxial iteration). --base rigid_before --rigid rigid compares two rigid runs (a job with
+VARIANTS="rigid rigid_before": a setting against the defaults) instead of dynamic and rigid.
+Pairs each rigid chunk with the dynamic chunk over the same steps (run minutes apart, so the
+machine's load falls on both alike) and prints, per segment of the protocol, the steps covered,
+the two wall times, their ratio and the mean frozen share; then the iteration's ratio dynamic /
+rigid as the ratio of the summed wall times, with a 95% interval from a bootstrap over the paired chunks (resampled within each segment, so that every
 segment keeps its weight). The interval says how much the chunks' scatter (the machine's noise)
 moves the ratio; it does not cover a change of machine. --drop leaves out the pairs that start at
 the given steps (a pair one of whose chunks shared the cores with other work, e.g. a build: the
@@ -51,22 +53,22 @@ def main():
     ap.add_argument("-o", "--output", help="plot of the chunks' wall times and the frozen share")
     ap.add_argument("--boot", type=int, default=10000)
     ap.add_argument("--rigid", default="rigid", help="the rigid run to compare with dynamic")
+    ap.add_argument("--base", default="dynamic", help="the run it is compared with")
     ap.add_argument("--drop", type=int, nargs="*", default=[],
                     help="first steps of pairs to leave out (a chunk run beside other work)")
     args = ap.parse_args()
-    rv = args.rigid
+    rv, bv = args.rigid, args.base
     by = read_chunks(os.path.join(args.out, "chunks.tsv"))
-    if rv not in by or "dynamic" not in by:
-        raise SystemExit("no paired chunks yet (both variants need at least one)")
+    if rv not in by or bv not in by:
+        raise SystemExit(f"no paired chunks of {bv} and {rv} yet (both need at least one)")
     frozen, iteration, text = load_frozen(os.path.join(args.out, rv))
     edges = segment_edges(text)
     if len(edges) != 6:
         raise SystemExit("not a biaxial protocol: no segments to report")
-    first = sorted(k for k in by[rv] if k in by["dynamic"] and
-                   by[rv][k][0] == by["dynamic"][k][0])
+    first = sorted(k for k in by[rv] if k in by[bv] and by[rv][k][0] == by[bv][k][0])
     for k in args.drop:
         if k in first:
-            print(f"# left out: the pair at step {k} (dynamic {by['dynamic'][k][1]:.0f} s, "
+            print(f"# left out: the pair at step {k} ({bv} {by[bv][k][1]:.0f} s, "
                   f"{rv} {by[rv][k][1]:.0f} s)")
         else:
             print(f"# --drop {k}: no such pair")
@@ -75,7 +77,7 @@ def main():
         raise SystemExit("no chunk of the same steps in both variants yet")
     steps = np.array([by[rv][k][0] for k in first], float)
     mid = np.array(first, float) + steps / 2
-    d = np.array([by["dynamic"][k][1] for k in first])
+    d = np.array([by[bv][k][1] for k in first])
     r = np.array([by[rv][k][1] for k in first])
     n_iter = estimate_steps(args.out)
     frac = mid / n_iter
@@ -83,8 +85,8 @@ def main():
     seg = np.minimum(seg, 5)
     print(f"# {args.out}: {len(first)} paired chunks, {int(steps.sum())} of {n_iter} steps"
           f" ({steps.sum() / n_iter:.1%} of the iteration)")
-    print("| segment (share of the iteration) | steps run | dynamic wall s | rigid wall s |"
-          " dynamic / rigid | per-chunk ratio, median (range) | mean frozen share |")
+    print(f"| segment (share of the iteration) | steps run | {bv} wall s | {rv} wall s |"
+          f" {bv} / {rv} | per-chunk ratio, median (range) | mean frozen share ({rv}) |")
     print("|---|---|---|---|---|---|---|")
     lo = 0.0
     rng = np.random.default_rng(1)
@@ -112,8 +114,8 @@ def main():
 
     ratio = d.sum() / r.sum()
     lo95, hi95 = boot_ratio(range(6))
-    print(f"\nRun so far ({steps.sum() / n_iter:.1%} of the iteration): dynamic {d.sum():.0f} s,"
-          f" rigid {r.sum():.0f} s, **dynamic / rigid = {ratio:.2f}** (95% bootstrap interval over"
+    print(f"\nRun so far ({steps.sum() / n_iter:.1%} of the iteration): {bv} {d.sum():.0f} s,"
+          f" {rv} {r.sum():.0f} s, **{bv} / {rv} = {ratio:.2f}** (95% bootstrap interval over"
           f" the paired chunks {lo95:.2f}-{hi95:.2f}).")
     # By the protocol's symmetry (the same angles about the other axis) a segment not fully run
     # takes the seconds per step of its twin in the other half, where that one is fully run.
@@ -146,14 +148,14 @@ def main():
             rr += r[src].sum() / steps[src].sum() * seg_steps
         else:
             print(f"Whole iteration, {', '.join(borrowed)} taken from their twins in the other half"
-                  f" (an estimate by the protocol's symmetry): dynamic {dd:.0f} s, rigid {rr:.0f} s,"
+                  f" (an estimate by the protocol's symmetry): {bv} {dd:.0f} s, {rv} {rr:.0f} s,"
                   f" **{dd / rr:.2f}x**.")
     if args.output:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         fig, ax = plt.subplots(figsize=(7, 3.4))
-        ax.plot(frac, d / steps * 1000, "o-", ms=3, lw=1, label="dynamic")
+        ax.plot(frac, d / steps * 1000, "o-", ms=3, lw=1, label=bv)
         ax.plot(frac, r / steps * 1000, "s-", ms=3, lw=1, label=rv)
         ax.set_xlabel("protocol iteration")
         ax.set_ylabel("wall s per 1,000 steps")
@@ -176,7 +178,7 @@ def main():
 def estimate_steps(out):
     """Steps per iteration from the runs' own first line ("... N steps (T s simulated, 1
     iterations"): the job runs one iteration."""
-    for v in ("rigid", "dynamic"):
+    for v in ("rigid", "dynamic", "rigid_before"):
         path = os.path.join(out, f"{v}.log")
         if os.path.exists(path):
             with open(path) as f:
