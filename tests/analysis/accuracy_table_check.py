@@ -23,11 +23,13 @@ import math
 import os
 import re
 import shutil
-import subprocess
 import sys
 
 import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from script_run import script_stdout  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TABLE = os.path.join(HERE, "..", "..", "jobs", "accuracy", "accuracy_table.py")
@@ -69,10 +71,7 @@ def write_run(path, seed, level, speed, frozen=None, ranks=2, h=None, profile=No
 
 
 def table(out, *extra):
-    r = subprocess.run([sys.executable, TABLE, out, *extra], capture_output=True, text=True)
-    if r.returncode != 0:
-        print(r.stdout, r.stderr)
-    return r.stdout
+    return script_stdout(TABLE, out, *extra)
 
 
 def paired_rows(text):

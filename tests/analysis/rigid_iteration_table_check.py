@@ -19,6 +19,9 @@ import sys
 import h5py
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from script_run import script_stdout  # noqa: E402
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 TABLE = os.path.join(HERE, "..", "..", "jobs", "accuracy", "rigid_iteration_table.py")
 STEPS, CHUNK = 2220, 30
@@ -52,10 +55,7 @@ def write_job(out, base, last_step=STEPS):
 
 
 def table(out, *extra):
-    r = subprocess.run([sys.executable, TABLE, out, *extra], capture_output=True, text=True)
-    if r.returncode != 0:
-        print(r.stdout, r.stderr)
-    return r.stdout
+    return script_stdout(TABLE, out, *extra)
 
 
 def segment_ratios(text):
