@@ -64,14 +64,20 @@ source "$here/run_slice.sh"
 # longer.
 margin=${TUMBLE_STOP_MARGIN:-300}
 [[ $margin =~ ^[1-9][0-9]*$ ]] || { echo "pbs_array.sh: TUMBLE_STOP_MARGIN='$margin' must be a whole number of seconds >= 1" >&2; exit 2; }
+# (counted from here, milliseconds into the script, to the millisecond: SECONDS and date +%s
+# were whole seconds, which let the request come up to a second late, inside the margin, or a
+# second early: a test that wanted it 2 s into a 3 s walltime saw it after 1.0 s)
+started_ms=$(epoch_ms)
 if [ -z "${TUMBLE_STOP_AFTER:-}" ] && [ -n "${PBS_JOBID:-}" ] && command -v qstat > /dev/null; then
   # (a server that does not answer must not hold the job: 30 s at most)
   walltime=$(timeout 30 qstat -f "$PBS_JOBID" 2> /dev/null | awk -F' = ' '/Resource_List.walltime/ {print $2; exit}' || true)
   if [[ $walltime =~ ^([0-9]+):([0-9]{2}):([0-9]{2})$ ]]; then
     seconds=$((10#${BASH_REMATCH[1]} * 3600 + 10#${BASH_REMATCH[2]} * 60 + 10#${BASH_REMATCH[3]}))
-    if [ "$seconds" -gt $((margin + SECONDS)) ]; then
+    stop_at_ms=$((started_ms + (seconds - margin) * 1000))
+    if [ "$stop_at_ms" -gt "$(epoch_ms)" ]; then
       # (a time, not a delay: run_slice.sh takes the time the status check took off it)
-      export TUMBLE_STOP_AT=$(($(date +%s) + seconds - margin - SECONDS))
+      TUMBLE_STOP_AT=$(ms_as_seconds "$stop_at_ms")
+      export TUMBLE_STOP_AT
     else
       echo "pbs_array.sh: walltime $walltime leaves no $margin s margin: no stop request before it" >&2
     fi

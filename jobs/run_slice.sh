@@ -6,16 +6,30 @@
 # the task's ranks (TUMBLE_TASK_RANKS, set by the caller from the scheduler) then form
 # floor(ranks / K) groups, and a remainder stays idle (said here and in the campaign's start line).
 # TUMBLE_STOP_AFTER=S (optional, whole seconds) sends SIGUSR1 to the launcher S seconds after the
-# launch, TUMBLE_STOP_AT=T (seconds since 1970; pbs_array.sh sets it from the walltime) at time T:
-# the campaign's stop request (its cases checkpoint, exit 10), for a scheduler that gives no
+# launch, TUMBLE_STOP_AT=T (seconds since 1970, to the millisecond: 1764900000.250; pbs_array.sh
+# sets it from the walltime) at time T: the campaign's stop request (its cases checkpoint, exit 10), for a scheduler that gives no
 # warning before its time limit (PBS sends SIGTERM, then SIGKILL: the cases lost what they had
 # done since their last checkpoint, and the task exited 1).
+
+# Milliseconds since 1970 (GNU date's %N; whole seconds where date has no %N).
+epoch_ms() {
+  local t
+  t=$(date +%s%3N)
+  [[ $t =~ ^[0-9]+$ ]] || t=$(($(date +%s) * 1000))
+  echo "$t"
+}
+
+# A duration in ms as seconds for sleep and the log: 2000 -> 2.000
+ms_as_seconds() {
+  printf '%d.%03d' $(($1 / 1000)) $(($1 % 1000))
+}
+
 run_slice() {
   local name=$1 dir=$2 launcher=$3 campaign=$4 i=$5 n=$6
   shift 6
   local stop=${TUMBLE_STOP_AFTER:-} stop_at=${TUMBLE_STOP_AT:-}
   [ -z "$stop" ] || [[ $stop =~ ^[1-9][0-9]*$ ]] || { echo "$name: TUMBLE_STOP_AFTER='$stop' must be a whole number of seconds >= 1" >&2; exit 2; }
-  [ -z "$stop_at" ] || [[ $stop_at =~ ^[1-9][0-9]*$ ]] || { echo "$name: TUMBLE_STOP_AT='$stop_at' must be a time in seconds since 1970" >&2; exit 2; }
+  [ -z "$stop_at" ] || [[ $stop_at =~ ^[1-9][0-9]*(\.[0-9]+)?$ ]] || { echo "$name: TUMBLE_STOP_AT='$stop_at' must be a time in seconds since 1970 (a fraction allowed: 1764900000.25)" >&2; exit 2; }
   local k=${TUMBLE_RANKS_PER_CASE:-}
   if [ -n "$k" ]; then
     [[ $k =~ ^[1-9][0-9]*$ ]] || { echo "$name: TUMBLE_RANKS_PER_CASE='$k' must be an integer >= 1" >&2; exit 2; }
@@ -47,9 +61,14 @@ run_slice() {
     exit "$rc"  # the campaign file or the options are wrong: the message is above
   fi
   if [ -z "$stop" ] && [ -n "$stop_at" ]; then
-    # (the time left now, after the status check: the margin before the walltime stays whole)
-    stop=$((stop_at - $(date +%s)))
-    [ "$stop" -ge 1 ] || stop=1
+    # (the time left now, after the status check, to the millisecond: whole seconds on both
+    # sides, the stop time and now, let the request come up to a second late, inside the margin)
+    local frac=
+    [[ $stop_at != *.* ]] || frac=${stop_at#*.}
+    frac=${frac}000
+    local left=$((10#${stop_at%%.*} * 1000 + 10#${frac:0:3} - $(epoch_ms)))
+    [ "$left" -ge 1000 ] || left=1000
+    stop=$(ms_as_seconds "$left")
   fi
   # (set -f: the launcher's words are split, not globbed: "--host node[1-4]")
   set -f

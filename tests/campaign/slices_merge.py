@@ -99,6 +99,7 @@ os.makedirs(fake, exist_ok=True)
 for name, text in (("qstat", "#!/bin/sh\necho '    Resource_List.walltime = 00:00:03'\n"),
                    ("tumble", "#!/bin/bash\nfor x in \"$@\"; do [ \"$x\" = --status ] && exit 10; done\n"
                               "trap 'echo fake: SIGUSR1; kill $s; exit 10' USR1\n"
+                              "[ -z \"$FAKE_READY\" ] || : > \"$FAKE_READY\"\n"
                               "sleep 60 & s=$!\nwait $s\necho fake: not stopped\n")):
     with open(os.path.join(fake, name), "w") as f:
         f.write(text)
@@ -114,12 +115,23 @@ print("pbs: the stop request %.1f s into a 3 s walltime (margin 1 s), exit 10" %
 
 # With the timer on, the script is the job's top process: a stop request sent to it (Torque's
 # qsig signals that process) reaches the campaign. Before, it ended the script alone and left the
-# campaign and the timer running.
+# campaign and the timer running. The request is sent once the fake campaign says it has set its
+# trap (FAKE_READY): a fixed wait raced with the start of the script and the fake on a busy machine.
+ready = os.path.abspath("fake_ready")
+if os.path.exists(ready):
+    os.remove(ready)
 env = dict(base_env, PBS_ARRAY_INDEX="1", TUMBLE_SLICES="3", CAMPAIGN=a.campaign,
-           TUMBLE=os.path.join(fake, "tumble"), TUMBLE_LAUNCH="env", TUMBLE_STOP_AFTER="100")
+           TUMBLE=os.path.join(fake, "tumble"), TUMBLE_LAUNCH="env", TUMBLE_STOP_AFTER="100",
+           FAKE_READY=ready)
 p = subprocess.Popen(["bash", os.path.join(a.jobs, "pbs_array.sh")], env=env,
                      stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-time.sleep(1.5)
+t0 = time.time()
+while not os.path.exists(ready) and p.poll() is None and time.time() - t0 < 30:
+    time.sleep(0.05)
+if not os.path.exists(ready):
+    p.kill()
+    cc.fail("pbs: the fake campaign did not start within 30 s: exit %s\n%s%s"
+            % (p.returncode, *p.communicate()))
 p.send_signal(signal.SIGUSR1)
 try:
     stdout, stderr = p.communicate(timeout=30)
