@@ -49,18 +49,22 @@ void register_campaign(CLI::App& app) {
                 "are replaced)");
   cmd->add_flag("--quiet,-q", opts->run.quiet, "progress lines only every progress_interval");
   cmd->callback([opts]() {
+    // `--list` and `--status` run without MPI in one process (app/main.cpp): no communicator.
+    int mpi = 0;
+    MPI_Initialized(&mpi);
+    const MPI_Comm world = mpi ? MPI_COMM_WORLD : MPI_COMM_NULL;
     // Errors are said once, by rank 0: the options and files are agreed over the ranks, and
     // run_campaign gives every rank rank 0's refusal or error.
-    agreed_input(MPI_COMM_WORLD, [&] {
+    agreed_input(world, [&] {
       arm_memory_limit(opts->max_memory);
       campaign::parse_slice(opts->slice, opts->run.slice_i, opts->run.slice_n);
       if (!opts->ranks_per_case.empty())
         opts->run.ranks_per_case = campaign::parse_ranks_per_case(opts->ranks_per_case);
     });
-    check_environment(MPI_COMM_WORLD);  // (else each case would meet it only after its bed)
+    check_environment(world);  // (else each case would meet it only after its bed)
     // SIGUSR1/SIGTERM/SIGINT: every case checkpoints and the campaign ends, resumable.
     if (!opts->run.list && !opts->run.status) install_stop_handlers();
-    const int rc = campaign::run_campaign(opts->run, MPI_COMM_WORLD, std::cout);
+    const int rc = campaign::run_campaign(opts->run, world, std::cout);
     if (rc != 0) throw CLI::RuntimeError(rc);
   });
 }

@@ -16,18 +16,33 @@
 #include "h5/hdf5_file.hpp"
 
 namespace {
+// Whether an MPI launcher (mpirun, mpiexec, srun) started this process: its rank is in the
+// environment (Open MPI; PMIx; MPICH, Intel MPI and srun's PMI-2).
+bool under_mpi_launcher() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
+    if (std::getenv(name)) return true;
+  return false;
+}
+
 // Whether this command line needs MPI. Starting MPI costs ~0.5 s, more than a whole Poincaré
 // section or a refused option: the continuum model and the analyses are serial and make no MPI
 // call (nor does anything they link), help/version print and exit, and `run --check` validates.
+// `campaign --list` and `--status` read files in one process: the job-array scripts ask for the
+// status outside the launcher, where a singleton MPI start fails on some clusters (an MPICH
+// without mpiexec on PATH, Open MPI built without PMI-1 inside a Slurm allocation, Flux) and
+// would keep every slice from running. Under a launcher they start MPI (rank 0 prints once).
 bool needs_mpi(int argc, char** argv) {
   const char* command = nullptr;
+  bool reads_only = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h" || a == "--version" || a == "--check" || a == "--list-keys")
       return false;  // (`run --check` validates and plans the bed: no MPI either)
+    if (a == "--list" || a == "--status") reads_only = true;
     if (!command && !a.empty() && a[0] != '-') command = argv[i];
   }
   const std::string c = command ? command : "";
+  if (c == "campaign" && reads_only) return under_mpi_launcher();
   return !(c.empty() || c == "cm" || c == "analyze");
 }
 }  // namespace

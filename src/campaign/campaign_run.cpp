@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "base/agreed_input.hpp"
+#include "base/comm.hpp"
 #include "base/error.hpp"
 #include "base/exit_codes.hpp"
 #include "base/hash.hpp"
@@ -321,8 +322,8 @@ std::string statistics_not_current(const std::string& path, const Expansion& e,
     else if (states[k].state == State::Failed)
       failed.insert(e.cases[slice[k]].id);
   try {
-    PetscScope petsc;  // (the reader logs through PETSc)
-    for (const auto& [id, p] : Ensemble::read(path).points) {
+    // (Its ids only: no PETSc, so no MPI, which `--status` does not start: app/main.cpp)
+    for (const auto& [id, p] : Ensemble::read(path, false).points) {
       members.insert(p.members.begin(), p.members.end());
       missing.insert(p.missing.begin(), p.missing.end());
       const std::set<std::string> f = p.failed_ids();
@@ -506,9 +507,8 @@ std::string group_layout(const Expansion& e, const std::vector<std::size_t>& sli
 }  // namespace
 
 int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(world, &rank);
-  MPI_Comm_size(world, &size);
+  // (MPI_COMM_NULL: `--list` or `--status` in one process without MPI, app/main.cpp)
+  const int rank = rank_in(world), size = size_of(world);
   // The campaign file and what it expands to, read on every rank and agreed before any work: a
   // file one node cannot read is refused on all ranks, naming that rank, instead of rank 0
   // waiting for it in the first collective call.
@@ -662,7 +662,7 @@ int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out) 
         out << "[campaign] ignored " << torn << " torn manifest line(s) (a crash mid-write)\n";
     }
   });
-  MPI_Bcast(&status_rc, 1, MPI_INT, 0, world);
+  if (size > 1) MPI_Bcast(&status_rc, 1, MPI_INT, 0, world);
   if (opt.status) return status_rc;
 
   in.manifest = manifest.get();

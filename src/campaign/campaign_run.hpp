@@ -29,7 +29,8 @@ int parse_ranks_per_case(const std::string& text);
 void parse_slice(const std::string& text, int& i, int& n);
 
 // Collective over `world`. Returns the exit code (base/exit_codes.hpp): 0; 4 when cases of the
-// slice failed or have no result; with `status`, 10 when work is left.
+// slice failed or have no result; with `status`, 10 when work is left. With `list` or `status`
+// `world` may be MPI_COMM_NULL (one process, MPI not started).
 int run_campaign(const CampaignOptions& opt, MPI_Comm world, std::ostream& out);
 
 // Partial results of slice i of n live in DIR/partials/slice_I_of_N.h5; the whole campaign's

@@ -531,7 +531,7 @@ std::vector<double> row_of(const std::vector<double>& table, std::size_t cols, s
 }
 }  // namespace
 
-Ensemble Ensemble::read(const std::string& path) {
+Ensemble Ensemble::read(const std::string& path, bool fields_wanted) {
   io::H5File f(path, io::H5File::Mode::Read);
   if (!f.has_attr("/", "kind") || f.attr_string("/", "kind") != "tumble ensemble")
     throw InputError("'" + path + "' is not a Tumble ensemble file");
@@ -639,6 +639,7 @@ Ensemble Ensemble::read(const std::string& path) {
       const Table& t = found->second;
       const std::size_t n = is_series(name) ? len : t.cols;
       if (n > t.cols) corrupt("'" + base + "' has more series samples than '" + name + "'");
+      if (!fields_wanted) continue;
       FieldStats fs;
       fs.set(row_of(t.data[0], t.cols, r, n), row_of(t.data[1], t.cols, r, n),
              row_of(t.data[2], t.cols, r, n));

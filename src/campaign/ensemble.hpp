@@ -94,7 +94,11 @@ class Ensemble {
 
   // Writes through a temporary file renamed into place (PetscViewerHDF5).
   void write(const std::string& path) const;
-  static Ensemble read(const std::string& path);
+  // Every table and attribute is read and checked against its checksum either way; without
+  // `fields` the points hold their ids and series but no field statistics, and no PETSc object is
+  // made, so PETSc (and through it MPI) need not be running: `campaign --status` reads a slice's
+  // statistics this way in a job script, outside the MPI launcher.
+  static Ensemble read(const std::string& path, bool fields = true);
 
   std::size_t member_count() const;
   std::size_t failed_count() const;
