@@ -7,9 +7,9 @@
 # floor(ranks / K) groups, and a remainder stays idle (said here and in the campaign's start line).
 # TUMBLE_STOP_AFTER=S (optional, whole seconds) sends SIGUSR1 to the launcher S seconds after the
 # launch, TUMBLE_STOP_AT=T (seconds since 1970, to the millisecond: 1764900000.250; pbs_array.sh
-# sets it from the walltime) at time T: the campaign's stop request (its cases checkpoint, exit 10), for a scheduler that gives no
-# warning before its time limit (PBS sends SIGTERM, then SIGKILL: the cases lost what they had
-# done since their last checkpoint, and the task exited 1).
+# sets it from the walltime) at time T: the campaign's stop request (its cases checkpoint, exit
+# 10), for a scheduler that gives no warning before its time limit (PBS sends SIGTERM, then
+# SIGKILL: the cases lost what they had done since their last checkpoint, and the task exited 1).
 
 # Milliseconds since 1970 (GNU date's %N; whole seconds where date has no %N).
 epoch_ms() {
@@ -22,6 +22,14 @@ epoch_ms() {
 # A duration in ms as seconds for sleep and the log: 2000 -> 2.000
 ms_as_seconds() {
   printf '%d.%03d' $(($1 / 1000)) $(($1 % 1000))
+}
+
+# Its inverse, for a time in seconds with or without a fraction: 2.25 -> 2250, 2 -> 2000
+seconds_as_ms() {
+  local frac=
+  [[ $1 != *.* ]] || frac=${1#*.}
+  frac=${frac}000
+  echo $((10#${1%%.*} * 1000 + 10#${frac:0:3}))
 }
 
 run_slice() {
@@ -63,10 +71,7 @@ run_slice() {
   if [ -z "$stop" ] && [ -n "$stop_at" ]; then
     # (the time left now, after the status check, to the millisecond: whole seconds on both
     # sides, the stop time and now, let the request come up to a second late, inside the margin)
-    local frac=
-    [[ $stop_at != *.* ]] || frac=${stop_at#*.}
-    frac=${frac}000
-    local left=$((10#${stop_at%%.*} * 1000 + 10#${frac:0:3} - $(epoch_ms)))
+    local left=$(($(seconds_as_ms "$stop_at") - $(epoch_ms)))
     [ "$left" -ge 1000 ] || left=1000
     stop=$(ms_as_seconds "$left")
   fi
