@@ -189,30 +189,29 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
   // (rebuild_lists has brought the centres back into the period: owners come from positions.)
   std::vector<neighbor::SavedSpring> records;
   const int width = list_.history_layout().width;
-  if (!history && !rigid_ && list_.start.size() == n_local_ + 1) {
+  if (!history && list_.start.size() == n_local_ + 1) {
     // The springs stay where they are, by index (VerletList::keep_springs), and only those of
     // the pairs with a particle that leaves travel, by id with the pair's position, to every
     // rank near it. (Saving every spring by id and looking every listed pair up after the move
-    // was ~5% of a 2-rank step, docs/performance.md.)
+    // was ~5% of a 2-rank step, docs/performance.md.) The rigid bulk's dormant springs likewise:
+    // each rank keeps those of its own particles, and those with a particle that leaves travel.
     list_.keep_springs(p_, n_local_);
     p_.resize(n_local_);  // drop the ghosts
     dom_->migrate_owned(p_);
-    records = list_.springs_leaving(p_, p_.size());
+    records = list_.springs_leaving(p_, p_.size(), rigid_ ? &bulk_.dormant : nullptr);
     dom_->route_records(records, halo_reach_, width, false);
-  } else {
-    // A restart, the first build, or the rigid bulk: the live histories leave with the pair's
-    // particles: saved by id with the position of the pair, routed to every rank near that
-    // position, matched by id after the move.
-    if (history) {
-      records = history->records();
-    } else if (list_.start.size() == n_local_ + 1) {
-      neighbor::ContactHistory h;
-      list_.save_history(p_, h, false);  // indexed after the move, where they arrive
-      records = h.records();
-      // The rigid bulk's dormant springs travel the same way (their pairs are not in the list).
-      const auto& dormant = bulk_.dormant.records();
-      records.insert(records.end(), dormant.begin(), dormant.end());
+    if (rigid_) {
+      // This rank's dormant springs first, then those that arrived (a pair's first record is the
+      // one found; two copies of a dormant spring are the same bits).
+      std::vector<neighbor::SavedSpring> all = bulk_.dormant.take_records();
+      all.insert(all.end(), records.begin(), records.end());
+      records = std::move(all);
     }
+  } else {
+    // A restart or the first build: the histories (the restart's, dormant ones included) are
+    // routed by id with the pair's position to every rank near it and matched by id after the
+    // move.
+    if (history) records = history->records();
     p_.resize(n_local_);  // drop the ghosts
     dom_->distribute(p_, records, halo_reach_, width);
   }

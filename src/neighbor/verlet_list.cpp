@@ -165,17 +165,17 @@ void VerletList::keep_live_springs(std::size_t rows) {
   old_start_[rows] = static_cast<std::uint32_t>(at);
 }
 
-bool VerletList::carry_spring(std::uint32_t row, std::uint32_t partner, bool flip,
-                              double* to) const {
+std::int64_t VerletList::carry_spring(std::uint32_t row, std::uint32_t partner, bool flip,
+                                      double* to) const {
   const std::size_t w = static_cast<std::size_t>(layout_.width);
   for (std::uint32_t q = old_start_[row]; q < old_start_[row + 1]; ++q)
     if (old_nbr_[q] == partner) {
       const double* from = old_history_.data() + w * q;
       for (std::size_t d = 0; d < w; ++d)
         to[d] = flip ? layout_.other_side(static_cast<int>(d), from[d]) : from[d];
-      return true;
+      return q;
     }
-  return false;
+  return -1;
 }
 
 void VerletList::keep_springs(const Particles& p, std::size_t n_local) {
@@ -187,8 +187,8 @@ void VerletList::keep_springs(const Particles& p, std::size_t n_local) {
   carry_kept_ = true;
 }
 
-std::vector<SavedSpring> VerletList::springs_leaving(const Particles& p,
-                                                     std::size_t n_local) const {
+std::vector<SavedSpring> VerletList::springs_leaving(const Particles& p, std::size_t n_local,
+                                                     const ContactHistory* dormant) const {
   std::vector<std::uint8_t> stays(kept_owned_, 0);
   for (std::size_t i = 0; i < n_local; ++i) {
     const std::uint32_t k = kept_index_.index_of(p.id[i]);
@@ -202,7 +202,22 @@ std::vector<SavedSpring> VerletList::springs_leaving(const Particles& p,
       if (stays[a] && (b >= kept_owned_ || stays[b])) continue;
       out.save(kept_id_[a], kept_id_[b], old_history_.data() + w * q, kept_x_[a]);
     }
-  return out.take_records();
+  std::vector<SavedSpring> leaving = out.take_records();
+  if (!dormant) return leaving;
+  // A dormant spring is held by every rank that owns one of its particles (build_with_ghosts):
+  // it travels when one of them leaves, to the ranks near it, where the new owner keeps it.
+  // (A flag per id, not a search per record: a rank holds ~1 dormant spring per frozen particle.)
+  std::int64_t top = -1;
+  for (std::size_t a = 0; a < kept_owned_; ++a)
+    if (!stays[a]) top = std::max(top, kept_id_[a]);
+  if (top < 0) return leaving;
+  std::vector<std::uint8_t> gone(static_cast<std::size_t>(top + 1), 0);
+  for (std::size_t a = 0; a < kept_owned_; ++a)
+    if (!stays[a]) gone[static_cast<std::size_t>(kept_id_[a])] = 1;
+  auto left = [&](std::int64_t id) { return id <= top && gone[static_cast<std::size_t>(id)]; };
+  for (const SavedSpring& r : dormant->records())
+    if (left(r.lo) || left(r.hi)) leaving.push_back(r);
+  return leaving;
 }
 
 void VerletList::fill_rows() {
@@ -224,21 +239,26 @@ void VerletList::sort(Particles& p, bool frozen_last, const std::vector<std::uin
 }
 
 namespace {
-// The dormant springs after a rebuild: `kept` (pairs that left the list at it) and every record
-// of `from` that no pair of the new list took (`taken`), is the one lookups find for its pair,
-// and has a particle `mine` says is this rank's.
+// The dormant springs after a rebuild: every record of `from` that no pair of the new list took
+// (`taken`), is the one lookups find for its pair, and has a particle `mine` says is this rank's,
+// then `more` (pairs that left the list at it). The records are taken from `from` and kept where
+// they lie (a rank holds about one dormant spring per frozen particle: 88 bytes each, once more
+// per rebuild if copied).
 template <class Mine>
-void keep_untaken(const ContactHistory& from, const std::vector<std::uint8_t>& taken, Mine mine,
-                  std::vector<SavedSpring>& kept) {
-  auto keep = [&](std::size_t k) {
+std::vector<SavedSpring> keep_untaken(ContactHistory& from, const std::vector<std::uint8_t>& taken,
+                                      Mine mine, const std::vector<SavedSpring>& more) {
+  std::vector<std::uint8_t> keep(from.records().size(), 0);
+  for (std::size_t k = 0; k < keep.size(); ++k) {
     const SavedSpring& r = from.records()[k];
-    return !taken[k] && (mine(r.lo) || mine(r.hi)) && from.indexed(k);
-  };
+    keep[k] = !taken[k] && (mine(r.lo) || mine(r.hi)) && from.indexed(k);
+  }
+  std::vector<SavedSpring> kept = from.take_records();
   std::size_t count = 0;
-  for (std::size_t k = 0; k < from.records().size(); ++k) count += keep(k);
-  kept.reserve(kept.size() + count);
-  for (std::size_t k = 0; k < from.records().size(); ++k)
-    if (keep(k)) kept.push_back(from.records()[k]);
+  for (std::size_t k = 0; k < kept.size(); ++k)
+    if (keep[k]) kept[count++] = kept[k];
+  kept.resize(count);
+  kept.insert(kept.end(), more.begin(), more.end());
+  return kept;
 }
 }  // namespace
 
@@ -255,8 +275,8 @@ void VerletList::ghost_order(const Particles& p, std::size_t n_local,
   for (std::size_t g = 0; g < n; ++g) order[first[cell[g]]++] = static_cast<std::uint32_t>(g);
 }
 
-void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
-                                   const ContactHistory& saved, ContactHistory* dormant) {
+void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local, ContactHistory& saved,
+                                   ContactHistory* dormant) {
   // Bin the ghosts by cell without moving them (the refresh writes each where it lies; placed in
   // cell order by ghost_order() they are one range per cell).
   const std::size_t cells = grid_.cell_count();
@@ -298,8 +318,23 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
   resize_discarding(history, w * nbr.size());
   std::fill(history.begin(), history.end(), 0.0);
   std::vector<std::uint8_t> taken(dormant ? saved.records().size() : 0, 0);
-  const bool carry = carry_kept_ && !dormant;
+  const bool carry = carry_kept_;
   carry_kept_ = false;
+  // The rigid bulk: only a pair of two particles with records in `saved` can have one there: two
+  // flags pass most pairs over without a search.
+  std::vector<std::uint8_t> has;
+  std::int64_t top_record = -1;
+  if (dormant) {
+    for (const SavedSpring& r : saved.records()) top_record = std::max(top_record, r.hi);
+    has.assign(static_cast<std::size_t>(top_record + 1), 0);
+    for (const SavedSpring& r : saved.records())
+      has[static_cast<std::size_t>(r.lo)] = has[static_cast<std::size_t>(r.hi)] = 1;
+  }
+  auto has_records = [&](std::int64_t id) {
+    return id <= top_record && has[static_cast<std::size_t>(id)];
+  };
+  // Which kept springs a pair of the new list took (the rigid bulk: the others may go dormant).
+  std::vector<std::uint8_t> carried;
   if (carry) {
     // Each particle's row before the migration (IdIndex::kAbsent: it was not on this rank). The
     // old list held every pair with an owned particle, so a pair with a particle owned before
@@ -309,10 +344,15 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
     // (the owner of the pair's deciding particle, computes_border_pair): a pair whose deciding
     // particle arrived looks among the records too (its old rank sent the spring, as that
     // particle left it), whichever rank held its other particle.
+    // The rigid bulk (Newton off) left out the pairs of two frozen particles: their springs are
+    // in `saved` with this rank's other dormant ones, and a pair found in the old list is looked
+    // up there too where it can be, so that a copy that arrived with a particle is not kept as
+    // dormant beside the spring the pair took.
     const std::uint32_t owned_before = static_cast<std::uint32_t>(kept_owned_);
     const std::uint32_t absent = IdIndex::kAbsent;
     std::vector<std::uint32_t> before(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) before[i] = kept_index_.index_of(p.id[i]);
+    if (dormant) carried.assign(old_nbr_.size(), 0);
     const bool arrived = !saved.records().empty();
     for (std::size_t i = 0; i < n_local; ++i) {
       const std::uint32_t a = before[i];
@@ -321,12 +361,19 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
         double* to = history.data() + w * k;
         const bool deciding_arrived =
             newton_ && (computes_border_pair(p.id[i], p.id[nbr[k]]) ? a : b) >= owned_before;
-        if ((a < owned_before || b < owned_before) && !deciding_arrived) {
-          if (a < owned_before && b != absent && carry_spring(a, b, false, to)) continue;
-          if (b < owned_before && a != absent) carry_spring(b, a, true, to);
-        } else if (arrived) {
-          saved.find(p.id[i], p.id[nbr[k]], to);
+        const bool held = (a < owned_before || b < owned_before) && !deciding_arrived;
+        std::int64_t q = -1;
+        if (held && a < owned_before && b != absent) q = carry_spring(a, b, false, to);
+        if (held && q < 0 && b < owned_before && a != absent) q = carry_spring(b, a, true, to);
+        if (!dormant) {
+          if (!held && arrived) saved.find(p.id[i], p.id[nbr[k]], to);
+          continue;
         }
+        if (q >= 0) carried[static_cast<std::size_t>(q)] = 1;
+        if (!has_records(p.id[i]) || !has_records(p.id[nbr[k]])) continue;
+        HistoryValues found{};
+        const std::int64_t at = saved.find(p.id[i], p.id[nbr[k]], q >= 0 ? found.data() : to);
+        if (at >= 0) taken[static_cast<std::size_t>(at)] = 1;
       }
     }
   } else {
@@ -339,15 +386,28 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local,
   if (dormant) {
     // A record no pair took is a dormant pair's (a live spring is a touching pair's, within every
     // rank's reach of its particles) or another rank's pair routed here: this rank keeps those
-    // with one of its own particles.
+    // with one of its own particles. So does a kept spring that no pair took: its pair's
+    // particles are both frozen now (or it left with one of them, and is not this rank's).
     std::int64_t top = -1;
     for (std::size_t i = 0; i < n_local; ++i) top = std::max(top, p.id[i]);
     std::vector<std::uint8_t> own(static_cast<std::size_t>(top + 1), 0);
     for (std::size_t i = 0; i < n_local; ++i) own[static_cast<std::size_t>(p.id[i])] = 1;
     auto mine = [&](std::int64_t id) { return id <= top && own[static_cast<std::size_t>(id)]; };
-    std::vector<SavedSpring> kept;
-    keep_untaken(saved, taken, mine, kept);
-    dormant->set_records_unindexed(std::move(kept));  // merged with the springs at the next rebuild
+    ContactHistory now_dormant(layout_);
+    if (carry) {
+      HistoryValues scratch{};
+      for (std::size_t a = 0; a < kept_owned_; ++a)
+        for (std::uint32_t q = old_start_[a]; q < old_start_[a + 1]; ++q) {
+          const std::int64_t id_a = kept_id_[a], id_b = kept_id_[old_nbr_[q]];
+          if (carried[q] || !(mine(id_a) || mine(id_b))) continue;
+          // (A copy of it among the records, untaken, is kept above.)
+          if (has_records(id_a) && has_records(id_b) && saved.find(id_a, id_b, scratch.data()) >= 0)
+            continue;
+          now_dormant.save(id_a, id_b, old_history_.data() + w * q, kept_x_[a]);
+        }
+    }
+    // (Merged with the springs that arrive at the next rebuild, and indexed then.)
+    dormant->set_records_unindexed(keep_untaken(saved, taken, mine, now_dormant.records()));
   }
   x_ref_.assign(p.x.begin(), p.x.begin() + static_cast<std::ptrdiff_t>(n_local));
   ++builds;
@@ -443,9 +503,13 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved, ContactHisto
         if (at >= 0) taken[static_cast<std::size_t>(at)] = 1;
       }
     }
-    keep_untaken(
-        from, taken, [](std::int64_t) { return true; }, kept);
-    dormant->set_records_unindexed(std::move(kept));
+    auto all = [](std::int64_t) { return true; };
+    if (saved) {  // (a restart: the saved records stay the caller's)
+      ContactHistory copy = *saved;
+      dormant->set_records_unindexed(keep_untaken(copy, taken, all, kept));
+    } else {
+      dormant->set_records_unindexed(keep_untaken(*dormant, taken, all, kept));
+    }
   }
   x_ref_ = p.x;
   ++builds;

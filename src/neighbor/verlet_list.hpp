@@ -57,7 +57,8 @@ class VerletList {
   // interior_rows() rows of the list that build_with_ghosts() makes have owned partners only.
   void sort(Particles& p, bool frozen_last = false,
             const std::vector<std::uint8_t>* border = nullptr);
-  void build_with_ghosts(const Particles& p, std::size_t n_local, const ContactHistory& history,
+  // (With `dormant`, `history`'s records are taken: those kept become the dormant ones.)
+  void build_with_ghosts(const Particles& p, std::size_t n_local, ContactHistory& history,
                          ContactHistory* dormant = nullptr);
   // The ghosts (rows n_local.. of `p`) in the order of their cells, stably: order[k] is the ghost
   // (counted from n_local) that belongs at ghost slot k. Ghosts placed so (Domain::place_ghosts)
@@ -75,8 +76,11 @@ class VerletList {
   // that owned one of a pair's particles before listed the pair), so only these travel. The next
   // build_with_ghosts() then takes the spring of every pair with a particle this rank owned
   // before from the kept ones, and the others' from `history` (the springs that arrived).
-  // Not with the rigid bulk (its dormant springs travel by id: build_with_ghosts with `dormant`
-  // ignores what was kept).
+  // With the rigid bulk (`dormant` given to both calls after it; Newton off) the same, and the
+  // dormant springs stay with every rank that owns one of their particles: springs_leaving adds
+  // those of them with a particle that left, and build_with_ghosts, given this rank's dormant
+  // springs and those that arrived as `history`, makes the kept springs that no pair took (pairs
+  // of two frozen particles now) dormant.
   void keep_springs(const Particles& p, std::size_t n_local);
   // Newton's third law across rank borders (set once per scene, the same on every rank): a
   // border pair of owned particle i and ghost j is listed on i's rank only if
@@ -84,7 +88,8 @@ class VerletList {
   // and sends the ghost's half of the force to j's owner (Domain::reverse_forces).
   void set_newton(bool on) { newton_ = on; }
   bool newton() const { return newton_; }
-  std::vector<SavedSpring> springs_leaving(const Particles& p, std::size_t n_local) const;
+  std::vector<SavedSpring> springs_leaving(const Particles& p, std::size_t n_local,
+                                           const ContactHistory* dormant = nullptr) const;
   // Makes z periodic with this period (the cell grid must span exactly one period in z).
   void set_period_z(double period);
   double period_z() const { return period_z_; }
@@ -146,9 +151,9 @@ class VerletList {
   std::vector<double> old_history_;
   // Copies the live springs of the first `rows` rows into old_start_, old_nbr_, old_history_.
   void keep_live_springs(std::size_t rows);
-  // The kept spring of old pair (row, partner) into `to` (seen from the partner if `flip`);
-  // false, `to` untouched, if that row holds none for the partner.
-  bool carry_spring(std::uint32_t row, std::uint32_t partner, bool flip, double* to) const;
+  // The kept spring of old pair (row, partner) into `to` (seen from the partner if `flip`), and
+  // its index among the kept ones; -1, `to` untouched, if that row holds none for the partner.
+  std::int64_t carry_spring(std::uint32_t row, std::uint32_t partner, bool flip, double* to) const;
   // keep_springs(): the previous particles' ids (owned first, then ghosts), where each id was,
   // the owned ones' positions, and whether the next build_with_ghosts() carries from them.
   bool carry_kept_ = false;
