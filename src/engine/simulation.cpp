@@ -204,6 +204,10 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
       // This rank's dormant springs first, then those that arrived (a pair's first record is the
       // one found; two copies of a dormant spring are the same bits).
       std::vector<neighbor::SavedSpring> all = bulk_.dormant.take_records();
+      // (An eighth of room to spare when it must grow: not a copy of them all at each rebuild,
+      // nor std::vector's doubling.)
+      if (all.capacity() < all.size() + records.size())
+        all.reserve(all.size() + records.size() + all.size() / 8);
       all.insert(all.end(), records.begin(), records.end());
       records = std::move(all);
     }

@@ -257,6 +257,15 @@ std::vector<SavedSpring> keep_untaken(ContactHistory& from, const std::vector<st
   for (std::size_t k = 0; k < kept.size(); ++k)
     if (keep[k]) kept[count++] = kept[k];
   kept.resize(count);
+  // Room for an eighth more where it must grow; given back where it holds over a quarter more
+  // than is kept (the records taken were every spring of a restart, or the bed thawed).
+  const std::size_t size = count + more.size();
+  if (kept.capacity() < size || kept.capacity() > size + size / 4 + 16) {
+    std::vector<SavedSpring> fit;
+    fit.reserve(size + size / 8);
+    fit.assign(kept.begin(), kept.end());
+    kept.swap(fit);
+  }
   kept.insert(kept.end(), more.begin(), more.end());
   return kept;
 }
