@@ -51,7 +51,8 @@ class VerletList {
   // with histories from `history` (matched by global id).
   // With `dormant` (the rigid bulk, as in rebuild(); sort with frozen_last then): `history` also
   // holds the rank's dormant springs, and *dormant becomes those of them that no pair of the new
-  // list took and that have one of this rank's own particles.
+  // list took and that have one of this rank's own particles (and, after keep_springs, the kept
+  // springs that no pair took, below).
   // `border` (one flag per owned particle, in their present order; Domain::mark_border): the
   // particles that may pair with a ghost are sorted after all the others, so the first
   // interior_rows() rows of the list that build_with_ghosts() makes have owned partners only.
