@@ -244,14 +244,20 @@ namespace {
 // then `more` (pairs that left the list at it). The records are taken from `from` and kept where
 // they lie (a rank holds about one dormant spring per frozen particle: 88 bytes each, once more
 // per rebuild if copied).
+// Whether record k of `from` stays dormant: no pair took it, it is the one lookups find for its
+// pair, and one of its particles is this rank's.
+template <class Mine>
+bool stays_dormant(const ContactHistory& from, const std::vector<std::uint8_t>& taken, Mine mine,
+                   std::size_t k) {
+  const SavedSpring& r = from.records()[k];
+  return !taken[k] && (mine(r.lo) || mine(r.hi)) && from.indexed(k);
+}
+
 template <class Mine>
 std::vector<SavedSpring> keep_untaken(ContactHistory& from, const std::vector<std::uint8_t>& taken,
                                       Mine mine, const std::vector<SavedSpring>& more) {
   std::vector<std::uint8_t> keep(from.records().size(), 0);
-  for (std::size_t k = 0; k < keep.size(); ++k) {
-    const SavedSpring& r = from.records()[k];
-    keep[k] = !taken[k] && (mine(r.lo) || mine(r.hi)) && from.indexed(k);
-  }
+  for (std::size_t k = 0; k < keep.size(); ++k) keep[k] = stays_dormant(from, taken, mine, k);
   std::vector<SavedSpring> kept = from.take_records();
   std::size_t count = 0;
   for (std::size_t k = 0; k < kept.size(); ++k)
@@ -266,6 +272,18 @@ std::vector<SavedSpring> keep_untaken(ContactHistory& from, const std::vector<st
     fit.assign(kept.begin(), kept.end());
     kept.swap(fit);
   }
+  kept.insert(kept.end(), more.begin(), more.end());
+  return kept;
+}
+
+// The same from records that stay the caller's (a restart's): only those kept are copied.
+template <class Mine>
+std::vector<SavedSpring> copy_untaken(const ContactHistory& from,
+                                      const std::vector<std::uint8_t>& taken, Mine mine,
+                                      const std::vector<SavedSpring>& more) {
+  std::vector<SavedSpring> kept;
+  for (std::size_t k = 0; k < from.records().size(); ++k)
+    if (stays_dormant(from, taken, mine, k)) kept.push_back(from.records()[k]);
   kept.insert(kept.end(), more.begin(), more.end());
   return kept;
 }
@@ -409,9 +427,12 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local, Cont
         for (std::uint32_t q = old_start_[a]; q < old_start_[a + 1]; ++q) {
           const std::int64_t id_a = kept_id_[a], id_b = kept_id_[old_nbr_[q]];
           if (carried[q] || !(mine(id_a) || mine(id_b))) continue;
-          // (A copy of it among the records, untaken, is kept above.)
-          if (has_records(id_a) && has_records(id_b) && saved.find(id_a, id_b, scratch.data()) >= 0)
-            continue;
+          // A copy of it that arrived (its pair froze as a particle of it left another rank) is
+          // dropped: the rank's own spring first, as when every spring was saved by id.
+          if (has_records(id_a) && has_records(id_b)) {
+            const std::int64_t at = saved.find(id_a, id_b, scratch.data());
+            if (at >= 0) taken[static_cast<std::size_t>(at)] = 1;
+          }
           now_dormant.save(id_a, id_b, old_history_.data() + w * q, kept_x_[a]);
         }
     }
@@ -513,9 +534,8 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved, ContactHisto
       }
     }
     auto all = [](std::int64_t) { return true; };
-    if (saved) {  // (a restart: the saved records stay the caller's)
-      ContactHistory copy = *saved;
-      dormant->set_records_unindexed(keep_untaken(copy, taken, all, kept));
+    if (saved) {
+      dormant->set_records_unindexed(copy_untaken(*saved, taken, all, kept));
     } else {
       dormant->set_records_unindexed(keep_untaken(*dormant, taken, all, kept));
     }
