@@ -8,6 +8,38 @@
 
 namespace tumble::neighbor {
 
+namespace {
+// A flag per global id (ids are non-negative), up to the largest marked: whether an id is in a
+// set, in one load instead of a search. `each(mark)` calls mark(id) for every id of the set; it
+// is called twice (the size first).
+class IdFlags {
+ public:
+  template <class EachId>
+  explicit IdFlags(EachId each) {
+    each([this](std::int64_t id) { top_ = std::max(top_, id); });
+    flags_.assign(static_cast<std::size_t>(top_ + 1), 0);
+    each([this](std::int64_t id) { flags_[static_cast<std::size_t>(id)] = 1; });
+  }
+  bool operator()(std::int64_t id) const {
+    return id <= top_ && flags_[static_cast<std::size_t>(id)];
+  }
+  bool empty() const { return top_ < 0; }
+
+ private:
+  std::int64_t top_ = -1;
+  std::vector<std::uint8_t> flags_;
+};
+
+// The ids with a record among `records` (only a pair of two such particles can have one: two
+// flags pass most pairs over without a search).
+IdFlags ids_with_records(const std::vector<SavedSpring>& records) {
+  return IdFlags([&](auto mark) {
+    for (const SavedSpring& r : records) mark(r.lo), mark(r.hi);
+  });
+}
+
+}  // namespace
+
 void VerletList::save_history(const Particles& p, ContactHistory& out, bool sorted) const {
   out = ContactHistory(layout_);
   const std::size_t n = start.empty() ? 0 : start.size() - 1;
@@ -207,14 +239,11 @@ std::vector<SavedSpring> VerletList::springs_leaving(const Particles& p, std::si
   // A dormant spring is held by every rank that owns one of its particles (build_with_ghosts):
   // it travels when one of them leaves, to the ranks near it, where the new owner keeps it.
   // (A flag per id, not a search per record: a rank holds ~1 dormant spring per frozen particle.)
-  std::int64_t top = -1;
-  for (std::size_t a = 0; a < kept_owned_; ++a)
-    if (!stays[a]) top = std::max(top, kept_id_[a]);
-  if (top < 0) return leaving;
-  std::vector<std::uint8_t> gone(static_cast<std::size_t>(top + 1), 0);
-  for (std::size_t a = 0; a < kept_owned_; ++a)
-    if (!stays[a]) gone[static_cast<std::size_t>(kept_id_[a])] = 1;
-  auto left = [&](std::int64_t id) { return id <= top && gone[static_cast<std::size_t>(id)]; };
+  const IdFlags left([&](auto mark) {
+    for (std::size_t a = 0; a < kept_owned_; ++a)
+      if (!stays[a]) mark(kept_id_[a]);
+  });
+  if (left.empty()) return leaving;
   for (const SavedSpring& r : dormant->records())
     if (left(r.lo) || left(r.hi)) leaving.push_back(r);
   return leaving;
@@ -347,19 +376,8 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local, Cont
   std::vector<std::uint8_t> taken(dormant ? saved.records().size() : 0, 0);
   const bool carry = carry_kept_;
   carry_kept_ = false;
-  // The rigid bulk: only a pair of two particles with records in `saved` can have one there: two
-  // flags pass most pairs over without a search.
-  std::vector<std::uint8_t> has;
-  std::int64_t top_record = -1;
-  if (dormant) {
-    for (const SavedSpring& r : saved.records()) top_record = std::max(top_record, r.hi);
-    has.assign(static_cast<std::size_t>(top_record + 1), 0);
-    for (const SavedSpring& r : saved.records())
-      has[static_cast<std::size_t>(r.lo)] = has[static_cast<std::size_t>(r.hi)] = 1;
-  }
-  auto has_records = [&](std::int64_t id) {
-    return id <= top_record && has[static_cast<std::size_t>(id)];
-  };
+  // The rigid bulk: the ids with a record in `saved` (none otherwise).
+  const IdFlags has_records = dormant ? ids_with_records(saved.records()) : IdFlags([](auto) {});
   // Which kept springs a pair of the new list took (the rigid bulk: the others may go dormant).
   std::vector<std::uint8_t> carried;
   if (carry) {
@@ -415,11 +433,9 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local, Cont
     // rank's reach of its particles) or another rank's pair routed here: this rank keeps those
     // with one of its own particles. So does a kept spring that no pair took: its pair's
     // particles are both frozen now (or it left with one of them, and is not this rank's).
-    std::int64_t top = -1;
-    for (std::size_t i = 0; i < n_local; ++i) top = std::max(top, p.id[i]);
-    std::vector<std::uint8_t> own(static_cast<std::size_t>(top + 1), 0);
-    for (std::size_t i = 0; i < n_local; ++i) own[static_cast<std::size_t>(p.id[i])] = 1;
-    auto mine = [&](std::int64_t id) { return id <= top && own[static_cast<std::size_t>(id)]; };
+    const IdFlags mine([&](auto mark) {
+      for (std::size_t i = 0; i < n_local; ++i) mark(p.id[i]);
+    });
     ContactHistory now_dormant(layout_);
     if (carry) {
       HistoryValues scratch{};
@@ -515,14 +531,7 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved, ContactHisto
     if (!saved) dormant->finalize();  // (kept unindexed between rebuilds)
     const ContactHistory& from = saved ? *saved : *dormant;
     std::vector<std::uint8_t> taken(from.records().size(), 0);
-    // Only a pair of two particles with records can have one: most pairs are passed over by a
-    // look at two flags instead of a search.
-    std::int64_t top = -1;
-    for (const SavedSpring& r : from.records()) top = std::max(top, r.hi);
-    std::vector<std::uint8_t> has(static_cast<std::size_t>(top + 1), 0);
-    for (const SavedSpring& r : from.records())
-      has[static_cast<std::size_t>(r.lo)] = has[static_cast<std::size_t>(r.hi)] = 1;
-    auto listed = [&](std::int64_t id) { return id <= top && has[static_cast<std::size_t>(id)]; };
+    const IdFlags listed = ids_with_records(from.records());
     for (std::size_t i = 0; i < n; ++i) {
       if (!listed(p.id[i])) continue;
       for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
