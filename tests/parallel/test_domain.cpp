@@ -633,38 +633,16 @@ TEST(Domain, TreeReadBackFromItsNumbers) {
   EXPECT_THROW(parallel::RcbTree::from_doubles(root, no_box, size), std::invalid_argument);
 }
 
-// fidelity.bulk = "rigid" on P ranks against 1: the frozen state migrates with its particles and
-// reaches the ghosts, the free surface is reduced over the ranks, and every freeze/thaw decision
-// comes out the same, so the trajectories agree to round-off as the dynamic ones do. A short dwell
-// and a generous calm distance make particles freeze (and some thaw) within the 2,000 steps; a thin
-// skin moves particles between ranks every few steps; the cuts, made afresh at every rebuild, weigh
-// a frozen particle 0.12 of a moving one, so the regions move as the bulk freezes and thaws.
-TEST(Domain, RigidBulkMatchesSerial) {
-  const Scene s = tiny({"fidelity.bulk=rigid", "fidelity.bulk_dwell=0.004",
-                        "fidelity.bulk_calm_distance=0.1", "neighbor.skin=0.05",
-                        "parallel.rebalance_threshold=1.0", "parallel.frozen_weight=0.12"});
-  const Particles bed = tiny_bed(s);
-  Simulation serial(s, bed, biaxial(s));
-  Simulation par(s, share_of(bed, MPI_COMM_WORLD), biaxial(s), 0, 0, MPI_COMM_WORLD);
-  // The rigid bulk keeps Newton off whatever the key says (its pass reads frozen ghosts beyond
-  // the list; a dormant spring is held by each rank that owns one of its particles).
-  EXPECT_EQ(s.newton, OnOff::on);
-  EXPECT_FALSE(par.neighbors().newton());
-  serial.compute_forces();
-  par.compute_forces();
-  double most_frozen = 0;
+namespace {
+// The rigid bulk's springs on P ranks against 1, the dormant ones included: every rank holds (in
+// its list or among its dormant springs) each spring of the serial run with one of its own
+// particles (Newton off), equal to round-off, and no other. A rank's dormant springs travel only
+// when one of their particles leaves it (VerletList::springs_leaving).
+struct SpringCheck {
   std::int64_t dormant_compared = 0, missing = 0, extra = 0;
   double worst = 0;
-  for (int k = 0; k < 2000; ++k) {
-    serial.step();
-    par.step();
-    most_frozen = std::max(most_frozen, serial.frozen_fraction());
-    ASSERT_EQ(par.frozen_fraction(), serial.frozen_fraction()) << "step " << k;
-    if (k % 20 != 19) continue;
-    // The springs, the dormant ones included: every rank holds (in its list or among its
-    // dormant springs) each spring of the serial run with one of its own particles (Newton off),
-    // equal to round-off, and no other. A rank's dormant springs travel only when one of their
-    // particles leaves it (VerletList::springs_leaving).
+
+  void compare(const Simulation& serial, const Simulation& par) {
     neighbor::ContactHistory ref, mine;
     serial.save_contacts(ref);
     par.save_contacts(mine);
@@ -692,15 +670,52 @@ TEST(Domain, RigidBulkMatchesSerial) {
       dormant_compared += frozen.count(r.lo) && frozen.count(r.hi);
     }
   }
+
+  // None missing, none extra, all within `tolerance`, and at least `dormant` dormant springs
+  // compared on this rank (or the check showed nothing of them).
+  void expect(double tolerance, std::int64_t dormant, const char* what) const {
+    EXPECT_EQ(missing, 0) << what;
+    EXPECT_EQ(extra, 0) << what;
+    EXPECT_LT(worst, tolerance) << what;
+    EXPECT_GT(dormant_compared, dormant) << what;
+    if (world_rank() == 0)
+      std::printf("[ springs  ] %s: %lld dormant springs compared on rank 0\n", what,
+                  static_cast<long long>(dormant_compared));
+  }
+};
+}  // namespace
+
+// fidelity.bulk = "rigid" on P ranks against 1: the frozen state migrates with its particles and
+// reaches the ghosts, the free surface is reduced over the ranks, and every freeze/thaw decision
+// comes out the same, so the trajectories agree to round-off as the dynamic ones do. A short dwell
+// and a generous calm distance make particles freeze (and some thaw) within the 2,000 steps; a thin
+// skin moves particles between ranks every few steps; the cuts, made afresh at every rebuild, weigh
+// a frozen particle 0.12 of a moving one, so the regions move as the bulk freezes and thaws.
+TEST(Domain, RigidBulkMatchesSerial) {
+  const Scene s = tiny({"fidelity.bulk=rigid", "fidelity.bulk_dwell=0.004",
+                        "fidelity.bulk_calm_distance=0.1", "neighbor.skin=0.05",
+                        "parallel.rebalance_threshold=1.0", "parallel.frozen_weight=0.12"});
+  const Particles bed = tiny_bed(s);
+  Simulation serial(s, bed, biaxial(s));
+  Simulation par(s, share_of(bed, MPI_COMM_WORLD), biaxial(s), 0, 0, MPI_COMM_WORLD);
+  // The rigid bulk keeps Newton off whatever the key says (its pass reads frozen ghosts beyond
+  // the list; a dormant spring is held by each rank that owns one of its particles).
+  EXPECT_EQ(s.newton, OnOff::on);
+  EXPECT_FALSE(par.neighbors().newton());
+  serial.compute_forces();
+  par.compute_forces();
+  double most_frozen = 0;
+  SpringCheck springs;
+  for (int k = 0; k < 2000; ++k) {
+    serial.step();
+    par.step();
+    most_frozen = std::max(most_frozen, serial.frozen_fraction());
+    ASSERT_EQ(par.frozen_fraction(), serial.frozen_fraction()) << "step " << k;
+    if (k % 20 == 19) springs.compare(serial, par);
+  }
   EXPECT_GT(most_frozen, 0.1);
   EXPECT_GT(serial.frozen_fraction(), 0.05);
-  EXPECT_EQ(missing, 0);
-  EXPECT_EQ(extra, 0);
-  EXPECT_LT(worst, 1e-9 * s.d_small);
-  EXPECT_GT(dormant_compared, 1000);
-  if (world_rank() == 0)
-    std::printf("[ springs  ] %lld dormant springs compared on rank 0\n",
-                static_cast<long long>(dormant_compared));
+  springs.expect(1e-9 * s.d_small, 1000, "sphere");
   const Particles all = par.gather_all();
   std::vector<std::int32_t> state(all.size());
   for (std::size_t i = 0; i < serial.particles().size(); ++i)
@@ -713,16 +728,19 @@ TEST(Domain, RigidBulkMatchesSerial) {
   EXPECT_GT(par.domain()->bisections(), 1);
 }
 
-// The same on the Rapaport cylinder (closed ends, axis z) from its settled bed (Froude 0.08,
-// beyond the rolling regime); a calm distance of 0.1 d_large freezes more than 5% of it within the
-// 1,000 steps. This bed amplifies
-// round-off ~10x per 100 steps (measured: 3e-11 d after 1,000 steps, 3e-9 d after 1,300, a first
-// freeze decision of its own at 1,966 with the runs 7e-3 d apart), so it runs 1,000 steps.
-TEST(Domain, RigidBulkCylinderMatchesSerial) {
+// The same on the Rapaport cylinder (axis z) from its settled bed (Froude 0.08, beyond the rolling
+// regime), with closed ends and axially periodic (pairs across the period, between ranks too; the
+// calm test and every pair take the nearest image); a calm
+// distance of 0.1 d_large freezes more than 5% of it within the 1,000 steps. The closed bed
+// amplifies round-off ~10x per 100 steps (measured: 3e-11 d after 1,000 steps, 3e-9 d after
+// 1,300, a first freeze decision of its own at 1,966 with the runs 7e-3 d apart), so it runs
+// 1,000 steps.
+void rigid_cylinder_matches_serial(const char* periodic) {
   const Scene s =
       load_scene(std::string(TUMBLE_SOURCE_DIR) + "/scenes/rapaport/mini/E.toml",
                  {"fill.bed_cache=" + scratch("beds"), "fidelity.bulk=rigid",
-                  "fidelity.bulk_calm_distance=0.1", "parallel.rebalance_threshold=1.02"});
+                  "fidelity.bulk_calm_distance=0.1", "parallel.rebalance_threshold=1.02",
+                  std::string("tumbler.periodic=") + periodic});
   if (world_rank() == 0) settled_bed(s, nullptr);
   MPI_Barrier(MPI_COMM_WORLD);
   const Particles bed = settled_bed(s, nullptr);
@@ -732,15 +750,21 @@ TEST(Domain, RigidBulkCylinderMatchesSerial) {
   serial.compute_forces();
   par.compute_forces();
   double most_frozen = 0;
+  SpringCheck springs;
   for (int k = 0; k < 1000; ++k) {
     serial.step();
     par.step();
     most_frozen = std::max(most_frozen, serial.frozen_fraction());
     ASSERT_EQ(par.frozen_fraction(), serial.frozen_fraction()) << "step " << k;
+    if (k % 50 == 49) springs.compare(serial, par);
   }
   EXPECT_GT(most_frozen, 0.05);
+  springs.expect(1e-9 * s.d_small, 100, periodic[1] == 'n' ? "periodic cylinder" : "cylinder");
   EXPECT_LT(max_deviation(serial.particles(), par.gather_all()), 1e-9 * s.d_small);
 }
+
+TEST(Domain, RigidBulkCylinderMatchesSerial) { rigid_cylinder_matches_serial("off"); }
+TEST(Domain, RigidBulkPeriodicCylinderMatchesSerial) { rigid_cylinder_matches_serial("on"); }
 
 // Ranks other than 0 report only their failures, prefixed with the rank.
 class FailurePrinter : public ::testing::EmptyTestEventListener {
