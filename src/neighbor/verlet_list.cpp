@@ -11,7 +11,8 @@ namespace tumble::neighbor {
 namespace {
 // A flag per global id (ids are non-negative), up to the largest marked: whether an id is in a
 // set, in one load instead of a search. `each(mark)` calls mark(id) for every id of the set; it
-// is called twice (the size first).
+// is called twice (the size first). Not copyable: it holds a byte per id up to the largest, and
+// a copy made per record (a predicate taken by value) cost more than the rebuild's other work.
 class IdFlags {
  public:
   template <class EachId>
@@ -24,6 +25,10 @@ class IdFlags {
     return id <= top_ && flags_[static_cast<std::size_t>(id)];
   }
   bool empty() const { return top_ < 0; }
+  IdFlags(const IdFlags&) = delete;
+  IdFlags& operator=(const IdFlags&) = delete;
+  IdFlags(IdFlags&&) = default;
+  IdFlags& operator=(IdFlags&&) = default;
 
  private:
   std::int64_t top_ = -1;
@@ -268,23 +273,23 @@ void VerletList::sort(Particles& p, bool frozen_last, const std::vector<std::uin
 }
 
 namespace {
+// Whether record k of `from` stays dormant: no pair took it, it is the one lookups find for its
+// pair, and one of its particles is this rank's.
+template <class Mine>
+bool stays_dormant(const ContactHistory& from, const std::vector<std::uint8_t>& taken,
+                   const Mine& mine, std::size_t k) {
+  const SavedSpring& r = from.records()[k];
+  return !taken[k] && (mine(r.lo) || mine(r.hi)) && from.indexed(k);
+}
+
 // The dormant springs after a rebuild: every record of `from` that no pair of the new list took
 // (`taken`), is the one lookups find for its pair, and has a particle `mine` says is this rank's,
 // then `more` (pairs that left the list at it). The records are taken from `from` and kept where
 // they lie (a rank holds about one dormant spring per frozen particle: 88 bytes each, once more
 // per rebuild if copied).
-// Whether record k of `from` stays dormant: no pair took it, it is the one lookups find for its
-// pair, and one of its particles is this rank's.
-template <class Mine>
-bool stays_dormant(const ContactHistory& from, const std::vector<std::uint8_t>& taken, Mine mine,
-                   std::size_t k) {
-  const SavedSpring& r = from.records()[k];
-  return !taken[k] && (mine(r.lo) || mine(r.hi)) && from.indexed(k);
-}
-
 template <class Mine>
 std::vector<SavedSpring> keep_untaken(ContactHistory& from, const std::vector<std::uint8_t>& taken,
-                                      Mine mine, const std::vector<SavedSpring>& more) {
+                                      const Mine& mine, const std::vector<SavedSpring>& more) {
   std::vector<std::uint8_t> keep(from.records().size(), 0);
   for (std::size_t k = 0; k < keep.size(); ++k) keep[k] = stays_dormant(from, taken, mine, k);
   std::vector<SavedSpring> kept = from.take_records();
@@ -308,7 +313,7 @@ std::vector<SavedSpring> keep_untaken(ContactHistory& from, const std::vector<st
 // The same from records that stay the caller's (a restart's): only those kept are copied.
 template <class Mine>
 std::vector<SavedSpring> copy_untaken(const ContactHistory& from,
-                                      const std::vector<std::uint8_t>& taken, Mine mine,
+                                      const std::vector<std::uint8_t>& taken, const Mine& mine,
                                       const std::vector<SavedSpring>& more) {
   std::vector<SavedSpring> kept;
   for (std::size_t k = 0; k < from.records().size(); ++k)
