@@ -683,6 +683,24 @@ struct SpringCheck {
                   static_cast<long long>(dormant_compared));
   }
 };
+
+// Steps the serial and the decomposed run side by side for `steps` steps: the same frozen share
+// after every step, the springs compared every `every` steps. Returns the largest frozen share.
+double step_side_by_side(Simulation& serial, Simulation& par, int steps, int every,
+                         SpringCheck& springs) {
+  serial.compute_forces();
+  par.compute_forces();
+  double most_frozen = 0;
+  for (int k = 0; k < steps; ++k) {
+    serial.step();
+    par.step();
+    most_frozen = std::max(most_frozen, serial.frozen_fraction());
+    EXPECT_EQ(par.frozen_fraction(), serial.frozen_fraction()) << "step " << k;
+    if (par.frozen_fraction() != serial.frozen_fraction()) break;
+    if (k % every == every - 1) springs.compare(serial, par);
+  }
+  return most_frozen;
+}
 }  // namespace
 
 // fidelity.bulk = "rigid" on P ranks against 1: the frozen state migrates with its particles and
@@ -702,18 +720,8 @@ TEST(Domain, RigidBulkMatchesSerial) {
   // the list; a dormant spring is held by each rank that owns one of its particles).
   EXPECT_EQ(s.newton, OnOff::on);
   EXPECT_FALSE(par.neighbors().newton());
-  serial.compute_forces();
-  par.compute_forces();
-  double most_frozen = 0;
   SpringCheck springs;
-  for (int k = 0; k < 2000; ++k) {
-    serial.step();
-    par.step();
-    most_frozen = std::max(most_frozen, serial.frozen_fraction());
-    ASSERT_EQ(par.frozen_fraction(), serial.frozen_fraction()) << "step " << k;
-    if (k % 20 == 19) springs.compare(serial, par);
-  }
-  EXPECT_GT(most_frozen, 0.1);
+  EXPECT_GT(step_side_by_side(serial, par, 2000, 20, springs), 0.1);
   EXPECT_GT(serial.frozen_fraction(), 0.05);
   springs.expect(1e-9 * s.d_small, 1000, "sphere");
   const Particles all = par.gather_all();
@@ -747,18 +755,8 @@ void rigid_cylinder_matches_serial(const char* periodic) {
   const auto proto = geometry::Protocol::single_axis('z', s.omega());
   Simulation serial(s, bed, proto);
   Simulation par(s, share_of(bed, MPI_COMM_WORLD), proto, 0, 0, MPI_COMM_WORLD);
-  serial.compute_forces();
-  par.compute_forces();
-  double most_frozen = 0;
   SpringCheck springs;
-  for (int k = 0; k < 1000; ++k) {
-    serial.step();
-    par.step();
-    most_frozen = std::max(most_frozen, serial.frozen_fraction());
-    ASSERT_EQ(par.frozen_fraction(), serial.frozen_fraction()) << "step " << k;
-    if (k % 50 == 49) springs.compare(serial, par);
-  }
-  EXPECT_GT(most_frozen, 0.05);
+  EXPECT_GT(step_side_by_side(serial, par, 1000, 50, springs), 0.05);
   springs.expect(1e-9 * s.d_small, 100, periodic[1] == 'n' ? "periodic cylinder" : "cylinder");
   EXPECT_LT(max_deviation(serial.particles(), par.gather_all()), 1e-9 * s.d_small);
 }
