@@ -483,7 +483,7 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved, ContactHisto
         if (p.bulk_state[nbr[k]] < 0)
           leaving.save(p.id[i], p.id[nbr[k]], history.data() + w * k, p.x[i]);
     }
-    kept = leaving.records();
+    kept = leaving.take_records();
   }
   // The particles are sorted first: the permutation's scratch column then never coincides with
   // the copy of the old springs below (the rebuild's peak is the lower for it).
