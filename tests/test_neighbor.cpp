@@ -11,6 +11,7 @@
 
 #include "bed_fixture.hpp"
 #include "engine/simulation.hpp"
+#include "neighbor/id_set.hpp"
 #include "neighbor/near_filter.hpp"
 
 using namespace tumble;
@@ -257,6 +258,42 @@ TEST(VerletList, FrozenPairsLeaveTheListWithTheirSpringsAndComeBackWithThem) {
     expect_split(q, again, dormant_again, springs);
   }
   EXPECT_EQ(dormant_again.records().size(), dormant.records().size());
+}
+
+// The rigid bulk's id sets answer as a std::set of the same ids, whether a byte per id or a table,
+// and a rank's few ids among a large realization's take memory by their count, not by the largest
+// id (a byte per id up to 10^12 would not fit).
+TEST(IdSet, AnswersAsASetDenseOrHashedAndTakesMemoryByItsCount) {
+  std::mt19937_64 rng(7);
+  for (const std::int64_t range : {std::int64_t{1000}, std::int64_t{1000000000000}}) {
+    std::vector<std::int64_t> ids;
+    std::uniform_int_distribution<std::int64_t> pick(0, range - 1);
+    for (int k = 0; k < 3000; ++k) ids.push_back(pick(rng));
+    for (int k = 0; k < 500; ++k) ids.push_back(ids[static_cast<std::size_t>(k)]);  // repeats
+    const std::set<std::int64_t> expected(ids.begin(), ids.end());
+    const tumble::neighbor::IdSet set([&](auto mark) {
+      for (const std::int64_t id : ids) mark(id);
+    });
+    EXPECT_EQ(set.dense(), range == 1000) << range;
+    std::size_t wrong = 0;
+    for (const std::int64_t id : ids) wrong += !set(id);
+    for (int k = 0; k < 20000; ++k) {
+      const std::int64_t id = pick(rng);
+      wrong += set(id) != (expected.count(id) == 1);
+    }
+    for (const std::int64_t id : {std::int64_t{-1}, range, range + 12345})
+      wrong += set(id) != (expected.count(id) == 1);
+    EXPECT_EQ(wrong, 0u) << range;
+    EXPECT_LE(set.memory_bytes(), 64 * ids.size()) << range;
+  }
+  const tumble::neighbor::IdSet none([](auto) {});
+  EXPECT_TRUE(none.empty());
+  EXPECT_FALSE(none(0));
+  const tumble::neighbor::IdSet one([](auto mark) { mark(std::int64_t{5000000}); });
+  EXPECT_FALSE(one.dense());
+  EXPECT_TRUE(one(5000000));
+  EXPECT_FALSE(one(4999999));
+  EXPECT_FALSE(one(0));
 }
 
 TEST(NearFilter, LanesReturnThePlainIndices) {

@@ -130,4 +130,10 @@ if "liggghts" in names:
     print(f"Tumble dynamic / LIGGGHTS rate per round: {spread([r[1] / r[k] for r in rows], '.3f')}; "
           f"Tumble rigid / LIGGGHTS: {spread([r[0] / r[k] for r in rows], '.3f')}")
 PY
-[ -n "$peer" ] || echo "(no peer run: LIGGGHTS is not installed (apt-get install liggghts), or the scene is not the shared R35 bed its deck is set up for)"
+if [ -z "$peer" ]; then
+  if [ "$SCENE" != jobs/bench/bst_R35_bench.toml ]; then
+    echo "(no peer run: LIGGGHTS' deck is set up for the shared R35 bed only)"
+  else
+    echo "(no peer run: LIGGGHTS is not installed; apt-get install liggghts)"
+  fi
+fi

@@ -5,40 +5,15 @@
 #include <stdexcept>
 
 #include "base/growth.hpp"
+#include "neighbor/id_set.hpp"
 
 namespace tumble::neighbor {
 
 namespace {
-// A flag per global id (ids are non-negative), up to the largest marked: whether an id is in a
-// set, in one load instead of a search. `each(mark)` calls mark(id) for every id of the set; it
-// is called twice (the size first). Not copyable: it holds a byte per id up to the largest, and
-// a copy made per record (a predicate taken by value) cost more than the rebuild's other work.
-class IdFlags {
- public:
-  template <class EachId>
-  explicit IdFlags(EachId each) {
-    each([this](std::int64_t id) { top_ = std::max(top_, id); });
-    flags_.assign(static_cast<std::size_t>(top_ + 1), 0);
-    each([this](std::int64_t id) { flags_[static_cast<std::size_t>(id)] = 1; });
-  }
-  bool operator()(std::int64_t id) const {
-    return id <= top_ && flags_[static_cast<std::size_t>(id)];
-  }
-  bool empty() const { return top_ < 0; }
-  IdFlags(const IdFlags&) = delete;
-  IdFlags& operator=(const IdFlags&) = delete;
-  IdFlags(IdFlags&&) = default;
-  IdFlags& operator=(IdFlags&&) = default;
-
- private:
-  std::int64_t top_ = -1;
-  std::vector<std::uint8_t> flags_;
-};
-
 // The ids with a record among `records` (only a pair of two such particles can have one: two
-// flags pass most pairs over without a search).
-IdFlags ids_with_records(const std::vector<SavedSpring>& records) {
-  return IdFlags([&](auto mark) {
+// questions to the set pass most pairs over without a search of the records).
+IdSet ids_with_records(const std::vector<SavedSpring>& records) {
+  return IdSet([&](auto mark) {
     for (const SavedSpring& r : records) mark(r.lo), mark(r.hi);
   });
 }
@@ -243,8 +218,8 @@ std::vector<SavedSpring> VerletList::springs_leaving(const Particles& p, std::si
   if (!dormant) return leaving;
   // A dormant spring is held by every rank that owns one of its particles (build_with_ghosts):
   // it travels when one of them leaves, to the ranks near it, where the new owner keeps it.
-  // (A flag per id, not a search per record: a rank holds ~1 dormant spring per frozen particle.)
-  const IdFlags left([&](auto mark) {
+  // (A set of ids asked per record: a rank holds ~1 dormant spring per frozen particle.)
+  const IdSet left([&](auto mark) {
     for (std::size_t a = 0; a < kept_owned_; ++a)
       if (!stays[a]) mark(kept_id_[a]);
   });
@@ -382,7 +357,7 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local, Cont
   const bool carry = carry_kept_;
   carry_kept_ = false;
   // The rigid bulk: the ids with a record in `saved` (none otherwise).
-  const IdFlags has_records = dormant ? ids_with_records(saved.records()) : IdFlags([](auto) {});
+  const IdSet has_records = dormant ? ids_with_records(saved.records()) : IdSet([](auto) {});
   // Which kept springs a pair of the new list took (the rigid bulk: the others may go dormant).
   std::vector<std::uint8_t> carried;
   if (carry) {
@@ -438,7 +413,7 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local, Cont
     // rank's reach of its particles) or another rank's pair routed here: this rank keeps those
     // with one of its own particles. So does a kept spring that no pair took: its pair's
     // particles are both frozen now (or it left with one of them, and is not this rank's).
-    const IdFlags mine([&](auto mark) {
+    const IdSet mine([&](auto mark) {
       for (std::size_t i = 0; i < n_local; ++i) mark(p.id[i]);
     });
     ContactHistory now_dormant(layout_);
@@ -536,7 +511,7 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved, ContactHisto
     if (!saved) dormant->finalize();  // (kept unindexed between rebuilds)
     const ContactHistory& from = saved ? *saved : *dormant;
     std::vector<std::uint8_t> taken(from.records().size(), 0);
-    const IdFlags listed = ids_with_records(from.records());
+    const IdSet listed = ids_with_records(from.records());
     for (std::size_t i = 0; i < n; ++i) {
       if (!listed(p.id[i])) continue;
       for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
