@@ -101,6 +101,7 @@ for r in $(seq 1 "$ROUNDS"); do
   line="| $r |" rates=""
   for v in "${variants[@]}"; do
     rt=$(rate "$WORK/${v}_$r.log")
+    [ -n "$rt" ] || { echo "# $v gave no rate in round $r: see $WORK/${v}_$r.log" >&2; exit 1; }
     fz=$(grep -o 'frozen [0-9.]*' "$WORK/${v}_$r.log" | tail -1 | cut -d' ' -f2 || true)
     line+=" $rt (${fz:--}) |" rates+="$rt "
   done
