@@ -69,7 +69,7 @@ fi
 once() {  # variant binary bulk log
   launch "$2" run "$SCENE" "${extra[@]}" --restart "$FROZEN_CKPT" --max-steps "$STEPS" \
     --set fidelity.bulk="$3" --set output.progress_interval=0.5 \
-    --set scene.output_dir="$WORK/run_$1" > "$4" 2>&1 || { echo "# $1 failed: see $4" >&2; exit 1; }
+    --set scene.output_dir="$WORK/run_$1" > "$4" 2>&1 || { echo "# $1 failed:" >&2; tail -n 20 "$4" >&2; exit 1; }
 }
 variants=(rigid dynamic)
 [ -n "${OTHER:-}" ] && variants+=(other)
@@ -80,7 +80,7 @@ if [ "$SCENE" = jobs/bench/bst_R35_bench.toml ] && command -v liggghts > /dev/nu
   peer=liggghts variants+=(liggghts)
   export LIGGGHTS_RESTART_DIR=results/bench/liggghts_warm LIGGGHTS_WARMUP=$WARMUP
   bash jobs/bench/liggghts/run.sh "$NP" 0 > "$WORK/liggghts_warm.log" 2>&1 ||
-    { echo "# the LIGGGHTS warm-up failed: see $WORK/liggghts_warm.log" >&2; exit 1; }
+    { echo "# the LIGGGHTS warm-up failed:" >&2; tail -n 20 "$WORK/liggghts_warm.log" >&2; exit 1; }
 fi
 printf '| round |'; for v in "${variants[@]}"; do printf ' %s particle-steps/s (frozen) |' "$v"; done
 echo " dynamic / rigid |${OTHER:+ other / rigid |}"
@@ -101,7 +101,7 @@ for r in $(seq 1 "$ROUNDS"); do
   line="| $r |" rates=""
   for v in "${variants[@]}"; do
     rt=$(rate "$WORK/${v}_$r.log")
-    [ -n "$rt" ] || { echo "# $v gave no rate in round $r: see $WORK/${v}_$r.log" >&2; exit 1; }
+    [ -n "$rt" ] || { echo "# $v gave no rate in round $r:" >&2; tail -n 20 "$WORK/${v}_$r.log" "$WORK/liggghts.err" 2>/dev/null >&2; exit 1; }
     fz=$(grep -o 'frozen [0-9.]*' "$WORK/${v}_$r.log" | tail -1 | cut -d' ' -f2 || true)
     line+=" $rt (${fz:--}) |" rates+="$rt "
   done
