@@ -4,20 +4,31 @@
 // to find, for each particle now on the rank (owned or ghost), its row in the list it had before
 // the migration, so that springs are carried by index as on one rank (VerletList::keep_springs)
 // instead of being looked up by the pair's ids, one search per listed pair.
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace tumble::neighbor {
+
+// The open-addressing tables over particle ids (IdIndex here, IdSet in id_set.hpp) share their
+// size and hash. Size: a power of two at most 3/4 full (linear probing stays short: ~2.5 probes a
+// hit at 3/4); half the memory of "at most half full".
+inline std::size_t id_table_size(std::uint64_t n) {
+  std::size_t size = 16;
+  while (3 * static_cast<std::uint64_t>(size) < 4 * n) size *= 2;
+  return size;
+}
+// Fibonacci hashing: the product's bits from 32 up are well mixed (ids are non-negative).
+inline std::size_t id_slot(std::int64_t id) {
+  return static_cast<std::size_t>((static_cast<std::uint64_t>(id) * 0x9E3779B97F4A7C15ull) >> 32);
+}
 
 class IdIndex {
  public:
   static constexpr std::uint32_t kAbsent = 0xFFFFFFFFu;
   // Indexes ids[0, n): index_of(ids[k]) == k (ids unique).
   void assign(const std::int64_t* ids, std::size_t n) {
-    // A power of two at most 3/4 full (linear probing stays short: ~2.5 probes a hit at 3/4, and
-    // there is one lookup per particle a rebuild); half the memory of "at most half full".
-    std::size_t size = 16;
-    while (3 * size < 4 * n) size *= 2;
+    const std::size_t size = id_table_size(n);  // (one lookup per particle a rebuild)
     keys_.assign(size, -1);
     values_.assign(size, kAbsent);
     const std::size_t mask = size - 1;
@@ -45,10 +56,7 @@ class IdIndex {
   }
 
  private:
-  // Fibonacci hashing: the product's bits from 32 up are well mixed (ids are non-negative).
-  static std::size_t slot_of(std::int64_t id) {
-    return static_cast<std::size_t>((static_cast<std::uint64_t>(id) * 0x9E3779B97F4A7C15ull) >> 32);
-  }
+  static std::size_t slot_of(std::int64_t id) { return id_slot(id); }
   std::vector<std::int64_t> keys_;  // -1: empty
   std::vector<std::uint32_t> values_;
 };

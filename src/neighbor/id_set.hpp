@@ -12,6 +12,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "neighbor/id_index.hpp"
+
 namespace tumble::neighbor {
 
 class IdSet {
@@ -35,8 +37,7 @@ class IdSet {
       each([&](std::int64_t id) { flags_[static_cast<std::size_t>(id)] = 1; });
       return;
     }
-    std::size_t size = 16;  // a power of two at most 3/4 full, as IdIndex
-    while (3 * static_cast<std::uint64_t>(size) < 4 * marks) size *= 2;
+    const std::size_t size = id_table_size(marks);
     keys_.assign(size, -1);
     mask_ = size - 1;
     each([&](std::int64_t id) {
@@ -65,12 +66,7 @@ class IdSet {
   IdSet& operator=(IdSet&&) = default;
 
  private:
-  // Fibonacci hashing, as IdIndex: the product's bits from 32 up are well mixed.
-  std::size_t slot_of(std::int64_t id) const {
-    return static_cast<std::size_t>((static_cast<std::uint64_t>(id) * 0x9E3779B97F4A7C15ull) >>
-                                    32) &
-           mask_;
-  }
+  std::size_t slot_of(std::int64_t id) const { return id_slot(id) & mask_; }
   std::int64_t top_ = -1;
   std::vector<std::uint8_t> flags_;  // dense: flags_[id]
   std::vector<std::int64_t> keys_;   // a table: -1 empty
