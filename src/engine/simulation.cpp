@@ -12,6 +12,7 @@
 #include "base/error.hpp"
 #include "base/growth.hpp"
 #include "engine/law_lanes.hpp"
+#include "neighbor/id_index.hpp"
 
 namespace tumble {
 namespace {
@@ -339,7 +340,7 @@ void Simulation::adopt_decomposition(const std::vector<double>& tree) {
   if (dom_) dom_->adopt_tree(tree);
 }
 
-void Simulation::restore(const neighbor::ContactHistory& history) {
+void Simulation::restore(const neighbor::ContactHistory& history, bool anchored) {
   // The records as the law reads them: its width (a checkpoint of another law's width cannot be
   // matched) and its sign pattern.
   const neighbor::HistoryLayout& layout = list_.history_layout();
@@ -364,6 +365,20 @@ void Simulation::restore(const neighbor::ContactHistory& history) {
   if (rigid_)
     for (std::size_t i = 0; i < n_local_; ++i)
       if (p_.bulk_state[i] == -2) force_rebuild_ = true;
+  // A checkpoint without anchors: its records reached every rank, and each rank kept as dormant
+  // those with a particle of its own (VerletList's build), still anchored at the origin. A
+  // dormant spring travels, when one of its particles leaves, to the ranks near its anchor
+  // (Domain::route_records): from the origin it would miss the new owner and be lost, and the
+  // pair would restart from no spring when it thaws. Each one is placed at its particle here.
+  if (rigid_ && !anchored) {
+    neighbor::IdIndex own;
+    own.assign(p_.id.data(), n_local_);
+    bulk_.dormant.set_anchors([&](std::int64_t lo, std::int64_t hi, const Vec3& anchor) {
+      std::uint32_t at = own.index_of(lo);
+      if (at == neighbor::IdIndex::kAbsent) at = own.index_of(hi);
+      return at == neighbor::IdIndex::kAbsent ? anchor : p_.x[at];
+    });
+  }
 }
 
 bool Simulation::rebuild_due(double max_displacement2) {

@@ -55,8 +55,10 @@ class Simulation {
   // Forces a neighbour rebuild during the next step (checkpoints: see io/checkpoint.cpp).
   void request_rebuild() { force_rebuild_ = true; }
   // Restores contact history and forces from a checkpoint; rebuilds the list from the current
-  // (already sorted) particle order without recomputing forces.
-  void restore(const neighbor::ContactHistory& history);
+  // (already sorted) particle order without recomputing forces. `anchored`: the records carry
+  // where their pair is (checkpoints from 2026-11-23 on); without it, the rigid bulk's dormant
+  // springs are placed at their own particle here, or a migration would send them astray.
+  void restore(const neighbor::ContactHistory& history, bool anchored = true);
   // The ranks' boxes (parallel::RcbTree::to_doubles; empty when serial), and a restart on as
   // many ranks going on in the boxes of its checkpoint: called before restore(), it makes the
   // first distribution keep every particle where the checkpoint's rows put it, so the continued

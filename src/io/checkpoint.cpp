@@ -319,6 +319,7 @@ CheckpointData read_checkpoint(const std::string& path, MPI_Comm comm) {
       for (int d = 0; d < h; ++d) r.history[d] = springs[static_cast<std::size_t>(h) * k + d];
       r.anchor = {anchors[3 * k], anchors[3 * k + 1], anchors[3 * k + 2]};
     }
+    c.anchored = anchored;
     c.history = neighbor::ContactHistory({h, (1u << h) - 1});
     c.history.set_records(std::move(recs));
     read_series(f, c.series);
@@ -365,7 +366,7 @@ std::unique_ptr<Simulation> engine_from_checkpoint(CheckpointData& c, const Scen
       corrupt(path, e.what());
     }
   }
-  sim->restore(c.history);
+  sim->restore(c.history, c.anchored);
   return sim;
 }
 

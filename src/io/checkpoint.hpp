@@ -25,6 +25,9 @@ namespace tumble::io {
 struct CheckpointData {
   Particles particles;
   neighbor::ContactHistory history;
+  // Whether the records hold their pair's position (contacts/anchor; files written before
+  // 2026-11-23 lack it, and their records read as anchored at the origin).
+  bool anchored = true;
   double time = 0;
   std::int64_t step = 0;
   analysis::Series series;

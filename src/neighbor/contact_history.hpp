@@ -103,6 +103,11 @@ class ContactHistory {
   void update(Fn&& fn) {
     for (SavedSpring& r : saved_) fn(r.history, r.anchor);
   }
+  // Sets every record's anchor to anchor_of(lo, hi, anchor) (its ids and history stay).
+  template <class Fn>
+  void set_anchors(Fn&& anchor_of) {
+    for (SavedSpring& r : saved_) r.anchor = anchor_of(r.lo, r.hi, r.anchor);
+  }
   // Bytes held (capacities).
   std::size_t memory_bytes() const {
     return saved_.capacity() * sizeof(SavedSpring) + slots_.capacity() * sizeof(std::uint32_t) +
