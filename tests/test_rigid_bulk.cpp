@@ -448,9 +448,10 @@ TEST(RigidBulk, ARigidCheckpointContinuesDynamic) {
   // at the checkpoint: one half kick without their frozen pairs' forces).
   const std::string base = test_dir("rigid_to_dynamic");
   std::filesystem::remove_all(base);
+  // (A series sample every 100 steps: some of them in the dynamic part.)
   auto scene = [&](const std::string& bulk) {
     return rigid_scene({"fidelity.bulk=" + bulk, "protocol.duration=1", "scene.output_dir=" + base,
-                        "output.checkpoint_interval=0.02"});
+                        "output.checkpoint_interval=0.02", "output.analysis_interval=0.002"});
   };
   RunOptions first;
   first.max_steps = 4000;
@@ -469,6 +470,12 @@ TEST(RigidBulk, ARigidCheckpointContinuesDynamic) {
   std::size_t still = 0;
   for (std::int32_t state : b.particles.bulk_state) still += state != 0;
   EXPECT_EQ(still, 0u);
+  // The frozen share stays one value per sample: the dynamic part's read 0 (nothing frozen).
+  ASSERT_EQ(b.series.frozen_fraction.size(), b.series.time.size());
+  ASSERT_GT(b.series.time.size(), a.series.time.size());
+  EXPECT_GT(a.series.frozen_fraction.back(), 0.1);
+  for (std::size_t k = a.series.time.size(); k < b.series.time.size(); ++k)
+    EXPECT_EQ(b.series.frozen_fraction[k], 0.0) << "sample " << k;
   // 500 steps (0.01 s, 0.18 degrees) of a bed turning as a solid: the particles frozen at the
   // checkpoint stay with the wall as a dynamic bulk does (largest move relative to it 0.0054
   // d_small, measured; asserted < 0.02 d_small: a blow-up of the restart, not a subtle error).
@@ -486,4 +493,33 @@ TEST(RigidBulk, ARigidCheckpointContinuesDynamic) {
     if (was[b.particles.id[i]])
       largest = std::max(largest, norm(b.particles.x[i] - q2 * q1.tmul(before[b.particles.id[i]])));
   EXPECT_LT(largest, 0.02 * s.d_small);
+}
+
+TEST(RigidBulk, ADynamicCheckpointContinuesRigidWithItsSeriesAligned) {
+  // A dynamic run resumed rigid: the frozen share, one value per sample of the run, reads 0 for
+  // the dynamic part (nothing frozen) and the rigid engine's share after it.
+  const std::string base = test_dir("dynamic_to_rigid");
+  std::filesystem::remove_all(base);
+  auto scene = [&](const std::string& bulk) {
+    return rigid_scene({"fidelity.bulk=" + bulk, "fidelity.bulk_dwell=0.004", "protocol.duration=1",
+                        "scene.output_dir=" + base, "output.checkpoint_interval=0.02",
+                        "output.analysis_interval=0.002"});
+  };
+  RunOptions first;
+  first.max_steps = 1000;
+  run_realization(scene("dynamic"), first);
+  const io::CheckpointData a = io::read_checkpoint(base + "/checkpoint.h5");
+  ASSERT_GT(a.series.time.size(), 0u);
+  EXPECT_TRUE(a.series.frozen_fraction.empty()) << "a dynamic run keeps no frozen share";
+  RunOptions second;
+  second.resume = true;
+  second.max_steps = 1500;
+  run_realization(scene("rigid"), second);
+  const io::CheckpointData b = io::read_checkpoint(base + "/checkpoint.h5");
+  ASSERT_EQ(b.step, 2500);
+  ASSERT_EQ(b.series.frozen_fraction.size(), b.series.time.size());
+  ASSERT_GT(b.series.time.size(), a.series.time.size());
+  for (std::size_t k = 0; k < a.series.time.size(); ++k)
+    EXPECT_EQ(b.series.frozen_fraction[k], 0.0) << "sample " << k;
+  EXPECT_GT(b.series.frozen_fraction.back(), 0.1) << "nothing froze: the test shows nothing";
 }

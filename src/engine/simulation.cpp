@@ -362,9 +362,15 @@ void Simulation::restore(const neighbor::ContactHistory& history, bool anchored)
   bulk_.last_update = step_;
   bulk_.last_update_time = time_;
   bulk_.segment = protocol_.segment_count(time_);
-  if (rigid_)
-    for (std::size_t i = 0; i < n_local_; ++i)
+  if (rigid_) {
+    std::int64_t frozen = 0;
+    for (std::size_t i = 0; i < n_local_; ++i) {
       if (p_.bulk_state[i] == -2) force_rebuild_ = true;
+      frozen += p_.bulk_state[i] < 0;
+    }
+    // (What that pass found, for the progress line and a sample before the next pass.)
+    frozen_fraction_ = sum(static_cast<double>(frozen)) / sum(static_cast<double>(n_local_));
+  }
   // A checkpoint without anchors: its records reached every rank, and each rank kept as dormant
   // those with a particle of its own (VerletList's build), still anchored at the origin. A
   // dormant spring travels, when one of its particles leaves, to the ranks near its anchor

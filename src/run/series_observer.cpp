@@ -29,7 +29,13 @@ void SeriesObserver::sample(RunState& s) {
   const double kinetic = sim.energy().kinetic;  // collective: before the gather, on all ranks
   const Particles& all = s.whole_bed();
   analysis::Series& series = s.series;
-  if (sim.rigid_bulk()) series.frozen_fraction.push_back(sim.frozen_fraction());
+  // The frozen share: one value per sample of the run, or none (a run never rigid). A run resumed
+  // with the other bulk option keeps them aligned: the samples of a dynamic part read 0.
+  if (sim.rigid_bulk() || !series.frozen_fraction.empty()) {
+    const std::size_t before = scene.cylinder() ? series.cylinder.time.size() : series.time.size();
+    series.frozen_fraction.resize(before, 0.0);
+    series.frozen_fraction.push_back(sim.rigid_bulk() ? sim.frozen_fraction() : 0.0);
+  }
   if (scene.cylinder()) {
     analysis::sample_cylinder(all, cylinder_, sim.time(), scene.omega() * sim.time() / (2 * kPi),
                               kinetic, series.cylinder);
