@@ -186,7 +186,8 @@ Particles Simulation::gather_all() const {
   return p_;
 }
 
-void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
+void Simulation::rebuild_distributed(const neighbor::ContactHistory* history,
+                                     bool history_everywhere) {
   // (rebuild_lists has brought the centres back into the period: owners come from positions.)
   std::vector<neighbor::SavedSpring> records;
   const int width = list_.history_layout().width;
@@ -216,9 +217,14 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history) {
     // A restart or the first build: the histories (the restart's, dormant ones included) are
     // routed by id with the pair's position to every rank near it and matched by id after the
     // move.
+    // (Records that every rank holds already stay: routed from where they would all be anchored,
+    // the origin, each would reach every rank near it once more from every other rank.)
     if (history) records = history->records();
     p_.resize(n_local_);  // drop the ghosts
-    dom_->distribute(p_, records, halo_reach_, width);
+    if (history_everywhere)
+      dom_->migrate_owned(p_);
+    else
+      dom_->distribute(p_, records, halo_reach_, width);
   }
   n_local_ = p_.size();
   // The particles that may pair with a ghost go last: the list's rows before them read no ghost
@@ -286,14 +292,14 @@ void Simulation::select_kernels(bool friction, bool wall_friction, bool periodic
   rotation_ = friction || wall_friction;
 }
 
-void Simulation::rebuild_lists(const neighbor::ContactHistory* history) {
+void Simulation::rebuild_lists(const neighbor::ContactHistory* history, bool history_everywhere) {
   if (cylinder_.periodic) {  // bring centres back into the period before sorting into cells
     const double L = 2 * cylinder_.half_length;
     for (Vec3& x : p_.x) x.z -= L * std::floor((x.z + cylinder_.half_length) / L);
   }
   sync_frozen();  // the frozen are binned (and migrated) where they are now
   if (dom_)
-    rebuild_distributed(history);
+    rebuild_distributed(history, history_everywhere);
   else
     list_.rebuild(p_, history, rigid_ ? &bulk_.dormant : nullptr);
   // Only particles within one skin of the wall can touch it before the next rebuild (no particle
@@ -353,7 +359,7 @@ void Simulation::restore(const neighbor::ContactHistory& history, bool anchored)
                      std::to_string(layout.width));
   neighbor::ContactHistory h(layout);
   h.set_records(history.records());
-  rebuild_lists(&h);
+  rebuild_lists(&h, !anchored);
   last_build_step_ = step_;
   // The uninterrupted run passed its freeze/thaw pass at this step (the checkpoint's rebuild). Its
   // thaw-force check comes at the next step's start (kick_drift), from the force kept in the

@@ -218,9 +218,11 @@ class Simulation {
   // The pair forces of the step: on more than one rank the interior rows run while the ghosts'
   // refresh (begun by step()) is on its way, the border rows after it arrives.
   void pair_forces_with_refresh();
-  void rebuild_lists(const neighbor::ContactHistory* history);
+  // `history_everywhere`: every rank holds all of `history` (a checkpoint without anchors), which
+  // then needs no routing.
+  void rebuild_lists(const neighbor::ContactHistory* history, bool history_everywhere = false);
   // Parallel rebuild: migrate (with contact records), sort, exchange ghosts, list.
-  void rebuild_distributed(const neighbor::ContactHistory* history);
+  void rebuild_distributed(const neighbor::ContactHistory* history, bool history_everywhere);
   double sum(double local) const;  // over the ranks (identity when serial)
 
   // mutable: with the rigid bulk the frozen particles that no moving one touches are turned with
