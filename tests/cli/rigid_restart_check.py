@@ -10,7 +10,8 @@ of the biaxial protocol turns with the wall and freezes within it), on a cached 
   C  B's checkpoint at STEPS / 2 resumed on 3 ranks (another decomposition: every dormant spring
      goes to the ranks that own one of its particles now): the same particles in the same bulk
      states as A, positions and velocities within 1e-9 d_small, the same contact pairs with springs
-     within 1e-9 d_small.
+     within 1e-9 d_small, each pair held by as many ranks as own one of its particles (its
+     spring kept by each, Newton off) in A's and C's checkpoints;
   D  C again from a copy of that checkpoint without contacts/anchor, as a file written before
      2026-11-23 reads: every rank gets every record, and the dormant ones must be placed at their
      particles (Simulation::restore), or one that travels with a particle leaving its rank goes
@@ -19,6 +20,7 @@ The checkpoint at the split must hold frozen particles and dormant springs, or t
 nothing about them (it fails then).
 
 usage: rigid_restart_check.py TUMBLE SCENE WORK MPIEXEC NP_FLAG"""
+import collections
 import os
 import shutil
 import subprocess
@@ -69,6 +71,20 @@ def by_id(d, name):
     return d[name][order]
 
 
+def copies_missing(d):
+    """The contact pairs a checkpoint of several ranks holds a wrong number of copies of: each rank
+    that owns one of a pair's particles keeps its spring (Newton off; a dormant spring too), so a
+    pair is held once if one rank owns both particles, else twice. A rank that lost its copy of a
+    border pair's spring shows here, where the merged springs() would still find the other's."""
+    owner = np.empty(int(d["particles/id"].max()) + 1, dtype=int)
+    start = 0
+    for r, n in enumerate(d["domain/rows"]):
+        owner[d["particles/id"][start:start + n]] = r
+        start += n
+    held = collections.Counter(map(tuple, d["contacts/pair_ids"].tolist()))
+    return [p for p, k in held.items() if k != (1 if owner[p[0]] == owner[p[1]] else 2)]
+
+
 def springs(d):
     """{(lo, hi): spring} of a checkpoint's contact records."""
     return {tuple(p): s for p, s in zip(d["contacts/pair_ids"].tolist(), d["contacts/spring"])}
@@ -99,6 +115,8 @@ if a_step != STEPS or b_step != STEPS:
 differ = [n for n in a if n not in b or a[n].shape != b[n].shape or
           not np.array_equal(a[n], b[n], equal_nan=a[n].dtype.kind == "f")]
 differ += [n for n in b if n not in a]
+if copies_missing(a):
+    fail("A (2 ranks): %d contact pairs held by the wrong number of ranks" % len(copies_missing(a)))
 if differ:
     fail("2 ranks, stopped at step %d and resumed: datasets differ from the uninterrupted run's: %s"
          % (STEPS // 2, differ))
@@ -129,6 +147,10 @@ def check_three_ranks(name, what):
     if set(sa) != set(sc):
         fail("%s (3 ranks): %d contact pairs only in the 2-rank run, %d only in the 3-rank one"
              % (name, len(set(sa) - set(sc)), len(set(sc) - set(sa))))
+    wrong = copies_missing(c)
+    if wrong:
+        fail("%s (3 ranks): %d contact pairs held by the wrong number of ranks, e.g. %s"
+             % (name, len(wrong), wrong[:3]))
     spring = max((float(np.max(np.abs(sa[k] - sc[k]))) for k in sa), default=0.0)
     if spring > tol:
         fail("%s (3 ranks): springs differ by %.3g m from the 2-rank run's (allowed %.3g)" % (name, spring, tol))
