@@ -97,6 +97,12 @@ std::vector<int> check_contents(const CheckpointData& c, std::int64_t n, std::in
     if (p.species[i] != 0 && p.species[i] != 1)
       corrupt(path, "particle " + std::to_string(p.id[i]) + row + " has species " +
                         std::to_string(p.species[i]) + " (Tumble's are 0 and 1)");
+    // The rigid bulk's state: -2 thawing, -1 frozen, else the steps of its calm stay so far (an
+    // unknown value would leave the particle in no state the engine handles). Files without
+    // the column read 0.
+    if (i < p.bulk_state.size() && p.bulk_state[i] < -2)
+      corrupt(path, "particle " + std::to_string(p.id[i]) + row + " has bulk_state " +
+                        std::to_string(p.bulk_state[i]) + " (Tumble's are -2, -1 and >= 0)");
     if (!(p.radius[i] > 0) || !(p.inv_mass[i] > 0) || !(p.inv_inertia[i] > 0) ||
         !finite(p.radius[i]) || !finite(p.inv_mass[i]) || !finite(p.inv_inertia[i]))
       corrupt(path, "particle " + std::to_string(p.id[i]) + row +

@@ -145,13 +145,22 @@ Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_C
   }
   if (reused) *reused = false;
   bed = fill_and_settle(scene, log, comm, between_blocks);
-  // Rank 0 writes it for all; its error (a full disk) is every rank's: thrown on rank 0 alone,
-  // the others of a campaign's group waited for it for ever. Its end is the barrier that keeps
-  // the others until the file is there.
+  // Rank 0 writes it for all; its end is the barrier that keeps the others until the file is
+  // there. A cache it cannot write (read-only, shared beds; a full disk) costs the next run with
+  // this bed its settling again, not this run its bed: the run goes on with the bed it holds and
+  // says so. (It failed here, after the settling, and a campaign's every case settled and failed
+  // in turn.)
   on_rank_0_agreed(comm, [&] {
-    fs::create_directories(scene.bed_cache);
-    io::write_bed(cached, bed, scene);
-    if (log) *log << "[fill] saved settled bed to " << cached << "\n";
+    try {
+      fs::create_directories(scene.bed_cache);
+      io::write_bed(cached, bed, scene);
+      if (log) *log << "[fill] saved settled bed to " << cached << "\n";
+    } catch (const std::exception& e) {
+      if (log)
+        *log << "[fill] warning: the settled bed was not saved to fill.bed_cache = '"
+             << scene.bed_cache << "' (" << e.what()
+             << "); the run goes on with it, and the next run of this bed settles it again\n";
+    }
   });
   return bed;
 }

@@ -11,7 +11,7 @@ the code path that consumes it:
               is compared with the merge of the unflipped partial.
 Random offsets mostly hit metadata and unused bytes of the small partial, so it also gets one flip
 inside the stored data of every third table `tumble merge` reads. Then edits a checksum cannot see (a dataset rewritten whole, an attribute changed: species 1000000,
-a duplicate id, a contact of a particle that does not exist, ...) must each be refused with exit 3
+a duplicate id, a bulk state the engine does not know, a contact of a particle that does not exist, ...) must each be refused with exit 3
 by the semantic checks. Each flipped variant must be refused (exit 3 or 2 with the file named in the message) or give output that
 is bitwise equal to the reference (a flip in bytes HDF5 does not use). Anything else fails the
 test: exit 0 with different values (silently accepted), a signal or exit >= 128 (a crash), any
@@ -193,6 +193,7 @@ def edit_attr(name, value):
 edits = [
     ("species 1000000", edit_dataset("particles/species", lambda a: a.__setitem__(5, 1000000))),
     ("duplicate id", edit_dataset("particles/id", lambda a: a.__setitem__(7, a[8]))),
+    ("bulk_state -7", edit_dataset("particles/bulk_state", lambda a: a.__setitem__(4, -7))),
     ("pair id 10^9", edit_dataset("contacts/pair_ids", lambda a: a.__setitem__((0, 1), 10**9))),
     ("particle outside", edit_dataset("particles/x", lambda a: a.__setitem__((3, 0), 1.0))),
     ("radius negative", edit_dataset("particles/radius", lambda a: a.__setitem__(2, -a[2]))),
