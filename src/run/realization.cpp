@@ -215,6 +215,48 @@ void log_done(std::ostream* log, const RunState& s, const RunResult& res) {
 }
 }  // namespace
 
+namespace {
+// The folders a run made for its output (the output folder and any parents it lacked): removed
+// again, if still empty, when the run is refused before it begins (a checkpoint that does not
+// fit the scene or is damaged, a bed that does not settle), so that a refused run leaves nothing
+// behind. (Only on the rank that made them; empty on the others.)
+class FoldersMade {
+ public:
+  FoldersMade() = default;
+  FoldersMade(fs::path leaf, fs::path outermost)
+      : leaf_(std::move(leaf)), outermost_(std::move(outermost)) {}
+  FoldersMade(const FoldersMade&) = delete;
+  FoldersMade& operator=(const FoldersMade&) = delete;
+  FoldersMade& operator=(FoldersMade&& o) noexcept {
+    leaf_ = std::move(o.leaf_);
+    outermost_ = std::move(o.outermost_);
+    o.keep();
+    return *this;
+  }
+  void keep() { outermost_.clear(); }
+  ~FoldersMade() {
+    if (outermost_.empty()) return;
+    std::error_code ec;
+    for (fs::path p = leaf_; !p.empty(); p = p.parent_path()) {
+      if (!fs::is_empty(p, ec) || ec || !fs::remove(p, ec)) return;
+      if (p == outermost_ || p == p.parent_path()) return;
+    }
+  }
+
+ private:
+  fs::path leaf_, outermost_;  // outermost_ empty: nothing to remove
+};
+
+FoldersMade make_folders(const std::string& dir) {
+  const fs::path leaf = fs::absolute(dir).lexically_normal();
+  fs::path outermost;
+  for (fs::path p = leaf; !fs::exists(p) && p != p.parent_path(); p = p.parent_path())
+    outermost = p;
+  fs::create_directories(dir);
+  return {leaf, outermost};
+}
+}  // namespace
+
 RunResult run_realization(const Scene& given, const RunOptions& opt) {
   const MPI_Comm comm = size_of(opt.comm) > 1 ? opt.comm : MPI_COMM_NULL;
   const bool lead = rank_in(comm) == 0;  // writes the serial files and the log
@@ -223,7 +265,8 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
   res.output_dir = given.output_dir;
   // Rank 0 makes the folder for all; its error (a parent that is a file, no permission) is every
   // rank's: thrown on rank 0 alone, the others waited at the barrier this replaces for ever.
-  on_rank_0_agreed(comm, [&] { fs::create_directories(given.output_dir); });
+  FoldersMade made;
+  on_rank_0_agreed(comm, [&] { made = make_folders(given.output_dir); });
   const std::string ckpt_path = given.output_dir + "/checkpoint.h5";
 
   const std::string restart = restart_path(opt, ckpt_path, comm);
@@ -240,6 +283,7 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
   const double snap_steps = (scene.snapshot_interval > 0 ? scene.snapshot_interval : period) / dt;
   Started st = restart.empty() ? fresh_start(scene, protocol, comm, log, &res.reused_bed)
                                : restart_from(restart, scene, protocol, snap_steps, comm, log);
+  made.keep();  // the run begins: its folder stays whatever happens next
   Simulation* sim = st.sim.get();
   RunState& s = *st.state;
   s.particles = res.particles = sim->global_count();
