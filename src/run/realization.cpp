@@ -1,8 +1,10 @@
 #include "run/realization.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <memory>
@@ -51,7 +53,19 @@ geometry::Protocol protocol_of(const Scene& scene) {
 // the wall's velocity, their held springs in the contact records), so it may continue dynamic
 // (everything thawed: Simulation resets the states), a dynamic one rigid, or rigid with other
 // thresholds.
-void check_restart_compatible(const Scene& scene, const std::string& ckpt_scene_text) {
+// A resolved value as the user would write it: a number in the fewest digits that give it back
+// (0.6, not 0.59999999999999998), anything else as it is.
+std::string readable(const std::string& value) {
+  char* end = nullptr;
+  const double v = std::strtod(value.c_str(), &end);
+  if (value.empty() || end != value.c_str() + value.size()) return value;
+  char text[64];
+  const auto written = std::to_chars(text, text + sizeof text, v);
+  return written.ec == std::errc() ? std::string(text, written.ptr) : value;
+}
+
+void check_restart_compatible(const Scene& scene, const std::string& ckpt_scene_text,
+                              const std::string& path) {
   const Scene old = parse_scene(ckpt_scene_text, {}, "checkpoint");
   std::string diffs;
   for (const auto& [key, value] : scene.resolved) {
@@ -62,11 +76,13 @@ void check_restart_compatible(const Scene& scene, const std::string& ckpt_scene_
       continue;
     auto it = old.resolved.find(key);
     if (it == old.resolved.end() || it->second != value)
-      diffs += " " + key + " (checkpoint " + (it == old.resolved.end() ? "?" : it->second) +
-               ", scene " + value + ")";
+      diffs += (diffs.empty() ? " " : "; ") + key + " (checkpoint " +
+               (it == old.resolved.end() ? "?" : readable(it->second)) + ", scene " +
+               readable(value) + ")";
   }
   if (!diffs.empty())
-    throw InputError("cannot restart: the scene differs from the checkpoint's in:" + diffs);
+    throw InputError("cannot restart from '" + path +
+                     "': the scene differs from the checkpoint's in:" + diffs);
 }
 
 // The checkpoint to continue from ("" for a fresh start), decided by rank 0 for the whole run.
@@ -93,7 +109,7 @@ Started restart_from(const std::string& path, const Scene& scene,
   io::CheckpointData c;
   thrown_together(comm, [&] {
     c = io::read_checkpoint(path, comm);
-    check_restart_compatible(scene, c.scene_text);
+    check_restart_compatible(scene, c.scene_text, path);
     io::check_checkpoint_fits(c, scene, path, comm);
   });
   double rows = static_cast<double>(c.particles.size());
