@@ -1,8 +1,10 @@
 #include "analysis/snapshot_data.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
+#include "base/error.hpp"
 #include "h5/hdf5_file.hpp"
 #include "scene/scene.hpp"
 
@@ -29,6 +31,28 @@ SnapshotData read_snapshot(const std::string& path) {
   s.time = f.attr_double("/", "time");
   s.iteration = f.attr_double("/", "iteration");
   s.scene_text = f.attr_string("/", "scene");
+  // What a checksum cannot see (a file edited or written by a broken build): columns of unequal
+  // length would be read past their end, and a value that is no number gave a result all the
+  // same (an enrichment of 0 from NaN positions, exit 0).
+  auto corrupt = [&](const std::string& what) {
+    throw CorruptInputError("snapshot '" + path + "': " + what);
+  };
+  const std::size_t n = s.id.size();
+  if (s.species.size() != n || s.radius.size() != n || s.x.size() != n || s.x_tumbler.size() != n)
+    corrupt("the datasets id, species, radius, x and x_tumbler have different lengths");
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string who =
+        "particle " + std::to_string(s.id[i]) + " (row " + std::to_string(i) + ")";
+    if (s.species[i] != 0 && s.species[i] != 1)
+      corrupt(who + " has species " + std::to_string(s.species[i]) + " (Tumble's are 0 and 1)");
+    if (!(s.radius[i] > 0) || !std::isfinite(s.radius[i]))
+      corrupt(who + " has a radius that is not positive and finite");
+    if (!std::isfinite(s.x[i].x + s.x[i].y + s.x[i].z) ||
+        !std::isfinite(s.x_tumbler[i].x + s.x_tumbler[i].y + s.x_tumbler[i].z))
+      corrupt(who + " has a position that is not finite");
+  }
+  if (!std::isfinite(s.time) || !std::isfinite(s.iteration))
+    corrupt("its time or iteration is not finite");
   // The stored scene is valid TOML that parse_scene reads back to the same scene.
   const Scene sc = parse_scene(s.scene_text);
   s.R = sc.radius;

@@ -148,6 +148,19 @@ def damage_tumble_fixtures(fx):
             dtype = g[name].dtype
             del g[name]
             g.create_dataset(name, data=value, dtype=dtype)
+    # a snapshot with a position that is no number (an enrichment of 0 came out, exit 0), and one
+    # whose x is a row short (read past its end)
+    for name, edit in (("snap_nan.h5", lambda x: x.__setitem__((0, 0), float("nan"))),
+                       ("snap_short.h5", None)):
+        shutil.copy(os.path.join(fx, "sphere_run", "snap_000000.h5"), os.path.join(fx, name))
+        with h5py.File(os.path.join(fx, name), "r+") as f:
+            x = f["x"][()]
+            if edit:
+                edit(x)
+            else:
+                x = x[:-1]
+            del f["x"]
+            f.create_dataset("x", data=x)
     # a drift grid whose attribute n is not its datasets' n
     shutil.copy(os.path.join(fx, "drift_4.h5"), os.path.join(fx, "drift_n5.h5"))
     with h5py.File(os.path.join(fx, "drift_n5.h5"), "r+") as f:
