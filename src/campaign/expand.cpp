@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include "base/error.hpp"
 #include "base/hash.hpp"
@@ -93,6 +94,27 @@ Expansion expand(const CampaignSpec& spec) {
 
   std::vector<Sweep> sweeps = spec.sweeps;
   if (sweeps.empty()) sweeps.emplace_back();  // no sweep: the template itself, replicated
+  // The cases the lists make, counted before they are made: a product of long lists (a range
+  // with a step slipped by a unit) ran out of memory in the expansion itself, std::bad_alloc.
+  {
+    double total = 0;
+    for (std::size_t k = 0; k < sweeps.size(); ++k) {
+      const Sweep& sw = sweeps[k];
+      double points = 1;
+      for (const auto& [key, vals] : sw.axes)
+        points = sw.zip ? std::max(points, static_cast<double>(vals.size()))
+                        : points * static_cast<double>(vals.size());
+      const double cases = points * (sw.replicas > 0 ? sw.replicas : spec.replicas);
+      total += cases;
+      if (total > kMaxCases) {
+        std::ostringstream os;
+        os << "campaign error (" << spec.file << "): sweep " << k + 1 << " makes " << cases
+           << " cases (" << total << " with the sweeps before it): at most " << kMaxCases
+           << " in one campaign; shorten its lists or split the campaign";
+        throw InputError(os.str());
+      }
+    }
+  }
   std::set<std::string> seen;
   std::map<std::string, std::size_t> point_index;
   for (std::size_t sweep_index = 0; sweep_index < sweeps.size(); ++sweep_index) {

@@ -11,6 +11,11 @@
 
 namespace tumble::campaign {
 
+// The most cases one campaign may list (every sweep's points times its replicas): each case is a
+// DEM run of minutes to days, and the list, its table and manifest are held whole; more is a
+// list slipped by a unit, refused before it is made (it ran out of memory).
+inline constexpr double kMaxCases = 1e6;
+
 struct CaseParam {
   std::string name;  // a named parameter (theta_z, theta_x, f, R_rho, size_ratio) or a scene key
   ParamValue value;

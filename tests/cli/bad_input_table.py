@@ -94,6 +94,11 @@ FIXTURES = {
         "[sweep]\ntheta_z = [57, 30, 57.0]\ntheta_x = [57]\n",
     "c_zip_pair_twice.toml": "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\n"
         "[sweep]\nzip = true\ntheta_z = [57, 30, 57]\ntheta_x = [57, 57, 57]\n",
+    # 2,000 x 1,000 points: two million cases (the expansion ran out of memory at 6e7)
+    "c_too_many.toml": "[campaign]\nname = \"c\"\nscene = \"{scenes}/bst_tiny.toml\"\n"
+        "[sweep]\ntheta_z = [%s]\ntheta_x = [%s]\n"
+        % (", ".join("%.2f" % (0.05 * i) for i in range(2000)),
+           ", ".join("%.1f" % (0.1 * i) for i in range(1000))),
     "a_file": "not a directory\n",
     "name_newline.toml": "[scene]\nname = \"two\\nlines\"\n" + TINY_BODY,
     "not_hdf5.h5": "these bytes are no HDF5 file\n",
