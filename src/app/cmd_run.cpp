@@ -18,6 +18,7 @@
 #include "io/bed_io.hpp"
 #include "io/checkpoint.hpp"
 #include "run/realization.hpp"
+#include "run/settled_bed.hpp"
 #include "scene/fill.hpp"
 #include "scene/scene.hpp"
 
@@ -102,6 +103,10 @@ void register_run(CLI::App& app) {
       if (!opts->restart.empty() && !std::filesystem::is_regular_file(opts->restart))
         throw InputError("--restart '" + opts->restart + "': no such checkpoint file");
       if (!opts->restart.empty()) io::check_is_checkpoint(opts->restart);
+      // A bed to fill without gravity never settles (a scene without it is valid for an engine
+      // given its particles: a bed file or a checkpoint).
+      if (opts->restart.empty() && loaded->bed_file.empty() && loaded->g <= 0)
+        throw InputError(settling_needs_gravity());
       // A bed the user names is read and checked now, before the output folder is made (the run
       // reads it again when it starts: 0.1 s for 89k particles), unless a checkpoint replaces it.
       const bool from_checkpoint =

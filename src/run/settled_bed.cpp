@@ -41,8 +41,17 @@ Particles share_of(const Particles& all, MPI_Comm comm) {
   return mine;
 }
 
+std::string settling_needs_gravity() {
+  return "scene error: key 'gravity.g' = 0: a bed Tumble fills settles under gravity (to "
+         "fill.settle_rms_speed), which never ends without it; give gravity.g > 0, or "
+         "fill.bed_file for a bed made elsewhere";
+}
+
 Particles fill_and_settle(const Scene& scene, std::ostream* log, MPI_Comm comm,
                           const std::function<void()>& between_blocks) {
+  // (A scene without gravity is valid for an engine given its particles; settling one never ends:
+  // it ran to fill.settle_max_time and said "did not settle ... rms speed 0 m/s".)
+  if (scene.g <= 0) throw InputError(settling_needs_gravity());
   double shrink = 1;
   Particles bed;
   if (scene.cylinder()) {

@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <iosfwd>
+#include <string>
 
 #include "base/particles.hpp"
 #include "scene/scene.hpp"
@@ -22,6 +23,9 @@ Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused = null
 // Fills and settles a bed (no caching); the whole bed on every rank of `comm`.
 Particles fill_and_settle(const Scene& scene, std::ostream* log, MPI_Comm comm = MPI_COMM_NULL,
                           const std::function<void()>& between_blocks = nullptr);
+// Why a bed cannot be filled without gravity (gravity.g = 0: it never settles), naming the keys:
+// said by the fill, and by `tumble run`'s input check before any work.
+std::string settling_needs_gravity();
 // Rank r of `comm` keeps rows [N r / P, N (r+1) / P) of a bed every rank holds in full.
 Particles share_of(const Particles& all, MPI_Comm comm);
 

@@ -221,6 +221,12 @@ Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& 
   for (const auto& item : overrides) {
     std::string key;
     Value v = parse_override(item, key);
+    // The tier a resolved scene's values already hold is Tumble's record, not a setting: given by
+    // hand it records a tier that was not applied (the values stay the scene's).
+    if (key == "fidelity.applied")
+      throw InputError(
+          "scene error: key 'fidelity.applied' is written by Tumble (the tier a "
+          "resolved scene's values hold) and cannot be set; set fidelity.tier");
     values[key] = v;
     given[key] = v;
   }
@@ -409,12 +415,6 @@ void validate_scene(const Scene& s) {
   if (s.mode != Mode::rest && s.omega() <= 0)
     fail("protocol.rpm", "(or protocol.omega) must be > 0 when protocol.mode is '" +
                              std::string(name_of(s.mode)) + "'");
-  // (Before the repose rule: without gravity no bed Tumble fills settles, and that rule's words
-  // would hide the cause.)
-  if (s.g <= 0 && s.bed_file.empty())
-    fail("gravity.g",
-         "= 0: a bed Tumble fills settles under gravity (to fill.settle_rms_speed), which never "
-         "ends without it; give gravity.g > 0, or fill.bed_file for a bed made elsewhere");
   if (s.repose_pending() && s.g <= 0)
     fail("protocol.repose",
          "= 'measured' needs gravity.g > 0 (a bed without weight has no angle of repose); give "
