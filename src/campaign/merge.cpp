@@ -11,6 +11,7 @@
 
 #include "base/error.hpp"
 #include "base/exit_codes.hpp"
+#include "base/usable_directory.hpp"
 #include "base/version.hpp"
 #include "campaign/campaign_run.hpp"
 #include "campaign/ensemble.hpp"
@@ -79,9 +80,19 @@ std::size_t add_unaccounted(Ensemble& total, const std::vector<CaseTableRow>& ta
 
 int merge_campaign(const std::string& dir, int slices, std::ostream& out) {
   const fs::path pdir = fs::path(dir) / "partials";
+  if (fs::exists(pdir) && !fs::is_directory(pdir))
+    throw InputError("merge: '" + pdir.string() + "' is a file, not the folder of partial results");
   if (!fs::is_directory(pdir))
     throw InputError("merge: '" + pdir.string() +
                      "' does not exist: run the campaign (or its slices) into " + dir + " first");
+  // Where the ensemble goes, asked before any partial is folded: a folder that takes no file
+  // failed in PETSc's HDF5 viewer, with its error stack, and a folder in the file's place after
+  // the whole fold.
+  const std::string path = dir + "/ensemble.h5";
+  if (fs::is_directory(path))
+    throw InputError("merge: '" + path + "' is a folder; the ensemble file goes there: remove it");
+  if (const std::string why = cannot_make_directory(dir); !why.empty())
+    throw InputError("merge: '" + dir + "' cannot take ensemble.h5: " + why);
   std::map<int, std::map<int, std::string>> found;  // n -> i -> file
   const std::regex name(R"(slice_(\d+)_of_(\d+)\.h5)");
   for (const auto& entry : fs::directory_iterator(pdir)) {
@@ -157,7 +168,6 @@ int merge_campaign(const std::string& dir, int slices, std::ostream& out) {
   total.notes["written_utc"] = utc_now();
   total.notes["tumble_version"] = kVersion;
   total.notes["git_hash"] = kGitHash;
-  const std::string path = dir + "/ensemble.h5";
   total.write(path);
   out << "merge: " << files.size() << " of " << slices << " slices -> " << path << ": "
       << total.points.size() << " points, " << total.member_count() << " cases, "

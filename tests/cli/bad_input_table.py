@@ -105,6 +105,9 @@ FIXTURES = {
     "campaign_dir/": None,
     "no_partials/": None,
     "empty_partials/partials/": None,
+    "partials_file/partials": "a file where the folder of partial results goes\n",
+    "ensemble_dir/partials/": None,
+    "ensemble_dir/ensemble.h5/": None,
     # A stray file no slicing writes (it read as slice 3 of 2, or failed in std::stoi: exit 1).
     "stray_partials/partials/slice_3_of_2.h5": "stray\n",
     "huge_partials/partials/slice_1_of_99999999999.h5": "stray\n",
