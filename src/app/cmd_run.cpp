@@ -119,6 +119,12 @@ void register_run(CLI::App& app) {
     // (The engine and the domain read the environment only after the bed is made.)
     check_environment(MPI_COMM_WORLD);
     if (opts->check) {
+      // A checkpoint the run would start from is read and checked as the run would (its
+      // contents, the scene it was written with): --check said only that the file was one.
+      const std::string checkpoint =
+          !opts->restart.empty() ? opts->restart : scene.output_dir + "/checkpoint.h5";
+      if (!opts->restart.empty() || (opts->resume && std::filesystem::exists(checkpoint)))
+        agreed_input(MPI_COMM_WORLD, [&] { check_restart_from(scene, checkpoint); });
       std::cout << scene_to_text(scene);
       if (scene.bed_file.empty()) {
         std::cout << "# bed: ";

@@ -273,6 +273,12 @@ FoldersMade make_folders(const std::string& dir) {
 }
 }  // namespace
 
+void check_restart_from(const Scene& scene, const std::string& path) {
+  const io::CheckpointData c = io::read_checkpoint(path);
+  check_restart_compatible(scene, c.scene_text, path);
+  io::check_checkpoint_fits(c, scene, path, MPI_COMM_NULL);
+}
+
 RunResult run_realization(const Scene& given, const RunOptions& opt) {
   const MPI_Comm comm = size_of(opt.comm) > 1 ? opt.comm : MPI_COMM_NULL;
   const bool lead = rank_in(comm) == 0;  // writes the serial files and the log

@@ -49,4 +49,9 @@ struct RunResult {
 
 RunResult run_realization(const Scene& scene, const RunOptions& options);
 
+// What a restart from the checkpoint at `path` checks before it begins, on this process alone:
+// the file's contents, the scene it was written with against `scene`, its particles against the
+// tumbler. Throws as the run would (CorruptInputError, InputError): `tumble run --check`.
+void check_restart_from(const Scene& scene, const std::string& path);
+
 }  // namespace tumble
