@@ -441,6 +441,16 @@ TEST(RigidBulk, RestartContinuesBitwise) {
   EXPECT_EQ(a.series.frozen_fraction, b.series.frozen_fraction);
 }
 
+// The run of `scene` resumed from its checkpoint for `steps` more steps (with the bulk option
+// `scene` names), and its checkpoint then.
+io::CheckpointData resumed(const Scene& scene, std::int64_t steps) {
+  RunOptions more;
+  more.resume = true;
+  more.max_steps = steps;
+  run_realization(scene, more);
+  return io::read_checkpoint(scene.output_dir + "/checkpoint.h5");
+}
+
 TEST(RigidBulk, ARigidCheckpointContinuesDynamic) {
   // The rigid run's state is the dynamic engine's (its frozen particles at the wall's velocity,
   // their springs in the contact records): a restart with fidelity.bulk = dynamic (refused before)
@@ -460,11 +470,7 @@ TEST(RigidBulk, ARigidCheckpointContinuesDynamic) {
   std::size_t frozen = 0;
   for (std::int32_t state : a.particles.bulk_state) frozen += state < 0;
   ASSERT_GT(frozen, 300u) << "nothing frozen at the checkpoint: the test would show nothing";
-  RunOptions second;
-  second.resume = true;
-  second.max_steps = 500;
-  run_realization(scene("dynamic"), second);
-  const io::CheckpointData b = io::read_checkpoint(base + "/checkpoint.h5");
+  const io::CheckpointData b = resumed(scene("dynamic"), 500);
   ASSERT_EQ(b.step, 4500);
   EXPECT_EQ(parse_scene(b.scene_text, {}, "checkpoint").bulk, Bulk::dynamic);
   std::size_t still = 0;
@@ -511,11 +517,7 @@ TEST(RigidBulk, ADynamicCheckpointContinuesRigidWithItsSeriesAligned) {
   const io::CheckpointData a = io::read_checkpoint(base + "/checkpoint.h5");
   ASSERT_GT(a.series.time.size(), 0u);
   EXPECT_TRUE(a.series.frozen_fraction.empty()) << "a dynamic run keeps no frozen share";
-  RunOptions second;
-  second.resume = true;
-  second.max_steps = 1500;
-  run_realization(scene("rigid"), second);
-  const io::CheckpointData b = io::read_checkpoint(base + "/checkpoint.h5");
+  const io::CheckpointData b = resumed(scene("rigid"), 1500);
   ASSERT_EQ(b.step, 2500);
   ASSERT_EQ(b.series.frozen_fraction.size(), b.series.time.size());
   ASSERT_GT(b.series.time.size(), a.series.time.size());
