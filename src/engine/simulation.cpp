@@ -202,17 +202,8 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history,
     dom_->migrate_owned(p_);
     records = list_.springs_leaving(p_, p_.size(), rigid_ ? &bulk_.dormant : nullptr);
     dom_->route_records(records, halo_reach_, width, false);
-    if (rigid_) {
-      // This rank's dormant springs first, then those that arrived (a pair's first record is the
-      // one found; two copies of a dormant spring are the same bits).
-      std::vector<neighbor::SavedSpring> all = bulk_.dormant.take_records();
-      // (An eighth of room to spare when it must grow: not a copy of them all at each rebuild,
-      // nor std::vector's doubling.)
-      if (all.capacity() < all.size() + records.size())
-        all.reserve(all.size() + records.size() + all.size() / 8);
-      all.insert(all.end(), records.begin(), records.end());
-      records = std::move(all);
-    }
+    // (The rank's own dormant springs stay in bulk_.dormant: the build looks up those that a
+    // pair may take, ahead of the springs that arrived.)
   } else {
     // A restart or the first build: the histories (the restart's, dormant ones included) are
     // routed by id with the pair's position to every rank near it and matched by id after the
@@ -220,7 +211,8 @@ void Simulation::rebuild_distributed(const neighbor::ContactHistory* history,
     // (Records that every rank holds already stay: routed from where they would all be anchored,
     // the origin, each would reach every rank near it once more from every other rank.)
     if (history) records = history->records();
-    p_.resize(n_local_);  // drop the ghosts
+    bulk_.dormant.clear();  // (the restart's records hold them, a first build has none)
+    p_.resize(n_local_);    // drop the ghosts
     if (history_everywhere)
       dom_->migrate_owned(p_);
     else

@@ -257,11 +257,25 @@ bool stays_dormant(const ContactHistory& from, const std::vector<std::uint8_t>& 
   return !taken[k] && (mine(r.lo) || mine(r.hi)) && from.indexed(k);
 }
 
+// `more` after `records`, with an eighth of room to spare where they must grow, and memory given
+// back where they hold over a quarter more than they keep (the records taken were every spring of
+// a restart, or the bed thawed): a rank holds about one dormant spring per frozen particle, 88
+// bytes each, not to be copied once more per rebuild.
+void append_with_room(std::vector<SavedSpring>& records, const std::vector<SavedSpring>& more) {
+  const std::size_t size = records.size() + more.size();
+  if (records.capacity() < size || records.capacity() > size + size / 4 + 16) {
+    std::vector<SavedSpring> fit;
+    fit.reserve(size + size / 8);
+    fit.assign(records.begin(), records.end());
+    records.swap(fit);
+  }
+  records.insert(records.end(), more.begin(), more.end());
+}
+
 // The dormant springs after a rebuild: every record of `from` that no pair of the new list took
 // (`taken`), is the one lookups find for its pair, and has a particle `mine` says is this rank's,
 // then `more` (pairs that left the list at it). The records are taken from `from` and kept where
-// they lie (a rank holds about one dormant spring per frozen particle: 88 bytes each, once more
-// per rebuild if copied).
+// they lie.
 template <class Mine>
 std::vector<SavedSpring> keep_untaken(ContactHistory& from, const std::vector<std::uint8_t>& taken,
                                       const Mine& mine, const std::vector<SavedSpring>& more) {
@@ -272,20 +286,40 @@ std::vector<SavedSpring> keep_untaken(ContactHistory& from, const std::vector<st
   for (std::size_t k = 0; k < kept.size(); ++k)
     if (keep[k]) kept[count++] = kept[k];
   kept.resize(count);
-  // Room for an eighth more where it must grow; given back where it holds over a quarter more
-  // than is kept (the records taken were every spring of a restart, or the bed thawed).
-  const std::size_t size = count + more.size();
-  if (kept.capacity() < size || kept.capacity() > size + size / 4 + 16) {
-    std::vector<SavedSpring> fit;
-    fit.reserve(size + size / 8);
-    fit.assign(kept.begin(), kept.end());
-    kept.swap(fit);
-  }
-  kept.insert(kept.end(), more.begin(), more.end());
+  append_with_room(kept, more);
   return kept;
 }
 
-// The same from records that stay the caller's (a restart's): only those kept are copied.
+// The dormant springs of `records` that a pair of the new list may take: those with a particle
+// that moves here (a row of `p` with bulk_state >= 0, ghosts included) or with one of the ids of
+// `also` (springs that arrived, which may be copies of them). A list holds no pair of two frozen
+// particles, so every other record stays dormant whatever the list: only these are indexed and
+// looked up, a few percent of a rank's records on a flowing bed (indexing them all at every
+// rebuild was ~3% of a rigid step; docs/performance.md). They are moved out of `records` in their
+// order; the others stay, in theirs, where `mine` says one of their particles is this rank's (the
+// others left with it: springs_leaving sent them on; a list has no row for them).
+template <class Mine>
+std::vector<SavedSpring> take_waking(std::vector<SavedSpring>& records, const Particles& p,
+                                     const std::vector<SavedSpring>& also, const Mine& mine) {
+  const IdSet wanted([&](auto mark) {
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.bulk_state[i] >= 0) mark(p.id[i]);
+    for (const SavedSpring& r : also) mark(r.lo), mark(r.hi);
+  });
+  std::vector<SavedSpring> waking;
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    const SavedSpring& r = records[k];
+    if (wanted(r.lo) || wanted(r.hi))
+      waking.push_back(r);
+    else if (mine(r.lo) || mine(r.hi))
+      records[count++] = r;
+  }
+  records.resize(count);
+  return waking;
+}
+
+// keep_untaken from records that stay the caller's (a restart's): only those kept are copied.
 template <class Mine>
 std::vector<SavedSpring> copy_untaken(const ContactHistory& from,
                                       const std::vector<std::uint8_t>& taken, const Mine& mine,
@@ -353,6 +387,24 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local, Cont
   const std::size_t w = static_cast<std::size_t>(layout_.width);
   resize_discarding(history, w * nbr.size());
   std::fill(history.begin(), history.end(), 0.0);
+  // The rigid bulk: the rank's own particles (a dormant spring stays with the ranks that own one
+  // of its two), and its dormant springs that a pair of this list may take, which go ahead of the
+  // springs that arrived (a pair's first record is the one found: the rank's own); the others
+  // sleep on, where they lie.
+  const IdSet mine([&](auto mark) {
+    if (dormant)
+      for (std::size_t i = 0; i < n_local; ++i) mark(p.id[i]);
+  });
+  std::vector<SavedSpring> sleeping;
+  if (dormant) {
+    sleeping = dormant->take_records();
+    std::vector<SavedSpring> looked_up = take_waking(sleeping, p, saved.records(), mine);
+    if (!looked_up.empty()) {
+      const std::vector<SavedSpring>& arrived = saved.records();
+      looked_up.insert(looked_up.end(), arrived.begin(), arrived.end());
+      saved.set_records(std::move(looked_up));
+    }
+  }
   std::vector<std::uint8_t> taken(dormant ? saved.records().size() : 0, 0);
   const bool carry = carry_kept_;
   carry_kept_ = false;
@@ -413,9 +465,6 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local, Cont
     // rank's reach of its particles) or another rank's pair routed here: this rank keeps those
     // with one of its own particles. So does a kept spring that no pair took: its pair's
     // particles are both frozen now (or it left with one of them, and is not this rank's).
-    const IdSet mine([&](auto mark) {
-      for (std::size_t i = 0; i < n_local; ++i) mark(p.id[i]);
-    });
     ContactHistory now_dormant(layout_);
     if (carry) {
       HistoryValues scratch{};
@@ -432,8 +481,9 @@ void VerletList::build_with_ghosts(const Particles& p, std::size_t n_local, Cont
           now_dormant.save(id_a, id_b, old_history_.data() + w * q, kept_x_[a]);
         }
     }
-    // (Merged with the springs that arrive at the next rebuild, and indexed then.)
-    dormant->set_records_unindexed(keep_untaken(saved, taken, mine, now_dormant.records()));
+    // (Indexed at the next rebuild, as far as looked up.)
+    append_with_room(sleeping, keep_untaken(saved, taken, mine, now_dormant.records()));
+    dormant->set_records_unindexed(std::move(sleeping));
   }
   x_ref_.assign(p.x.begin(), p.x.begin() + static_cast<std::ptrdiff_t>(n_local));
   ++builds;
@@ -508,7 +558,13 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved, ContactHisto
     // A pair back in the list (one of its particles thawed) takes its dormant spring; on a restart
     // `saved` holds the dormant springs too. What no pair took stays dormant (one process: every
     // particle is its own).
-    if (!saved) dormant->finalize();  // (kept unindexed between rebuilds)
+    // (Kept unindexed between rebuilds: only those a pair may take are indexed, the others sleep
+    // on where they lie.)
+    std::vector<SavedSpring> sleeping;
+    if (!saved) {
+      sleeping = dormant->take_records();
+      dormant->set_records(take_waking(sleeping, p, {}, [](std::int64_t) { return true; }));
+    }
     const ContactHistory& from = saved ? *saved : *dormant;
     std::vector<std::uint8_t> taken(from.records().size(), 0);
     const IdSet listed = ids_with_records(from.records());
@@ -526,7 +582,8 @@ void VerletList::rebuild(Particles& p, const ContactHistory* saved, ContactHisto
     if (saved) {
       dormant->set_records_unindexed(copy_untaken(*saved, taken, all, kept));
     } else {
-      dormant->set_records_unindexed(keep_untaken(*dormant, taken, all, kept));
+      append_with_room(sleeping, keep_untaken(*dormant, taken, all, kept));
+      dormant->set_records_unindexed(std::move(sleeping));
     }
   }
   x_ref_ = p.x;

@@ -49,10 +49,12 @@ class VerletList {
   // particles by cell; build_with_ghosts() then lists, for each of the first `n_local`
   // particles, its owned partners of higher index and every ghost (index >= n_local) in reach,
   // with histories from `history` (matched by global id).
-  // With `dormant` (the rigid bulk, as in rebuild(); sort with frozen_last then): `history` also
-  // holds the rank's dormant springs, and *dormant becomes those of them that no pair of the new
-  // list took and that have one of this rank's own particles (and, after keep_springs, the kept
-  // springs that no pair took, below).
+  // With `dormant` (the rigid bulk, as in rebuild(); sort with frozen_last then): *dormant holds
+  // the rank's dormant springs (`history` those that arrived, which may be copies of them), and
+  // becomes those of both that no pair of the new list took and that have one of this rank's own
+  // particles (and, after keep_springs, the kept springs that no pair took, below). Only the
+  // dormant springs with a moving particle (or an arrived copy) are indexed and looked up: a pair
+  // of two frozen particles is in no list.
   // `border` (one flag per owned particle, in their present order; Domain::mark_border): the
   // particles that may pair with a ghost are sorted after all the others, so the first
   // interior_rows() rows of the list that build_with_ghosts() makes have owned partners only.
@@ -80,8 +82,8 @@ class VerletList {
   // With the rigid bulk (`dormant` given to both calls after it; Newton off) the same, and the
   // dormant springs stay with every rank that owns one of their particles: springs_leaving adds
   // those of them with a particle that left, and build_with_ghosts, given this rank's dormant
-  // springs and those that arrived as `history`, makes the kept springs that no pair took (pairs
-  // of two frozen particles now) dormant.
+  // springs and, as `history`, those that arrived, makes the kept springs that no pair took
+  // (pairs of two frozen particles now) dormant.
   void keep_springs(const Particles& p, std::size_t n_local);
   // Newton's third law across rank borders (set once per scene, the same on every rank): a
   // border pair of owned particle i and ghost j is listed on i's rank only if
