@@ -446,6 +446,25 @@ void validate_scene(const Scene& s) {
       fail("protocol.rpm", os.str());
     }
   }
+  // A protocol shorter than half a time step runs no step: `protocol.iterations = 1e-7` ran "0
+  // steps" and exited 0, as if it had done what was asked. (0 runs none on purpose: the bed
+  // alone.)
+  if (s.run_time() > 0 && s.protocol_steps() == 0) {
+    const bool turns = s.mode == Mode::single_axis && s.revolutions > 0;
+    const char* key = s.mode == Mode::biaxial ? "protocol.iterations"
+                      : turns                 ? "protocol.revolutions"
+                                              : "protocol.duration";
+    std::ostringstream os;
+    os << "= "
+       << (s.mode == Mode::biaxial ? s.iterations
+           : turns                 ? s.revolutions
+                                   : s.duration)
+       << " gives " << s.run_time() << " s of protocol, less than half a time step ("
+       << s.time_step()
+       << " s): no step would run; give a protocol of at least one time step, or 0 "
+          "for the bed alone";
+    fail(key, os.str());
+  }
   // An interval shorter than one time step cannot be kept: it silently meant an event every step
   // (output.checkpoint_interval = 1e-12 wrote bst_tiny's whole state each step, 40x slower).
   struct Interval {
