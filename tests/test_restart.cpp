@@ -135,4 +135,13 @@ TEST(Restart, RefusesACheckpointOfAnotherScene) {
                                            "contact.restitution=0.5"}),
                                r),
                InputError);
+  // Another seed is another realization: the checkpoint's bed would be recorded under it.
+  try {
+    run_realization(
+        tiny_scene({"scene.output_dir=" + base, "protocol.duration=0.001", "fill.seed=5"}), r);
+    ADD_FAILURE() << "a restart under another fill.seed went on";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("fill.seed (checkpoint 1, scene 5)"), std::string::npos)
+        << e.what();
+  }
 }

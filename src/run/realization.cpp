@@ -69,9 +69,12 @@ void check_restart_compatible(const Scene& scene, const std::string& ckpt_scene_
   const Scene old = parse_scene(ckpt_scene_text, {}, "checkpoint");
   std::string diffs;
   for (const auto& [key, value] : scene.resolved) {
+    // The fill's keys say how the first bed was made, which the checkpoint's state replaces; but
+    // fill.seed names the realization (results.h5's `seed`, a campaign's replicas): a restart
+    // under another seed went on with the checkpoint's bed recorded as the new seed's.
     if (key.rfind("output.", 0) == 0 || key == "protocol.iterations" ||
         key == "protocol.duration" || key == "scene.output_dir" || key == "scene.name" ||
-        key.rfind("fill.", 0) == 0 || key.rfind("neighbor.", 0) == 0 ||
+        (key.rfind("fill.", 0) == 0 && key != "fill.seed") || key.rfind("neighbor.", 0) == 0 ||
         key.rfind("parallel.", 0) == 0 || key.rfind("fidelity.bulk", 0) == 0)
       continue;
     auto it = old.resolved.find(key);
