@@ -306,16 +306,34 @@ std::vector<SavedSpring> take_waking(std::vector<SavedSpring>& records, const Pa
       if (p.bulk_state[i] >= 0) mark(p.id[i]);
     for (const SavedSpring& r : also) mark(r.lo), mark(r.hi);
   });
-  std::vector<SavedSpring> waking;
-  std::size_t count = 0;
+  // Which leave (to wake, or dropped), found first: the waking ones are then copied once into
+  // room for them and the springs that arrived (at a segment change every record wakes: grown by
+  // doubling, they would hold the store up to four times over), and the records after the first
+  // to leave are moved down.
+  std::vector<std::uint32_t> leave;
+  std::vector<std::uint8_t> wakes;
+  std::size_t waking_count = 0;
   for (std::size_t k = 0; k < records.size(); ++k) {
     const SavedSpring& r = records[k];
-    if (wanted(r.lo) || wanted(r.hi))
-      waking.push_back(r);
-    else if (mine(r.lo) || mine(r.hi))
-      records[count++] = r;
+    const bool wake = wanted(r.lo) || wanted(r.hi);
+    if (!wake && (mine(r.lo) || mine(r.hi))) continue;  // it sleeps on
+    leave.push_back(static_cast<std::uint32_t>(k));
+    wakes.push_back(wake);
+    waking_count += wake;
   }
-  records.resize(count);
+  std::vector<SavedSpring> waking;
+  waking.reserve(waking_count + also.size());
+  for (std::size_t m = 0; m < leave.size(); ++m)
+    if (wakes[m]) waking.push_back(records[leave[m]]);
+  std::size_t to = leave.empty() ? records.size() : leave.front();
+  for (std::size_t k = to, m = 0; k < records.size(); ++k) {
+    if (m < leave.size() && leave[m] == k) {
+      ++m;
+      continue;
+    }
+    records[to++] = records[k];
+  }
+  records.resize(to);
   return waking;
 }
 
