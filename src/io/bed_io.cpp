@@ -211,6 +211,16 @@ Particles read_bed(const std::string& path, const Scene& scene, BedSource source
   } else {
     try {
       H5File f(path, H5File::Mode::Read);
+      // Another kind of Tumble file that says its kind (a checkpoint) is named as what it is: it
+      // was said to be damaged or not written by Tumble.
+      if (f.has_attr("/", "kind")) {
+        const std::string kind = f.attr_string("/", "kind");
+        if (kind != "tumble bed" && kind.rfind("tumble ", 0) == 0)
+          refuse(std::string(source == BedSource::User ? "fill.bed_file: " : "") + "bed '" + path +
+                 "' is a " + kind + " file, not a bed (a bed is a file of " +
+                 "fill.bed_cache's, or a text file of id, type, diameter, x, y, z lines)" +
+                 (kind == "tumble checkpoint" ? "; to go on from a checkpoint, --restart it" : ""));
+      }
       // Lengths first: a reader must never index one array by another's length.
       const auto xs = f.shape("x"), is = f.shape("id"), ss = f.shape("species"),
                  rs = f.shape("radius");
