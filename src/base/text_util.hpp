@@ -2,6 +2,8 @@
 // Small text helpers shared by the CLI-facing code: key suggestions and durations.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <iomanip>
 #include <sstream>
 #include <string>
@@ -20,6 +22,18 @@ inline std::size_t edit_distance(const std::string& a, const std::string& b) {
     prev.swap(cur);
   }
   return prev[b.size()];
+}
+
+// The shortest text (15 to 17 significant digits, %g) that reads back to the same double: 0.15
+// stays "0.15", not 0.14999999999999999, and every value has exactly one rendering (a campaign's
+// case ids hash it: the form must not change).
+inline std::string canonical_number(double v) {
+  char buf[40];
+  for (int prec = 15; prec <= 17; ++prec) {
+    std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+    if (std::strtod(buf, nullptr) == v) break;
+  }
+  return buf;
 }
 
 // Seconds as h:mm:ss for progress lines ("--:--:--" when unknown).

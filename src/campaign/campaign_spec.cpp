@@ -34,16 +34,6 @@ bool campaign_controlled_key(const std::string& k) {
   return k == "scene.output_dir" || k == "scene.name" || k == "fill.seed" || k == "fill.bed_cache";
 }
 
-std::string canonical_number(double v) {
-  // The shortest text that reads back to the same double: 0.15 stays "0.15", and every value has
-  // exactly one rendering, so equal parameters hash equally.
-  char buf[40];
-  for (int prec = 15; prec <= 17; ++prec) {
-    std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-    if (std::strtod(buf, nullptr) == v) break;
-  }
-  return buf;
-}
 std::string display_number(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.10g", v);

@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "base/text_util.hpp"
+
 namespace tumble::campaign {
 
 struct ParamValue {
@@ -90,8 +92,8 @@ const std::vector<NamedParam>& named_params();
 // Keys the campaign sets itself for every case; sweeps and [overrides] may not touch them.
 bool campaign_controlled_key(const std::string& scene_key);
 
-// Number rendering: canonical (round-trip, for hashing) and display (for people).
-std::string canonical_number(double v);
+// Number rendering: canonical (round-trip, for hashing; base/text_util.hpp) and display (for
+// people).
 std::string display_number(double v);
 
 }  // namespace tumble::campaign

@@ -1,7 +1,6 @@
 #include "run/realization.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -59,9 +58,7 @@ std::string readable(const std::string& value) {
   char* end = nullptr;
   const double v = std::strtod(value.c_str(), &end);
   if (value.empty() || end != value.c_str() + value.size()) return value;
-  char text[64];
-  const auto written = std::to_chars(text, text + sizeof text, v);
-  return written.ec == std::errc() ? std::string(text, written.ptr) : value;
+  return canonical_number(v);
 }
 
 void check_restart_compatible(const Scene& scene, const std::string& ckpt_scene_text,
@@ -88,6 +85,15 @@ void check_restart_compatible(const Scene& scene, const std::string& ckpt_scene_
                      "': the scene differs from the checkpoint's in:" + diffs);
 }
 
+// A checkpoint read and checked for a restart of `scene`: its contents, and the scene it was
+// written with (the run's restart and `run --check` alike).
+io::CheckpointData read_checkpoint_for(const Scene& scene, const std::string& path, MPI_Comm comm) {
+  io::CheckpointData c = io::read_checkpoint(path, comm);
+  check_restart_compatible(scene, c.scene_text, path);
+  io::check_checkpoint_fits(c, scene, path, comm);
+  return c;
+}
+
 // The checkpoint to continue from ("" for a fresh start), decided by rank 0 for the whole run.
 std::string restart_path(const RunOptions& opt, const std::string& ckpt_path, MPI_Comm comm) {
   std::string restart = opt.restart_file;
@@ -110,11 +116,7 @@ Started restart_from(const std::string& path, const Scene& scene,
                      std::ostream* log) {
   // (A damaged checkpoint or one of another scene: every rank refuses it together; rank 0 says so.)
   io::CheckpointData c;
-  thrown_together(comm, [&] {
-    c = io::read_checkpoint(path, comm);
-    check_restart_compatible(scene, c.scene_text, path);
-    io::check_checkpoint_fits(c, scene, path, comm);
-  });
+  thrown_together(comm, [&] { c = read_checkpoint_for(scene, path, comm); });
   double rows = static_cast<double>(c.particles.size());
   if (comm != MPI_COMM_NULL) MPI_Allreduce(MPI_IN_PLACE, &rows, 1, MPI_DOUBLE, MPI_SUM, comm);
   const auto n = static_cast<std::size_t>(rows);
@@ -277,9 +279,7 @@ FoldersMade make_folders(const std::string& dir) {
 }  // namespace
 
 void check_restart_from(const Scene& scene, const std::string& path) {
-  const io::CheckpointData c = io::read_checkpoint(path);
-  check_restart_compatible(scene, c.scene_text, path);
-  io::check_checkpoint_fits(c, scene, path, MPI_COMM_NULL);
+  read_checkpoint_for(scene, path, MPI_COMM_NULL);
 }
 
 RunResult run_realization(const Scene& given, const RunOptions& opt) {
