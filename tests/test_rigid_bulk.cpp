@@ -1,8 +1,9 @@
 // fidelity.bulk = "rigid" (engine/rigid_bulk.cpp): with nothing frozen it is the dynamic engine
 // bit for bit; a bed turning as a solid freezes below its surface and the frozen particles follow
 // the wall's rotation exactly (also when read between rebuilds, which changes nothing); a bed
-// tilted below its repose angle freezes and stays put; one tilted above it thaws and flows as the
-// dynamic bed does; a change of the protocol's segment thaws the bed; a restart continues bitwise.
+// tilted below its repose angle freezes and stays put (whole, surface included, below a still
+// slope); one tilted above it thaws and flows as the dynamic bed does (also when it froze whole); a
+// change of the protocol's segment thaws the bed; a restart continues bitwise.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -270,15 +271,51 @@ TEST(RigidBulk, BedTiltedBelowReposeFreezesAndStaysPut) {
     }
 }
 
-TEST(RigidBulk, BedTiltedAboveReposeThawsAndFlowsAsTheDynamicBed) {
-  // Freeze the level bed at rest, then tilt it (frozen states and all) by 50°: what must flow
-  // thaws and flows. The dynamic bed from the same tilt is the reference.
-  const Scene s = rigid_scene();
+TEST(RigidBulk, BelowTheStillSlopeTheWholeBedFreezesAndAboveItTheSurfaceStaysMoving) {
+  // fidelity.bulk_still_slope: the bed tilted 18° at rest (below its ~27° repose angle; its
+  // surface then lies at ~12°, the settled tiny bed's own being ~6° the other way) with a still
+  // slope of 25° freezes whole, surface layer included (the bed tilted just below the
+  // repose angle: all frozen, nothing moves relative to the wall), and stays put. With 10°,
+  // below the surface's slope, the key changes nothing: the same run bit for bit as without it.
+  const Particles bed = tilted(tiny_settled_bed(), 18);
+  const std::vector<Vec3> start = by_id(bed);
+  auto run = [&](std::vector<std::string> keys) {
+    Simulation sim(rigid_scene(keys), bed, geometry::Protocol::at_rest());
+    sim.compute_forces();
+    for (int k = 0; k < 25000; ++k) sim.step();
+    return sim.particles();
+  };
+  auto frozen = [](const Particles& p) {
+    return static_cast<std::size_t>(
+        std::count_if(p.bulk_state.begin(), p.bulk_state.end(), [](int s) { return s < 0; }));
+  };
+  const Particles still = run({"fidelity.bulk_still_slope=25"});
+  EXPECT_EQ(frozen(still), still.size());
+  EXPECT_LT(mean_displacement(still, start, tiny_scene().d_small), 0.25);
+  const Particles margin = run({}), steeper = run({"fidelity.bulk_still_slope=10"});
+  EXPECT_LT(frozen(margin), still.size() / 2);  // the default margin of 3 d_large holds
+  EXPECT_EQ(frozen(steeper), frozen(margin));
+  const std::vector<Vec3> a = by_id(steeper), b = by_id(margin);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    differ += a[i].x != b[i].x || a[i].y != b[i].y || a[i].z != b[i].z;
+  EXPECT_EQ(differ, 0u);
+  std::printf("tilted 18 deg at rest: frozen %zu of %zu (still slope 25), %zu (10 and none)\n",
+              frozen(still), still.size(), frozen(margin));
+}
+
+namespace {
+// Freeze the level bed at rest (with `keys`), then tilt it (frozen states and all) by 50°, and run
+// it rigid and dynamic from that tilt: what must flow must thaw and flow as the dynamic bed does.
+void expect_tilted_bed_thaws_and_flows(const std::vector<std::string>& keys,
+                                       double frozen_share_before) {
+  const Scene s = rigid_scene(keys);
   Simulation level(s, tiny_settled_bed(), geometry::Protocol::at_rest());
   level.compute_forces();
   for (int k = 0; k < 20000; ++k) level.step();
   const std::size_t frozen_before = count_frozen(level);
-  ASSERT_GT(static_cast<double>(frozen_before), 0.2 * static_cast<double>(level.local_count()));
+  ASSERT_GT(static_cast<double>(frozen_before),
+            frozen_share_before * static_cast<double>(level.local_count()));
   const Particles bed = tilted(level.particles(), 50);
   const std::vector<Vec3> start = by_id(bed);
   std::vector<int> was_frozen(bed.size(), 0);
@@ -323,6 +360,17 @@ TEST(RigidBulk, BedTiltedAboveReposeThawsAndFlowsAsTheDynamicBed) {
       "tilted 50 deg: frozen before %zu, after %zu; mean displacement rigid %.3f d, "
       "dynamic %.3f d; of the particles frozen before: %.3f d, %.3f d; fewest frozen %zu\n",
       frozen_before, count_frozen(rigid), moved, moved_dynamic, deep, deep_dynamic, fewest_frozen);
+}
+}  // namespace
+
+TEST(RigidBulk, BedTiltedAboveReposeThawsAndFlowsAsTheDynamicBed) {
+  expect_tilted_bed_thaws_and_flows({}, 0.2);
+}
+
+TEST(RigidBulk, AWholeFrozenBedTiltedAboveItsStillSlopeThawsAndFlowsAsTheDynamicBed) {
+  // With a still slope of 20° the level bed freezes whole, surface included; tilted 50° it finds
+  // the surface steeper at its first pass, and the surface layer thaws, then what it uncovers.
+  expect_tilted_bed_thaws_and_flows({"fidelity.bulk_still_slope=20"}, 0.95);
 }
 
 namespace {

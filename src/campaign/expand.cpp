@@ -52,10 +52,12 @@ std::string display(const ParamValue& v) { return v.numeric ? display_number(v.n
 
 // A rigid-bulk key added after rigid campaigns existed, at the value that keeps the behaviour of
 // before the key: it stays out of case ids, so their ids stand. fidelity.bulk_thaw_gravity = 2
-// (its rule off) and fidelity.bulk_segment_thaw = on (every segment change thaws).
+// (its rule off), fidelity.bulk_segment_thaw = on (every segment change thaws) and
+// fidelity.bulk_still_slope = 0 (the surface layer never freezes).
 bool added_bulk_key_off(const std::string& key, const Scene& scene) {
   return (key == "fidelity.bulk_thaw_gravity" && scene.bulk_thaw_gravity == 2) ||
-         (key == "fidelity.bulk_segment_thaw" && scene.bulk_segment_thaw == OnOff::on);
+         (key == "fidelity.bulk_segment_thaw" && scene.bulk_segment_thaw == OnOff::on) ||
+         (key == "fidelity.bulk_still_slope" && scene.bulk_still_slope == 0);
 }
 
 }  // namespace

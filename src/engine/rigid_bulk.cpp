@@ -14,7 +14,10 @@
 // off), at a rebuild when gravity, seen from the tumbler, has changed by more than
 // bulk_thaw_gravity g since it froze (off at the default 2), and at the very next step when its
 // moving neighbours push it harder than bulk_thaw_force times its weight (checked in
-// kick_drift_rigid below).
+// kick_drift_rigid below). With bulk_still_slope set, the margin holds only while the free
+// surface is inclined at least that much: below it (a tilt under the repose angle, a bed at
+// rest) the surface layer freezes like the bulk, and it thaws at the first pass that finds the
+// surface steeper.
 //
 // A frozen particle's place is a function of time alone: turn(t_b -> t) x_b, from its position
 // x_b at the last rebuild (time t_b), so every rank computes the same bits for it, owner or ghost
@@ -48,6 +51,39 @@ Mat3 turn_between(const geometry::Protocol& protocol, double from, double to) {
   return turn;
 }
 }  // namespace
+
+// The tangent of the free surface's inclination: the plane y = a x + c z + d fitted by least
+// squares to the tops of the columns within the bulk's slope reach (HUGE_VAL where fewer than
+// three columns or no plane fits). Columns are d_large wide, so each top is the surface to within
+// a particle: over a bed tens of particles wide the fit's slope is that of the surface's plane.
+double Simulation::surface_slope_tan() const {
+  const RigidBulk& b = bulk_;
+  double n = 0, sx = 0, sz = 0, sy = 0, sxx = 0, szz = 0, sxz = 0, sxy = 0, szy = 0;
+  for (int cx = 0; cx < b.nx; ++cx)
+    for (int cz = 0; cz < b.nz; ++cz) {
+      const double y = b.top[static_cast<std::size_t>(cx) * b.nz + cz];
+      if (y < -1e299) continue;  // an empty column
+      const double x = b.x0 + (cx + 0.5) * b.bin, z = b.z0 + (cz + 0.5) * b.bin;
+      if (x * x + (b.slope_z ? z * z : 0.0) > b.slope_reach2) continue;
+      n += 1;
+      sx += x;
+      sz += z;
+      sy += y;
+      sxx += x * x;
+      szz += z * z;
+      sxz += x * z;
+      sxy += x * y;
+      szy += z * y;
+    }
+  if (n < 3) return HUGE_VAL;
+  // Centred sums: the 2 x 2 normal equations of (a, c).
+  const double cxx = sxx - sx * sx / n, czz = szz - sz * sz / n, cxz = sxz - sx * sz / n;
+  const double cxy = sxy - sx * sy / n, czy = szy - sz * sy / n;
+  const double det = cxx * czz - cxz * cxz;
+  if (!(det > 1e-12 * (cxx * czz))) return HUGE_VAL;
+  const double a = (cxy * czz - czy * cxz) / det, c = (czy * cxx - cxy * cxz) / det;
+  return std::sqrt(a * a + c * c);
+}
 
 void Simulation::update_bulk_states() {
   const std::size_t n = n_local_, all = p_.size();
@@ -118,6 +154,10 @@ void Simulation::update_bulk_states() {
   if (dom_)
     MPI_Allreduce(MPI_IN_PLACE, b.top.data(), static_cast<int>(columns), MPI_DOUBLE, MPI_MAX,
                   dom_->comm());
+  // The still surface: inclined less than bulk_still_slope, the bed's surface layer turns with
+  // the wall too (a tilt below the repose angle; a bed at rest), and may freeze like the bulk.
+  // The slope comes from the columns' tops, which every rank holds alike.
+  b.still = b.still_slope_tan > 0 && surface_slope_tan() < b.still_slope_tan;
   // Freeze after the dwell, thaw at once. The depth is taken below the top of the particle's own
   // column, one d_large wide: on a surface at the repose angle the column's highest top lies at
   // most ~tan(30 deg) d_large above the surface over the particle. (Against the lowest of the
@@ -147,7 +187,7 @@ void Simulation::update_bulk_states() {
     int cx, cz;
     column_of(p_.x[i], cx, cz);
     const double surface = b.top[static_cast<std::size_t>(cx) * b.nz + cz];
-    const bool deep = surface - (p_.x[i].y + p_.radius[i]) > b.margin;
+    const bool deep = b.still || surface - (p_.x[i].y + p_.radius[i]) > b.margin;
     const bool eligible = deep && !b.unsettled[i] && !new_segment;
     std::int32_t& s = p_.bulk_state[i];
     Vec3& g_frozen = p_.bulk_gravity[i];

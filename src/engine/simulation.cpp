@@ -110,6 +110,11 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     bulk_.thaw_acceleration = s.bulk_thaw_force * s.g;
     bulk_.thaw_gravity = s.bulk_thaw_gravity;
     bulk_.segment_thaw = s.bulk_segment_thaw == OnOff::on;
+    bulk_.still_slope_tan = std::tan(deg2rad(s.bulk_still_slope));
+    // The slope is fitted to the columns within 0.7 R of the axis: nearer the wall a tilted
+    // bed's columns end under the wall's overhang, below the plane of its free surface.
+    bulk_.slope_reach2 = 0.49 * s.radius * s.radius;
+    bulk_.slope_z = !is_cylinder_;
     bulk_.bin = s.d_large;
     const double hz = is_cylinder_ ? 0.5 * s.length : s.radius;
     bulk_.x0 = -s.radius;

@@ -198,6 +198,8 @@ class Simulation {
   // Rigid bulk, at a neighbour rebuild: freezes and thaws (before the particles move to their
   // cells and ranks), then the pairs the force loops run.
   void update_bulk_states();
+  // The tangent of the free surface's inclination, from the bulk's column tops.
+  double surface_slope_tan() const;
   void set_pair_view();
   template <class Law, bool kFriction, class Wall>
   void rough_wall_forces(const Wall& wall);
@@ -289,6 +291,10 @@ class Simulation {
     double thaw_acceleration = 0;   // [m/s^2]: thaw_force g
     double thaw_gravity = 2;        // |change of gravity's direction| since freezing (2: never)
     bool segment_thaw = true;       // a new protocol segment thaws everything
+    double still_slope_tan = 0;     // the surface layer may freeze below this slope (0: never)
+    double slope_reach2 = 0;        // [m^2] the columns the slope is fitted to: x^2 (+ z^2) below
+    bool slope_z = true;            // z counts in the columns' reach (not along a cylinder's axis)
+    bool still = false;             // the last pass found the surface still (below the slope)
     double bin = 0, x0 = 0, z0 = 0;
     int nx = 0, nz = 0;
     std::vector<double> top;  // highest particle top per column (-1e300: empty)

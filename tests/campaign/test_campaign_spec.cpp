@@ -365,6 +365,12 @@ TEST(Expand, RigidBulkKeysEnterTheIdOnlyWhenTheBulkIsRigid) {
   s.overrides.push_back("fidelity.bulk_segment_thaw=off");
   EXPECT_NE(expand(s).cases[0].id, rigid);
   s.overrides.push_back("fidelity.bulk_segment_thaw=on");
+  // And the still surface: 0 (the surface layer never freezes, as before the key) leaves them.
+  s.overrides.push_back("fidelity.bulk_still_slope=0");
+  EXPECT_EQ(expand(s).cases[0].id, rigid);
+  s.overrides.push_back("fidelity.bulk_still_slope=20");
+  EXPECT_NE(expand(s).cases[0].id, rigid);
+  s.overrides.push_back("fidelity.bulk_still_slope=0");
   s.overrides.push_back("fidelity.bulk_dwell=8");
   EXPECT_NE(expand(s).cases[0].id, rigid);
 }
@@ -398,13 +404,17 @@ TEST(Expand, ASweptRigidBulkHasItsThresholdsInItsId) {
     EXPECT_EQ(a.cases[k].id == b.cases[k].id, !rigid) << a.cases[k].params_text;
     EXPECT_EQ(a.cases[k].point_id == b.cases[k].point_id, !rigid) << a.cases[k].params_text;
   }
-  // The gravity rule at its "off" value stays out here too, and so does the segment thaw on.
+  // The gravity rule at its "off" value stays out here too, and so do the segment thaw on and
+  // the still slope 0.
   s.overrides.back() = "fidelity.bulk_thaw_gravity=2";
   const Expansion c = expand(s);
   for (std::size_t k = 0; k < 2; ++k) EXPECT_EQ(a.cases[k].id, c.cases[k].id);
   s.overrides.back() = "fidelity.bulk_segment_thaw=on";
   const Expansion d = expand(s);
   for (std::size_t k = 0; k < 2; ++k) EXPECT_EQ(a.cases[k].id, d.cases[k].id);
+  s.overrides.back() = "fidelity.bulk_still_slope=0";
+  const Expansion e = expand(s);
+  for (std::size_t k = 0; k < 2; ++k) EXPECT_EQ(a.cases[k].id, e.cases[k].id);
 }
 
 TEST(Expand, ASweptBulkOptionKeepsTheBedsCommon) {

@@ -736,6 +736,24 @@ TEST(Domain, RigidBulkMatchesSerial) {
   EXPECT_GT(par.domain()->bisections(), 1);
 }
 
+// The same with a still slope (fidelity.bulk_still_slope = 10°, above the tilt's first fraction of
+// a degree): the surface layer freezes too, so the whole bed turns frozen across the ranks' borders
+// (no moving particle on a rank, dormant springs only), and the slope, fitted to the column tops
+// every rank holds alike, decides alike.
+TEST(Domain, RigidBulkFrozenWholeMatchesSerial) {
+  const Scene s =
+      tiny({"fidelity.bulk=rigid", "fidelity.bulk_dwell=0.004", "fidelity.bulk_calm_distance=0.1",
+            "fidelity.bulk_still_slope=10", "neighbor.skin=0.05",
+            "parallel.rebalance_threshold=1.0", "parallel.frozen_weight=0.12"});
+  const Particles bed = tiny_bed(s);
+  Simulation serial(s, bed, biaxial(s));
+  Simulation par(s, share_of(bed, MPI_COMM_WORLD), biaxial(s), 0, 0, MPI_COMM_WORLD);
+  SpringCheck springs;
+  EXPECT_GT(step_side_by_side(serial, par, 1000, 20, springs), 0.95);
+  springs.expect(1e-9 * s.d_small, 1000, "sphere frozen whole");
+  EXPECT_LT(max_deviation(serial.particles(), par.gather_all()), 1e-9 * s.d_small);
+}
+
 // The same on the Rapaport cylinder (axis z) from its settled bed (Froude 0.08, beyond the rolling
 // regime), with closed ends and axially periodic (pairs across the period, between ranks too; the
 // calm test and every pair take the nearest image); a calm
