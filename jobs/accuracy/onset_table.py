@@ -1,0 +1,181 @@
+#!/usr/bin/env python3
+"""The onset of flow in flow_accuracy.sh's runs: how a bed rotated from rest starts to flow, and
+whether a rigid-bulk setting changes it (docs/accuracy.md, "The still surface at `standard`").
+
+Each run of jobs/accuracy/flow_accuracy.sh turns a settled bed 80° about x at the tier's speed.
+For the first ~30° the bed turns with the wall and its surface steepens; then the surface layer
+starts to move and a flowing layer forms. fidelity.bulk_still_slope freezes the whole bed while
+the surface is below the key and thaws the surface layer when it passes it, so this is where it
+can err. Per run, from the series sampled once per degree (angle = the wall's rotation, slope =
+series/repose_angle, speed = series/surface_speed / (omega R), downhill along the surface):
+
+* creep onset slope: the surface slope at the first sample from which the speed stays above
+  CREEP (0.1 omega R) for three samples: where the surface stops turning with the wall;
+* flow onset angle: the first sample from which the speed stays above half the run's mean over
+  40-80° (the established layer's speed) for three samples (a burst of two is not the flow);
+* largest slope before the flow onset (the bed's angle of maximum stability, over the samples);
+* peak speed before 27° of rotation (a held layer let go shows here as a burst);
+* slide before 27°: the surface's downhill travel up to 27° of rotation, the sum over the samples
+  of the speed times the time since the sample before, in d_small (how far the top grains moved
+  before the flow began).
+
+Per set of runs: mean ± Student 95% interval over the seeds. Each other set against the first
+(runs of the same seed start from the same settled bed): the paired difference per seed, Student's
+t on the differences, and the Benjamini-Hochberg procedure at q = 0.05 over every difference in
+the table. Fewer than 3 pairs: the difference is printed, no test.
+
+usage: onset_table.py DIR [DIR ...]   (each DIR holds seed<k>/results.h5; the first is the base,
+       e.g. OUT/standard, then OUT/standard-rigid of each flow_accuracy.sh job)
+       [--label NAME ...] one name per DIR (default: the DIR's last two parts)
+       [--plot FILE.png]  slope and speed against the rotation angle, mean per set
+"""
+import argparse
+import glob
+import math
+import os
+import sys
+
+import h5py
+import numpy as np
+from scipy import stats
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+from postproc.report_stats import bh_reject, mean_ci  # noqa: E402
+
+CREEP = 0.1      # omega R: above the reading of a bed turning as a solid (within ±0.06 but for
+                 # single samples; a grain's depth times omega is ~0.1 omega R at R/d = 8.75)
+BETA_ANGLE = 27  # degrees of rotation: the protocol's tilt (beta = 27 deg) ends here
+
+
+def scene_value(f, key):
+    scene = f.attrs["scene"]
+    scene = scene.decode() if isinstance(scene, bytes) else scene
+    kv = dict(line.split(" = ", 1) for line in scene.splitlines() if " = " in line)
+    return kv[key]
+
+
+def first_lasting(above, samples=3):
+    """The first sample from which `above` holds for `samples` samples (None: never)."""
+    return next((k for k in range(len(above) - samples + 1) if above[k:k + samples].all()), None)
+
+
+def onset(path):
+    """The onset measures of one run (NaN where the run never reaches them)."""
+    with h5py.File(path, "r") as f:
+        if not bool(f.attrs.get("complete", 1)):
+            return None
+        omega = 2 * math.pi * float(scene_value(f, "protocol.rpm")) / 60
+        radius = float(scene_value(f, "tumbler.radius"))
+        d_small = float(scene_value(f, "particles.d_small"))
+        t = f["series/time"][:]
+        slope = f["series/repose_angle"][:]
+        speed = f["series/surface_speed"][:] / (omega * radius)
+        seed = int(f.attrs["seed"])
+    angle = np.degrees(omega * t)
+    nan = math.nan
+    creep = first_lasting(speed > CREEP)
+    flowing = speed[(angle >= 40) & (angle <= 80)]
+    half = 0.5 * np.nanmean(flowing) if flowing.size else nan
+    flow = first_lasting(speed > half)  # lasting: a held layer's burst at its thaw is no flow
+    early = angle <= BETA_ANGLE
+    dt = np.diff(t, prepend=t[0])
+    return {
+        "seed": seed,
+        "creep onset slope (deg)": slope[creep] if creep is not None else nan,
+        "flow onset angle (deg)": angle[flow] if flow is not None else nan,
+        "largest slope before the flow (deg)": np.nanmax(slope[:flow + 1]) if flow is not None else nan,
+        "peak speed before 27 deg (omega R)": np.nanmax(speed[early]),
+        "slide before 27 deg (d_small)": np.nansum((speed * dt)[early]) * omega * radius / d_small,
+        "series": (angle, slope, speed),
+    }
+
+
+MEASURES = ["creep onset slope (deg)", "flow onset angle (deg)",
+            "largest slope before the flow (deg)", "peak speed before 27 deg (omega R)",
+            "slide before 27 deg (d_small)"]
+
+
+def load(directory):
+    runs = {}
+    for path in sorted(glob.glob(os.path.join(directory, "seed*", "results.h5"))):
+        r = onset(path)
+        if r is not None:
+            runs[r["seed"]] = r
+    return runs
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("dirs", nargs="+")
+    ap.add_argument("--label", nargs="*")
+    ap.add_argument("--plot")
+    a = ap.parse_args()
+    labels = a.label or ["/".join(os.path.normpath(d).split(os.sep)[-2:]) for d in a.dirs]
+    if len(labels) != len(a.dirs):
+        sys.exit("--label: one name per DIR")
+    sets = [load(d) for d in a.dirs]
+    for label, runs, d in zip(labels, sets, a.dirs):
+        if not runs:
+            sys.exit(f"{d}: no complete run (seed<k>/results.h5)")
+        if len(runs) < 3:
+            print(f"# warning: {label} has {len(runs)} run(s); intervals need more")
+    print("| measure | " + " | ".join(f"{lab} (N = {len(r)})" for lab, r in zip(labels, sets)) + " |")
+    print("|---" * (len(sets) + 1) + "|")
+    for m in MEASURES:
+        cells = []
+        for runs in sets:
+            mean, ci, n = mean_ci([r[m] for r in runs.values()])
+            cells.append(f"{mean:.3g} ± {ci:.2g}" if np.isfinite(ci) else f"{mean:.3g}")
+        print(f"| {m} | " + " | ".join(cells) + " |")
+    # Paired differences against the first set, one family for BH.
+    tests = []
+    base = sets[0]
+    for label, runs in zip(labels[1:], sets[1:]):
+        common = sorted(set(base) & set(runs))
+        for m in MEASURES:
+            d = np.array([runs[s][m] - base[s][m] for s in common])
+            d = d[np.isfinite(d)]
+            mean = float(d.mean()) if d.size else math.nan
+            if d.size >= 3 and d.std(ddof=1) > 0:
+                p = float(stats.ttest_1samp(d, 0).pvalue)
+                half = float(stats.t.ppf(0.975, d.size - 1) * d.std(ddof=1) / math.sqrt(d.size))
+            else:
+                p, half = math.nan, math.nan
+            tests.append((label, m, mean, half, p, d.size))
+    ps = np.array([t[4] for t in tests])
+    tested = np.isfinite(ps)
+    reject, adjusted = bh_reject(ps)  # untested (NaN) entries are neither counted nor rejected
+    print(f"\nPaired by seed against {labels[0]} (Student t on the differences; BH at q = 0.05 over"
+          f" the {int(tested.sum())} tests):\n")
+    print("| set | measure | difference (95% CI) | pairs | p | p adjusted (BH) | significant |")
+    print("|---|---|---|---|---|---|---|")
+    for (label, m, mean, half, p, n), rej, adj in zip(tests, reject, adjusted):
+        diff = f"{mean:+.3g} ± {half:.2g}" if np.isfinite(half) else f"{mean:+.3g} (no test)"
+        print(f"| {label} | {m} | {diff} | {n} | {p:.3g} | {adj:.3g} | {'yes' if rej else 'no'} |")
+    print("\nReading: a difference is a change in how the bed starts to flow that these seeds"
+          " resolve; 'no' everywhere means none resolved at this N, not that there is none.")
+    if a.plot:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
+        for label, runs in zip(labels, sets):
+            grid = np.arange(0, 50.5, 1.0)
+            sl = np.mean([np.interp(grid, r["series"][0], r["series"][1]) for r in runs.values()], 0)
+            sp = np.mean([np.interp(grid, r["series"][0], r["series"][2]) for r in runs.values()], 0)
+            ax1.plot(grid, sl, label=f"{label} (N = {len(runs)})")
+            ax2.plot(grid, sp, label=label)
+        ax1.set_ylabel("surface slope (deg)")
+        ax2.set_ylabel("surface speed / (omega R)")
+        ax2.set_xlabel("rotation of the wall from the settled bed (deg)")
+        ax2.axhline(CREEP, color="grey", lw=0.5, ls=":")
+        for ax in (ax1, ax2):
+            ax.axvline(BETA_ANGLE, color="grey", lw=0.5, ls="--")
+        ax1.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(a.plot, dpi=110)
+        print(f"\nplot: {a.plot}")
+
+
+if __name__ == "__main__":
+    main()
