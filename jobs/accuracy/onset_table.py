@@ -17,7 +17,9 @@ series/repose_angle, speed = series/surface_speed / (omega R), downhill along th
 * peak speed before 27° of rotation (a held layer let go shows here as a burst);
 * slide before 27°: the surface's downhill travel up to 27° of rotation, the sum over the samples
   of the speed times the time since the sample before, in d_small (how far the top grains moved
-  before the flow began).
+  before the flow began);
+* peak speed 27-40°: the first avalanche, where the layer forms over the bed (a frozen bed under
+  it can make it run faster than over a dynamic one).
 
 Per set of runs: mean ± Student 95% interval over the seeds. Each other set against the first
 (runs of the same seed start from the same settled bed): the paired difference per seed, Student's
@@ -86,13 +88,14 @@ def onset(path):
         "largest slope before the flow (deg)": np.nanmax(slope[:flow + 1]) if flow is not None else nan,
         "peak speed before 27 deg (omega R)": np.nanmax(speed[early]),
         "slide before 27 deg (d_small)": np.nansum((speed * dt)[early]) * omega * radius / d_small,
+        "peak speed 27-40 deg (omega R)": np.nanmax(speed[(angle > BETA_ANGLE) & (angle <= 40)]),
         "series": (angle, slope, speed),
     }
 
 
 MEASURES = ["creep onset slope (deg)", "flow onset angle (deg)",
             "largest slope before the flow (deg)", "peak speed before 27 deg (omega R)",
-            "slide before 27 deg (d_small)"]
+            "slide before 27 deg (d_small)", "peak speed 27-40 deg (omega R)"]
 
 
 def load(directory):

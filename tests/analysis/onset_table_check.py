@@ -99,7 +99,7 @@ def main():
     check("slide of the base", got is not None and abs(float(got.split()[0]) - slide) < 5e-3 * slide,  # 3 digits printed
           f"{got} against {slide:.4g}")
     # Paired peak difference: (1.3 + 0.1 k) - (0.3 + 0.01 k) = 1 + 0.09 k, mean 1.225.
-    rows = [line for line in out.splitlines() if line.startswith("| still | peak speed")]
+    rows = [line for line in out.splitlines() if line.startswith("| still | peak speed before")]
     check("the burst is the planted difference, kept by BH",
           len(rows) == 1 and "+1.23" in rows[0] and rows[0].rstrip(" |").endswith("yes"),
           rows[0] if rows else "no row")
