@@ -20,7 +20,7 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from script_run import script_stdout  # noqa: E402
+from script_run import Checks, script_stdout  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TABLE = os.path.join(HERE, "..", "..", "jobs", "accuracy", "onset_table.py")
@@ -28,13 +28,7 @@ RPM = 3.0
 OMEGA = 2 * math.pi * RPM / 60
 RADIUS = 0.01 / OMEGA  # omega R = 0.01 m/s
 D_SMALL = 0.002
-failures = 0
-
-
-def check(name, ok, detail=""):
-    global failures
-    print(f"{'ok  ' if ok else 'FAIL'} {name}{': ' + detail if detail else ''}")
-    failures += not ok
+check = Checks()
 
 
 def series(rigid, seed):
@@ -121,7 +115,7 @@ def main():
                        text=True)
     check("labels must match the directories", r.returncode != 0 and "--label" in r.stderr,
           r.stderr.strip())
-    sys.exit(1 if failures else 0)
+    sys.exit(1 if check.failures else 0)
 
 
 if __name__ == "__main__":

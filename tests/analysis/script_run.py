@@ -9,3 +9,14 @@ def script_stdout(script, *args):
     if r.returncode != 0:
         print(r.stdout, r.stderr)
     return r.stdout
+
+
+class Checks:
+    """A check script's `ok`/`FAIL` lines and its count of failures (its exit status)."""
+
+    def __init__(self):
+        self.failures = 0
+
+    def __call__(self, name, ok, detail=""):
+        print(f"{'ok  ' if ok else 'FAIL'} {name}{': ' + detail if detail else ''}")
+        self.failures += not ok
