@@ -43,6 +43,8 @@ from scipy import stats
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 from postproc.report_stats import bh_reject, mean_ci  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from accuracy_table import is_complete  # noqa: E402  (the flow runs' own completeness rule)
 
 CREEP = 0.1      # omega R: above the reading of a bed turning as a solid (within ±0.06 but for
                  # single samples; a grain's depth times omega is ~0.1 omega R at R/d = 8.75)
@@ -63,9 +65,9 @@ def first_lasting(above, samples=3):
 
 def onset(path):
     """The onset measures of one run (NaN where the run never reaches them)."""
+    if not is_complete(path):
+        return None
     with h5py.File(path, "r") as f:
-        if not bool(f.attrs.get("complete", 1)):
-            return None
         omega = 2 * math.pi * float(scene_value(f, "protocol.rpm")) / 60
         radius = float(scene_value(f, "tumbler.radius"))
         d_small = float(scene_value(f, "particles.d_small"))
