@@ -29,19 +29,13 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from script_run import script_stdout  # noqa: E402
+from script_run import Checks, script_stdout  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TABLE = os.path.join(HERE, "..", "..", "jobs", "accuracy", "accuracy_table.py")
 RPM, RADIUS = 3.0, 0.07
 OMEGA = 2 * math.pi * RPM / 60
-failures = 0
-
-
-def check(name, ok, detail=""):
-    global failures
-    print(f"{'ok  ' if ok else 'FAIL'} {name}{': ' + detail if detail else ''}")
-    failures += not ok
+check = Checks()
 
 
 def write_run(path, seed, level, speed, frozen=None, ranks=2, h=None, profile=None):
@@ -191,5 +185,5 @@ check("edge bins: the RMS over all bins is the edges' (0.871)",
       every is not None and abs(every - expect) < 1e-3, f"{every} against {expect:.4f}")
 check("no filled-bins row where every bin is filled", "bins filled in" not in table(os.path.join(work, "copies")))
 
-print(f"{failures} failure(s)")
-sys.exit(1 if failures else 0)
+print(f"{check.failures} failure(s)")
+sys.exit(1 if check.failures else 0)

@@ -20,13 +20,10 @@ from scipy import stats
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TABLE = os.path.join(HERE, "..", "..", "jobs", "accuracy", "enrichment_table.py")
-failures = 0
+sys.path.insert(0, HERE)
+from script_run import Checks  # noqa: E402
 
-
-def check(name, ok, detail=""):
-    global failures
-    print(f"{'ok  ' if ok else 'FAIL'} {name}{': ' + detail if detail else ''}")
-    failures += not ok
+check = Checks()
 
 
 def write(path, points):
@@ -145,5 +142,5 @@ write(os.path.join(old, "analysis.h5"),
 rc, out2 = run(old)
 check("a file without shell_share_other refused naming it", rc != 0 and "shell_share_other" in out2,
       out2.strip())
-print(f"{failures} failure(s)")
-sys.exit(1 if failures else 0)
+print(f"{check.failures} failure(s)")
+sys.exit(1 if check.failures else 0)

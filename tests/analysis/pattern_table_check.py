@@ -30,13 +30,10 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 TABLE = os.path.join(HERE, "..", "..", "jobs", "accuracy", "pattern_table.py")
 ITERATIONS = 4
-failures = 0
+sys.path.insert(0, HERE)
+from script_run import Checks  # noqa: E402
 
-
-def check(name, ok, detail=""):
-    global failures
-    print(f"{'ok  ' if ok else 'FAIL'} {name}{': ' + detail if detail else ''}")
-    failures += not ok
+check = Checks()
 
 
 def write_case(out, cid, replica, params, c_l, radial):
@@ -149,7 +146,7 @@ def main():
     rc, text = run(three, str(ITERATIONS), "--split", "fidelity.bulk=dynamic,rigid")
     check("two keys: a column of two points refused", rc != 0 and "holds cases of 2 points" in text,
           text.strip().splitlines()[0] if text.strip() else "")
-    sys.exit(1 if failures else 0)
+    sys.exit(1 if check.failures else 0)
 
 
 if __name__ == "__main__":

@@ -20,19 +20,13 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from script_run import script_stdout  # noqa: E402
+from script_run import Checks, script_stdout  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TABLE = os.path.join(HERE, "..", "..", "jobs", "accuracy", "rigid_iteration_table.py")
 STEPS, CHUNK = 2220, 30
 EDGES = [270, 840, 1110, 1380, 1950, 2220]
-failures = 0
-
-
-def check(name, ok, detail=""):
-    global failures
-    print(f"{'ok  ' if ok else 'FAIL'} {name}{': ' + detail if detail else ''}")
-    failures += not ok
+check = Checks()
 
 
 def write_job(out, base, last_step=STEPS):
@@ -98,5 +92,5 @@ r = subprocess.run([sys.executable, TABLE, out], capture_output=True, text=True)
 check("without --base, a job with no dynamic run is refused with the runs named",
       r.returncode != 0 and "no paired chunks of dynamic and rigid" in r.stderr, r.stderr.strip())
 
-print(f"{failures} failure(s)")
-sys.exit(1 if failures else 0)
+print(f"{check.failures} failure(s)")
+sys.exit(1 if check.failures else 0)
