@@ -191,3 +191,32 @@ TEST(SceneValidation, ReposeIsMeasuredByDefaultOrANumberInRange) {
   EXPECT_EQ(parse_scene(scene_to_text(m)).repose.deg, 26.5);
   EXPECT_EQ(m.resolved.at("protocol.repose"), "26.5");
 }
+
+TEST(SceneValidation, StillSlopeIsANumberOrMeasuredForARigidBulk) {
+  const Scene d = parse_scene("");
+  EXPECT_TRUE(d.bulk_still_slope.known);
+  EXPECT_EQ(d.bulk_still_slope.deg, 0.0);  // off
+  const std::vector<std::string> rigid = {"fidelity.bulk=rigid", "protocol.repose=27",
+                                          "fidelity.bulk_still_slope=measured"};
+  const Scene m = parse_scene("", rigid);
+  EXPECT_TRUE(m.still_slope_pending());
+  EXPECT_TRUE(m.bed_turn_pending());  // the turn measures it, though β is given
+  EXPECT_FALSE(m.repose_pending());
+  EXPECT_FALSE(parse_scene(scene_to_text(m)).bulk_still_slope.known);  // the word reads back
+  // A dynamic bulk never freezes: nothing to measure.
+  EXPECT_FALSE(parse_scene("", {"protocol.repose=27", "fidelity.bulk_still_slope=measured"})
+                   .bed_turn_pending());
+  std::vector<std::string> weightless = rigid;
+  weightless.push_back("gravity.g=0");
+  const std::string e = error_of("", weightless);
+  EXPECT_NE(e.find("'fidelity.bulk_still_slope' = 'measured' needs gravity.g > 0"),
+            std::string::npos)
+      << e;
+  const std::string range = error_of("", {"fidelity.bulk_still_slope=95"});
+  EXPECT_NE(range.find("out of range [0, 89] or 'measured'"), std::string::npos) << range;
+  Scene filled = m;
+  set_measured_still_slope(filled, 11.5);
+  EXPECT_FALSE(filled.bed_turn_pending());
+  EXPECT_EQ(parse_scene(scene_to_text(filled)).bulk_still_slope.deg, 11.5);
+  EXPECT_EQ(filled.resolved.at("fidelity.bulk_still_slope"), "11.5");
+}

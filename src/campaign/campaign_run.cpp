@@ -200,7 +200,7 @@ std::string repose_turn_progress(const CampaignSpec& spec, const Case& c,
     if (!c.scene_error.empty()) return "";
     const Scene s = case_scene(spec, c, case_dir(campaign_dir, c.id), bed_cache, seed);
     const std::string path = repose_turn_path(s);
-    if (!s.repose_pending() || !fs::exists(path)) return "";
+    if (!s.bed_turn_pending() || !fs::exists(path)) return "";
     io::H5File f(path, io::H5File::Mode::Read);
     std::ostringstream os;
     os << "beta turn kept at " << std::fixed << std::setprecision(1)

@@ -168,9 +168,9 @@ CaseOutcome run_case(const CaseContext& ctx, const CaseTask& task) {
         check_time_limit(t0, c.time_limit, group, "while settling the bed or measuring beta");
     };
     // β = "measured" is filled in first: the collection plan counts steps per iteration.
-    const Scene scene =
-        with_repose_resolved(case_scene(spec, c, dir, ctx.bed_cache, task.seed),
-                             dir + "/checkpoint.h5", lead ? &log : nullptr, group, between_blocks);
+    const Scene scene = with_bed_turn_resolved(case_scene(spec, c, dir, ctx.bed_cache, task.seed),
+                                               dir + "/checkpoint.h5", lead ? &log : nullptr, group,
+                                               between_blocks);
     const CollectPlan plan = make_collect_plan(spec.collect, scene);
     std::unique_ptr<CaseCollector> collector = make_case_collector(plan, scene, dir);
 

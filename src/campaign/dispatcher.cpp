@@ -78,9 +78,9 @@ const CaseTask* Dispatcher::peek(const std::vector<int>& group) {
 
 namespace {
 // The cache files a case would make before its protocol: its settled bed unless given one, and
-// its measured β if the protocol asks for one; those that exist are not made again. None when it
-// resumes from its checkpoint (which holds the particles and β), or when its scene is invalid
-// (it fails at once).
+// its measured β and still slope if the scene asks for them; those that exist are not made again.
+// None when it resumes from its checkpoint (which holds the particles and both numbers), or when
+// its scene is invalid (it fails at once).
 std::vector<std::string> missing_preparation_files(const CaseContext& ctx, const CaseTask& t) {
   const Case& c = ctx.expansion->cases[t.case_index];
   const std::string dir = case_dir(ctx.campaign_dir, c.id);
@@ -90,7 +90,7 @@ std::vector<std::string> missing_preparation_files(const CaseContext& ctx, const
     const Scene s = case_scene(*ctx.spec, c, dir, ctx.bed_cache, t.seed);
     const std::string bed = io::bed_cache_path(s), repose = repose_cache_path(s);
     if (s.bed_file.empty() && !fs::exists(bed)) files.push_back(bed);
-    if (s.repose_pending() && !fs::exists(repose)) files.push_back(repose);
+    if (s.bed_turn_pending() && !fs::exists(repose)) files.push_back(repose);
   } catch (const InputError&) {
     return {};
   }

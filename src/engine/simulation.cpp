@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <sstream>
+#include <stdexcept>
 #include <type_traits>
 
 #include "base/cpu_lanes.hpp"
@@ -110,7 +111,9 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     bulk_.thaw_acceleration = s.bulk_thaw_force * s.g;
     bulk_.thaw_gravity = s.bulk_thaw_gravity;
     bulk_.segment_thaw = s.bulk_segment_thaw == OnOff::on;
-    bulk_.still_slope_tan = std::tan(deg2rad(s.bulk_still_slope));
+    if (s.still_slope_pending())  // run_realization resolves it first
+      throw std::logic_error("fidelity.bulk_still_slope = 'measured' was not measured");
+    bulk_.still_slope_tan = std::tan(deg2rad(s.bulk_still_slope.deg));
     // The slope is fitted to the columns within 0.7 R of the axis: nearer the wall a tilted
     // bed's columns end under the wall's overhang, below the plane of its free surface.
     bulk_.slope_reach2 = 0.49 * s.radius * s.radius;

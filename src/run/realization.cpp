@@ -35,6 +35,13 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
+// The still slope, where the rigid bulk has one (" (still slope 11.3 deg, measured)").
+std::string still_slope_note(const Scene& scene) {
+  const StillSlope& s = scene.bulk_still_slope;
+  if (s.deg <= 0) return "";
+  return " (still slope " + short_number(s.deg) + " deg" + (s.measured ? ", measured)" : ")");
+}
+
 geometry::Protocol protocol_of(const Scene& scene) {
   if (scene.repose_pending())  // run_realization resolves it first
     throw std::logic_error("protocol.repose = 'measured' was not measured before the run");
@@ -297,9 +304,9 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
   const std::string restart = restart_path(opt, ckpt_path, comm);
   if (restart.empty() && opt.resume && log)
     *log << "[run] resume: no checkpoint at " << ckpt_path << " yet; starting from step 0\n";
-  // β = "measured" becomes a number before anything uses the protocol (a campaign resolves it
-  // earlier, for its collection plan; then this changes nothing).
-  const Scene scene = with_repose_resolved(given, restart, log, comm);
+  // β and the still slope = "measured" become numbers before anything uses the protocol or the
+  // engine (a campaign resolves them earlier, for its collection plan; then this changes nothing).
+  const Scene scene = with_bed_turn_resolved(given, restart, log, comm);
 
   const geometry::Protocol protocol = protocol_of(scene);
   const double dt = scene.time_step();
@@ -346,8 +353,8 @@ RunResult run_realization(const Scene& given, const RunOptions& opt) {
                                                (scene.repose.measured ? " (measured)" : "")
                                          : std::string())
          << "), pair loop: " << sim->pair_kernel_name()
-         << (sim->rigid_bulk() ? ", bulk: rigid" : "") << ", output in " << scene.output_dir
-         << "\n";
+         << (sim->rigid_bulk() ? ", bulk: rigid" + still_slope_note(scene) : "") << ", output in "
+         << scene.output_dir << "\n";
 
   // The run loop.
   s.started = Clock::now();

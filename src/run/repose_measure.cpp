@@ -1,5 +1,6 @@
 #include "run/repose_measure.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -34,8 +35,25 @@ namespace {
 // (the reason logged).
 struct Turn {
   std::unique_ptr<Simulation> sim;
-  std::vector<double> angles;
+  std::vector<TurnSample> samples;
 };
+
+// A turn's samples as its file keeps them (three numbers each), and back.
+std::vector<double> flat(const std::vector<TurnSample>& samples) {
+  std::vector<double> out;
+  out.reserve(3 * samples.size());
+  for (const TurnSample& t : samples) out.insert(out.end(), {t.rotation_deg, t.slope_deg, t.speed});
+  return out;
+}
+
+std::vector<TurnSample> unflat(const std::vector<double>& numbers) {
+  if (numbers.size() % 3 != 0)
+    throw InputError("its measure/samples do not come in threes (rotation, slope, speed)");
+  std::vector<TurnSample> out(numbers.size() / 3);
+  for (std::size_t k = 0; k < out.size(); ++k)
+    out[k] = {numbers[3 * k], numbers[3 * k + 1], numbers[3 * k + 2]};
+  return out;
+}
 
 bool resume_turn(const Scene& dynamic, const std::string& path, Turn& turn, std::ostream* log,
                  MPI_Comm comm) {
@@ -49,7 +67,7 @@ bool resume_turn(const Scene& dynamic, const std::string& path, Turn& turn, std:
     io::check_checkpoint_fits(c, dynamic, path, comm);
     turn.sim = io::engine_from_checkpoint(
         c, dynamic, geometry::Protocol::single_axis('z', dynamic.omega()), path, comm);
-    turn.angles = std::move(c.measure_samples);
+    turn.samples = unflat(c.measure_samples);
   } catch (const std::runtime_error& e) {  // (every rank alike: the reads agree their errors)
     if (log)
       *log << "[repose] not going on from " << path << ": " << e.what()
@@ -59,7 +77,7 @@ bool resume_turn(const Scene& dynamic, const std::string& path, Turn& turn, std:
   if (log)
     *log << "[repose] going on from " << path << " at " << std::setprecision(3)
          << rad2deg(dynamic.omega() * turn.sim->time()) << " of " << kReposeEndDeg << " degrees ("
-         << turn.angles.size() << " samples)" << std::endl;
+         << turn.samples.size() << " samples)" << std::endl;
   return true;
 }
 
@@ -71,7 +89,6 @@ ReposeMeasurement measure_repose(const Scene& scene, const std::function<Particl
   const double w = scene.omega();
   const double dt = scene.time_step();
   const auto steps_per_degree = std::max<std::int64_t>(1, std::llround(deg2rad(1.0) / w / dt));
-  const auto first = static_cast<std::int64_t>(kReposeSpinUpDeg) * steps_per_degree;
   const auto last = static_cast<std::int64_t>(kReposeEndDeg) * steps_per_degree;
   // The dynamic bed's angle, whatever fidelity.bulk: β is cached by a key that does not hold it.
   Scene dynamic = scene;
@@ -79,16 +96,16 @@ ReposeMeasurement measure_repose(const Scene& scene, const std::function<Particl
   Turn turn;
   if (!resume_turn(dynamic, turn_path, turn, log, comm)) {
     if (log)
-      *log << "[repose] protocol.repose = 'measured': turning the settled bed " << kReposeEndDeg
-           << " degrees about z at " << std::setprecision(4) << w << " rad/s (" << last
-           << " steps), sampling the free surface once a degree from " << kReposeSpinUpDeg
-           << " degrees" << std::endl;
+      *log << "[repose] measuring beta and the creep onset: turning the settled bed "
+           << kReposeEndDeg << " degrees about z at " << std::setprecision(4) << w << " rad/s ("
+           << last << " steps), sampling the free surface once a degree (beta from "
+           << kReposeSpinUpDeg << " degrees)" << std::endl;
     turn.sim = std::make_unique<Simulation>(dynamic, share_of(bed(), comm),
                                             geometry::Protocol::single_axis('z', w), 0, 0, comm);
     turn.sim->compute_forces();
   }
   Simulation& sim = *turn.sim;
-  std::vector<double>& angles = turn.angles;
+  std::vector<TurnSample>& samples = turn.samples;
   analysis::FlowFrame frame;  // as the series observer's flow measure (run/series_observer.cpp)
   frame.axis = Vec3{0, 0, 1};
   frame.radius = scene.radius;
@@ -115,10 +132,12 @@ ReposeMeasurement measure_repose(const Scene& scene, const std::function<Particl
     const std::int64_t k = sim.step_count();
     const bool rebuilt = sim.rebuilds() != rebuilds;
     rebuilds = sim.rebuilds();
-    if (k >= first && k % steps_per_degree == 0) {
+    if (k % steps_per_degree == 0) {  // (every degree: the creep onset comes before β's samples)
       const Particles all = sim.gather_all();  // collective
-      const double a = analysis::flow_profile(all, all.size(), frame).repose_deg;
-      if (std::isfinite(a)) angles.push_back(a);
+      const analysis::FlowProfile f = analysis::flow_profile(all, all.size(), frame);
+      if (std::isfinite(f.repose_deg) && std::isfinite(f.surface_speed))
+        samples.push_back(
+            {static_cast<double>(k / steps_per_degree), f.repose_deg, f.surface_speed});
     }
     if (k % kAgree == 0) {
       if (between_blocks) between_blocks();
@@ -138,7 +157,7 @@ ReposeMeasurement measure_repose(const Scene& scene, const std::function<Particl
     }
     if (keep && rebuilt && k < last) {
       sim.check_health();  // (a blown-up state is not kept)
-      io::write_checkpoint(turn_path, sim, dynamic, {}, {}, {}, angles);  // collective
+      io::write_checkpoint(turn_path, sim, dynamic, {}, {}, {}, flat(samples));  // collective
       saved = Clock::now();
       keep = false;
       const std::string at =
@@ -159,6 +178,31 @@ ReposeMeasurement measure_repose(const Scene& scene, const std::function<Particl
     }
   }
   sim.check_health();
+  const ReposeMeasurement m = repose_from_samples(samples, w * scene.radius);
+  if (log)
+    *log << "[repose] beta = " << std::setprecision(4) << m.mean_deg << " degrees (mean of "
+         << m.samples << " samples, SD " << std::setprecision(2) << m.sd_deg << "; "
+         << format_hms(std::chrono::duration<double>(Clock::now() - t0).count())
+         << " wall); the surface crept from a slope of " << std::setprecision(3)
+         << m.creep_onset_deg << " degrees" << std::endl;
+  return m;
+}
+
+double creep_onset_slope(const std::vector<TurnSample>& samples, double creep_speed) {
+  std::size_t run = 0;  // samples in a row, on consecutive degrees, above the creep speed
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const bool next_degree = k > 0 && samples[k].rotation_deg == samples[k - 1].rotation_deg + 1;
+    run = samples[k].speed > creep_speed ? (next_degree ? run + 1 : 1) : 0;
+    if (run == static_cast<std::size_t>(kCreepSamples))
+      return samples[k + 1 - kCreepSamples].slope_deg;
+  }
+  return std::nan("");
+}
+
+ReposeMeasurement repose_from_samples(const std::vector<TurnSample>& samples, double wall_speed) {
+  std::vector<double> angles;
+  for (const TurnSample& t : samples)
+    if (t.rotation_deg >= kReposeSpinUpDeg) angles.push_back(t.slope_deg);
   if (angles.size() < 3)
     throw RunError(
         "protocol.repose = 'measured': no free surface was found while the bed turned (" +
@@ -172,11 +216,7 @@ ReposeMeasurement measure_repose(const Scene& scene, const std::function<Particl
   if (!(m.mean_deg > 0 && m.mean_deg < 89))
     throw RunError("protocol.repose = 'measured' found " + std::to_string(m.mean_deg) +
                    " degrees, outside [0, 89]; give the tilt in degrees");
-  if (log)
-    *log << "[repose] beta = " << std::setprecision(4) << m.mean_deg << " degrees (mean of "
-         << m.samples << " samples, SD " << std::setprecision(2) << m.sd_deg << "; "
-         << format_hms(std::chrono::duration<double>(Clock::now() - t0).count()) << " wall)"
-         << std::endl;
+  m.creep_onset_deg = creep_onset_slope(samples, kCreepSpeed * wall_speed);
   return m;
 }
 
@@ -205,23 +245,45 @@ std::string repose_turn_path(const Scene& s) { return repose_stem(s) + ".turn.h5
 
 namespace {
 
-// The tilt a checkpoint's run used (NaN if its scene does not say).
-double repose_of_checkpoint(const std::string& path) {
-  if (!fs::exists(path)) return std::nan("");
+// The two numbers a turn gives, as a run uses them: β and the still slope (NaN: not known, or
+// for the still slope also a bed that never crept); `turned`: they come from a turn of this bed.
+struct BedTurnValues {
+  double repose_deg = std::nan("");
+  double still_slope_deg = std::nan("");
+  bool turned = false;
+};
+
+// The numbers a checkpoint's run used (NaN where its scene does not say).
+BedTurnValues values_of_checkpoint(const std::string& path) {
+  BedTurnValues v;
+  if (!fs::exists(path)) return v;
   io::H5File f(path, io::H5File::Mode::Read);
   const Scene old = parse_scene(f.attr_string("/", "scene"), {}, "checkpoint " + path);
-  return old.repose.known ? old.repose.deg : std::nan("");
+  if (old.repose.known) v.repose_deg = old.repose.deg;
+  if (old.bulk_still_slope.known) v.still_slope_deg = old.bulk_still_slope.deg;
+  return v;
 }
 
-// The cached value for this scene (NaN if none, or if the file is for another key).
-double cached_repose(const std::string& path, const std::string& key) {
-  if (!fs::exists(path)) return std::nan("");
+// The still slope a creep onset gives: kStillSlopeMargin below it, 0 (off) for a bed that creeps
+// below the margin itself; NaN for a bed that never crept.
+double still_slope_of(double creep_onset_deg) {
+  return std::isfinite(creep_onset_deg) ? std::max(0.0, creep_onset_deg - kStillSlopeMargin)
+                                        : std::nan("");
+}
+
+// The cached values for this scene (both NaN if none, or if the file is for another key).
+BedTurnValues cached_values(const std::string& path, const std::string& key) {
+  BedTurnValues v;
+  if (!fs::exists(path)) return v;
   io::H5File f(path, io::H5File::Mode::Read);
-  if (f.attr_string("/", "repose_key") != key) return std::nan("");
-  return f.attr_double("/", "repose_deg");
+  if (f.attr_string("/", "repose_key") != key) return v;
+  v.turned = true;
+  v.repose_deg = f.attr_double("/", "repose_deg");
+  v.still_slope_deg = still_slope_of(f.attr_double("/", "creep_onset_deg"));
+  return v;
 }
 
-void write_cached_repose(const std::string& path, const Scene& scene, const ReposeMeasurement& m) {
+void write_cached_values(const std::string& path, const Scene& scene, const ReposeMeasurement& m) {
   fs::create_directories(fs::path(path).parent_path());
   io::AtomicH5Writer out(path);
   io::H5File& f = out.file();
@@ -232,51 +294,75 @@ void write_cached_repose(const std::string& path, const Scene& scene, const Repo
   f.set_attr("/", "samples", static_cast<std::int64_t>(m.samples));
   f.set_attr("/", "from_deg", kReposeSpinUpDeg);
   f.set_attr("/", "to_deg", kReposeEndDeg);
+  f.set_attr("/", "creep_onset_deg", m.creep_onset_deg);  // NaN: the surface never crept
+  f.set_attr("/", "creep_speed_wall", kCreepSpeed);
   io::write_provenance(f, scene);
   out.commit();
 }
 
 }  // namespace
 
-Scene with_repose_resolved(const Scene& scene, const std::string& checkpoint, std::ostream* log,
-                           MPI_Comm comm, const std::function<void()>& between_blocks) {
-  if (!scene.repose_pending()) return scene;
+Scene with_bed_turn_resolved(const Scene& scene, const std::string& checkpoint, std::ostream* log,
+                             MPI_Comm comm, const std::function<void()>& between_blocks) {
+  if (!scene.bed_turn_pending()) return scene;
   const std::string cache = repose_cache_path(scene);
-  double deg = std::nan("");
+  BedTurnValues v;
   std::string source;
   // Rank 0 reads the files for all, and its error (a damaged cache) is every rank's: thrown on
   // rank 0 alone, it left the others of a campaign's group in the broadcast below for ever.
+  const auto enough = [&] {
+    return (!scene.repose_pending() || std::isfinite(v.repose_deg)) &&
+           (!scene.still_slope_pending() || std::isfinite(v.still_slope_deg));
+  };
   on_rank_0_agreed(comm, [&] {
     if (!checkpoint.empty()) {
-      deg = repose_of_checkpoint(checkpoint);
+      v = values_of_checkpoint(checkpoint);
+      v.turned = enough();
       source = "from the checkpoint " + checkpoint;
     }
-    if (!std::isfinite(deg)) {
-      deg = cached_repose(cache, repose_key(scene));
+    if (!v.turned) {
+      v = cached_values(cache, repose_key(scene));
       source = "cached in " + cache;
     }
   });
-  if (size_of(comm) > 1) MPI_Bcast(&deg, 1, MPI_DOUBLE, 0, comm);
-  if (std::isfinite(deg)) {
-    if (log)
-      *log << "[repose] beta = " << std::setprecision(6) << deg << " degrees (measured, " << source
-           << ")" << std::endl;
-  } else {
+  // (A cached turn in which the surface never crept is final too: turning again gives the same.)
+  double numbers[3] = {v.repose_deg, v.still_slope_deg, v.turned ? 1.0 : 0.0};
+  if (size_of(comm) > 1) MPI_Bcast(numbers, 3, MPI_DOUBLE, 0, comm);
+  v = {numbers[0], numbers[1], numbers[2] != 0};
+  if (!v.turned) {
     const std::string turn = repose_turn_path(scene);
     const ReposeMeasurement m = measure_repose(
         scene, [&] { return settled_bed(scene, log, nullptr, comm, between_blocks); }, turn, log,
         comm, between_blocks);
-    deg = m.mean_deg;
+    v = {m.mean_deg, still_slope_of(m.creep_onset_deg), true};
+    source = "measured";
     // (Its end is the barrier the others wait at until the cache is written; a full disk is
     // every rank's error.)
     on_rank_0_agreed(comm, [&] {
-      write_cached_repose(cache, scene, m);
+      write_cached_values(cache, scene, m);
       fs::remove(turn);  // (none if the turn was never kept)
       if (log) *log << "[repose] saved in " << cache << std::endl;
     });
   }
   Scene resolved = scene;
-  set_measured_repose(resolved, deg);
+  if (scene.repose_pending()) {
+    set_measured_repose(resolved, v.repose_deg);
+    if (log)
+      *log << "[repose] beta = " << std::setprecision(6) << v.repose_deg << " degrees (measured, "
+           << source << ")" << std::endl;
+  }
+  if (scene.still_slope_pending()) {
+    if (!std::isfinite(v.still_slope_deg))
+      throw RunError(
+          "fidelity.bulk_still_slope = 'measured': the bed's surface never crept while it turned " +
+          short_number(kReposeEndDeg) + " degrees from rest (" + source +
+          "); give the slope in degrees, in [0, 89] (0: off)");
+    set_measured_still_slope(resolved, v.still_slope_deg);
+    if (log)
+      *log << "[repose] fidelity.bulk_still_slope = " << std::setprecision(4) << v.still_slope_deg
+           << " degrees (" << kStillSlopeMargin << " below the slope where the surface crept; "
+           << source << ")" << std::endl;
+  }
   return resolved;
 }
 

@@ -50,12 +50,23 @@ double Scene::run_time() const {
   return duration;
 }
 
-void set_measured_repose(Scene& s, double deg) {
-  s.repose = ReposeTilt{deg, true, true};
-  std::ostringstream os;  // as scene_to_text writes it, so that the texts compare equal
+namespace {
+std::string as_scene_text_writes(double deg) {  // so that the texts compare equal
+  std::ostringstream os;
   os.precision(17);
   os << deg;
-  s.resolved["protocol.repose"] = os.str();
+  return os.str();
+}
+}  // namespace
+
+void set_measured_repose(Scene& s, double deg) {
+  s.repose = ReposeTilt{deg, true, true};
+  s.resolved["protocol.repose"] = as_scene_text_writes(deg);
+}
+
+void set_measured_still_slope(Scene& s, double deg) {
+  s.bulk_still_slope = StillSlope{deg, true, true};
+  s.resolved["fidelity.bulk_still_slope"] = as_scene_text_writes(deg);
 }
 
 namespace {
@@ -419,6 +430,10 @@ void validate_scene(const Scene& s) {
     fail("protocol.repose",
          "= 'measured' needs gravity.g > 0 (a bed without weight has no angle of repose); give "
          "the tilt in degrees, in [0, 89]");
+  if (s.still_slope_pending() && s.g <= 0)
+    fail("fidelity.bulk_still_slope",
+         "= 'measured' needs gravity.g > 0 (a bed without weight does not creep); give the "
+         "slope in degrees, in [0, 89]");
   if (s.mode == Mode::biaxial && s.theta_z + s.theta_x <= 0 && s.iterations > 0)
     fail("protocol.theta_z",
          "and protocol.theta_x are both 0: the biaxial protocol would not move");

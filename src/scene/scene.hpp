@@ -40,11 +40,18 @@ struct Scene {
   // protocol.repose = "measured" in a biaxial scene whose β has not been filled in yet
   // (run/repose_measure.hpp resolves it before a run).
   bool repose_pending() const { return mode == Mode::biaxial && !repose.known; }
+  // fidelity.bulk_still_slope = "measured" in a rigid-bulk scene, not filled in yet (the same
+  // turn of the bed measures it).
+  bool still_slope_pending() const { return bulk == Bulk::rigid && !bulk_still_slope.known; }
+  // Either: the run turns its settled bed once before the protocol (run/repose_measure.hpp).
+  bool bed_turn_pending() const { return repose_pending() || still_slope_pending(); }
 };
 
 // Fills in a measured repose tilt β [deg]: the scene's value, its provenance text and its
 // resolved key list then hold the number.
 void set_measured_repose(Scene& s, double deg);
+// The same for a measured still slope [deg].
+void set_measured_still_slope(Scene& s, double deg);
 
 // One key of the schema: its type, default, allowed range and a one-line description.
 struct KeySpec {

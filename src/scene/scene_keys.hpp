@@ -9,8 +9,8 @@
 // order: the order of the lines is part of every stored scene text, so a new key goes where its
 // section is and existing lines never move). Numbers are double (Real) or std::int64_t (Integer)
 // with a closed range; std::string is free text; an enum (scene/scene_enums.hpp) is one of its
-// names; ReposeTilt is a number in its range or the word "measured". To add a key: one line here,
-// and the code that uses it.
+// names; ReposeTilt and StillSlope are a number in their range or the word "measured". To add a
+// key: one line here, and the code that uses it.
 #include <cstdint>
 #include <string>
 
@@ -27,6 +27,21 @@ struct ReposeTilt {
   bool measured = true;  // the scene asked for "measured"
   bool known = false;    // deg is the number to use (given, or measured and filled in)
   static constexpr const char* kWord = "measured";
+  static ReposeTilt pending() { return {}; }
+  static ReposeTilt given(double d) { return {d, false, true}; }
+};
+
+// fidelity.bulk_still_slope: degrees (0, the default: the surface layer never freezes), or the
+// word "measured": the slope at which the scene's own settled bed starts to creep when it turns
+// from rest, less kStillSlopeMargin (run/repose_measure.hpp: the same turn as β's). Until it is
+// filled in `deg` is 0 and a rigid engine is refused.
+struct StillSlope {
+  double deg = 0;
+  bool measured = false;  // the scene asked for "measured"
+  bool known = true;      // deg is the number to use
+  static constexpr const char* kWord = "measured";
+  static StillSlope pending() { return {0, true, false}; }
+  static StillSlope given(double d) { return {d, false, true}; }
 };
 
 }  // namespace tumble
@@ -140,8 +155,8 @@ struct ReposeTilt {
     "rigid bulk: a frozen particle thaws when gravity, seen from the tumbler, has changed by more than this many g since it froze (2 sin of half the turn; 2: never)") \
   X(OnOff, bulk_segment_thaw, "fidelity.bulk_segment_thaw", OnOff::on, 0, 0, \
     "rigid bulk: on: a change of the protocol's segment (a tilt, a new axis) thaws every frozen particle; off: the other rules alone decide") \
-  X(double, bulk_still_slope, "fidelity.bulk_still_slope", 0, 0, 89, \
-    "rigid bulk: while the free surface is inclined less than this many degrees (a tilt below the repose angle), the surface layer within the margin may freeze too, and it thaws when the slope passes it (0: never; set it below the slope where the scene's surface starts to creep at its tier, which jobs/accuracy/onset_table.py reads from dynamic runs: 12 for bst_small at standard)") \
+  X(StillSlope, bulk_still_slope, "fidelity.bulk_still_slope", StillSlope{}, 0, 89, \
+    "rigid bulk: while the free surface is inclined less than this many degrees (a tilt below the repose angle), the surface layer within the margin may freeze too, and it thaws when the slope passes it (0: never; set it below the slope where the scene's surface starts to creep at its tier, 12 for bst_small at standard; \"measured\": that slope of the scene's own bed, less 5 degrees)") \
   X(double, rebalance_threshold, "parallel.rebalance_threshold", 1.1, 1, 100, \
     "domain-decomposed runs: re-bisect when max/mean particles per rank exceeds this") \
   X(double, frozen_weight, "parallel.frozen_weight", 1, 0.01, 1, \

@@ -29,8 +29,13 @@ struct KeyKind<std::int64_t> {
   static constexpr KeySpec::Type type = KeySpec::Integer;
   static std::vector<std::string> choices() { return {}; }
 };
-template <>
-struct KeyKind<ReposeTilt> {  // a number, or the word "measured"
+// A number, or a word instead (ReposeTilt, StillSlope: "measured").
+template <class T, class = void>
+struct TakesWord : std::false_type {};
+template <class T>
+struct TakesWord<T, std::void_t<decltype(T::kWord)>> : std::true_type {};
+template <class T>
+struct KeyKind<T, std::enable_if_t<TakesWord<T>::value>> {
   static constexpr KeySpec::Type type = KeySpec::Real;
   static std::vector<std::string> choices() { return {}; }
 };
@@ -49,8 +54,8 @@ void set_member(Scene& s, const std::string& text, double num) {
     s.*M = static_cast<std::int64_t>(num);
   else if constexpr (std::is_same_v<T, std::string>)
     s.*M = text;
-  else if constexpr (std::is_same_v<T, ReposeTilt>)
-    s.*M = text == ReposeTilt::kWord ? ReposeTilt{} : ReposeTilt{num, false, true};
+  else if constexpr (TakesWord<T>::value)
+    s.*M = text == T::kWord ? T::pending() : T::given(num);
   else
     enum_from_name(text, s.*M);
 }
@@ -60,15 +65,22 @@ template <class T, T Scene::*M>
 void write_member(std::ostream& os, const Scene& s) {
   if constexpr (std::is_same_v<T, double> || std::is_same_v<T, std::int64_t>)
     os << s.*M;
-  else if constexpr (std::is_same_v<T, ReposeTilt>) {
+  else if constexpr (TakesWord<T>::value) {
     if ((s.*M).known)
       os << (s.*M).deg;  // given, or measured and filled in: the number the run uses
     else
-      os << '"' << ReposeTilt::kWord << '"';
+      os << '"' << T::kWord << '"';
   } else if constexpr (std::is_same_v<T, std::string>)
     os << toml_quoted(s.*M);
   else
     os << '"' << s.*M << '"';  // an enum's name
+}
+
+// The spec of a key whose type also takes a word: the word, for the parser and --list-keys.
+template <class T>
+KeySpec with_word(KeySpec spec) {
+  if constexpr (TakesWord<T>::value) spec.word = T::kWord;
+  return spec;
 }
 
 struct OwnKey {
@@ -78,15 +90,10 @@ struct OwnKey {
 };
 
 const std::vector<OwnKey>& own_keys() {
-#define TUMBLE_SCENE_KEY_ROW(T, MEMBER, KEY, DEFAULT, LO, HI, HELP)           \
-  OwnKey{KeySpec(KEY, KeyKind<T>::type, LO, HI, KeyKind<T>::choices(), HELP), \
+#define TUMBLE_SCENE_KEY_ROW(T, MEMBER, KEY, DEFAULT, LO, HI, HELP)                         \
+  OwnKey{with_word<T>(KeySpec(KEY, KeyKind<T>::type, LO, HI, KeyKind<T>::choices(), HELP)), \
          &set_member<T, &Scene::MEMBER>, &write_member<T, &Scene::MEMBER>},
-  static const std::vector<OwnKey> keys = [] {
-    std::vector<OwnKey> k = {TUMBLE_SCENE_KEYS(TUMBLE_SCENE_KEY_ROW)};
-    for (OwnKey& o : k)
-      if (o.spec.key == "protocol.repose") o.spec.word = ReposeTilt::kWord;
-    return k;
-  }();
+  static const std::vector<OwnKey> keys = {TUMBLE_SCENE_KEYS(TUMBLE_SCENE_KEY_ROW)};
 #undef TUMBLE_SCENE_KEY_ROW
   return keys;
 }
