@@ -28,6 +28,9 @@
 # RIGID_SET="--set fidelity.bulk_calm_distance=0.02 ..." passes more keys to the rigid run (and
 # the START run), not to rigid_before: OTHER=build/tumble with RIGID_SET times a setting against
 # the defaults of the same binary. Split on blanks, not globbed. Give each setting its own OUT.
+# SEED=k runs bed k (fill.seed = k, its settled bed and β turn cached in beds/ as any run's)
+# instead of the scene's own: a key measured per bed (fidelity.bulk_still_slope = "measured")
+# gains what its bed's onset allows, so one bed's time is not every bed's.
 # VARIANTS="rigid rigid_before" (with OTHER) leaves the dynamic run out: a setting against the
 # defaults in a third of the time (the dynamic run is ~60% of a three-way job's wall time); its
 # ratio to dynamic is then the defaults' one times this job's rigid_before / rigid, an estimate.
@@ -40,6 +43,9 @@ TIER=${2:-standard}
 CHUNK=${3:-20000}
 NP=${4:-2}
 ROUNDS=${5:-1000000}
+if [ -n "${SEED:-}" ] && ! [[ $SEED =~ ^[1-9][0-9]*$ ]]; then
+  echo "SEED must be a whole number >= 1, not '$SEED'" >&2; exit 2
+fi
 source jobs/lib/bench_common.sh
 OUT=$(realpath -m "${OUT:-results/rigid_iteration_ab/$(basename "$SCENE" .toml)_$TIER}")
 mkdir -p "$OUT"
@@ -79,12 +85,14 @@ if [ -n "${REPORT:-}" ]; then report; exit 0; fi
 bench_header | tee -a "$OUT/job.log"
 echo "# $SCENE at $TIER, (57, 57), beta = 27 deg, one iteration," \
      "${VARIANTS:-rigid dynamic ${OTHER:+rigid_before}} in turns of" \
-     "$CHUNK steps, $NP ranks${RIGID_SET:+; the rigid run with $RIGID_SET}" | tee -a "$OUT/job.log"
+     "$CHUNK steps, $NP ranks${SEED:+, bed $SEED}${RIGID_SET:+; the rigid run with $RIGID_SET}" |
+  tee -a "$OUT/job.log"
 read -ra rigid_set <<< "${RIGID_SET:-}"
 common=("$SCENE" --set fidelity.tier="$TIER" --set fill.bed_cache=beds --set protocol.repose=27
         --set protocol.iterations=1 --set output.analysis_interval=0.05
         --set output.snapshot_interval=1e6 --set output.checkpoint_interval=1e6
         --set output.checkpoint_wall=0 --set output.progress_interval=15)
+[ -n "${SEED:-}" ] && common+=(--set fill.seed="$SEED")
 
 # run_chunk VARIANT: CHUNK more steps of VARIANT; returns 1 when it has reached the end.
 run_chunk() {
