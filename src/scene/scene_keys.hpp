@@ -156,7 +156,7 @@ struct StillSlope {
   X(OnOff, bulk_segment_thaw, "fidelity.bulk_segment_thaw", OnOff::on, 0, 0, \
     "rigid bulk: on: a change of the protocol's segment (a tilt, a new axis) thaws every frozen particle; off: the other rules alone decide") \
   X(StillSlope, bulk_still_slope, "fidelity.bulk_still_slope", StillSlope{}, 0, 89, \
-    "rigid bulk: while the free surface is inclined less than this many degrees (a tilt below the repose angle), the surface layer within the margin may freeze too, and it thaws when the slope passes it (0: never; set it below the slope where the scene's surface starts to creep at its tier, 12 for bst_small at standard; \"measured\": that slope of the scene's own bed, less 5 degrees)") \
+    "rigid bulk: while the free surface is inclined less than this many degrees (a tilt below the repose angle), the surface layer within the margin may freeze too, and it thaws when the slope passes it (0: never; set it below the slope where the scene's surface starts to creep at its tier, 12 for bst_small at standard; \"measured\": that slope of the scene's own bed, less 2.5 degrees)") \
   X(double, rebalance_threshold, "parallel.rebalance_threshold", 1.1, 1, 100, \
     "domain-decomposed runs: re-bisect when max/mean particles per rank exceeds this") \
   X(double, frozen_weight, "parallel.frozen_weight", 1, 0.01, 1, \
