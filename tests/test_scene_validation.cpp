@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "base/error.hpp"
 #include "base/vec3.hpp"
@@ -219,4 +220,17 @@ TEST(SceneValidation, StillSlopeIsANumberOrMeasuredForARigidBulk) {
   EXPECT_FALSE(filled.bed_turn_pending());
   EXPECT_EQ(parse_scene(scene_to_text(filled)).bulk_still_slope.deg, 11.5);
   EXPECT_EQ(filled.resolved.at("fidelity.bulk_still_slope"), "11.5");
+}
+
+// `--list-keys` names the margin that "measured" takes off the creep onset: the number the code
+// uses, written as a stream writes it, so that a change of the constant shows in the help.
+TEST(SceneValidation, StillSlopeHelpNamesTheMarginInUse) {
+  std::ostringstream margin;
+  margin << "less " << kStillSlopeMargin << " degrees";
+  for (const KeySpec& k : scene_schema())
+    if (k.key == "fidelity.bulk_still_slope") {
+      EXPECT_NE(k.help.find(margin.str()), std::string::npos) << k.help;
+      return;
+    }
+  ADD_FAILURE() << "fidelity.bulk_still_slope is not in the schema";
 }

@@ -13,8 +13,9 @@
 // fidelity.bulk_still_slope = "measured" comes from the same turn: the surface is sampled from
 // the first degree, and the slope at which it starts to creep (its downhill speed stays above
 // kCreepSpeed ωR for kCreepSamples samples, as jobs/accuracy/onset_table.py reads dynamic runs)
-// less kStillSlopeMargin is the still slope (docs/accuracy.md, "The still surface"). A bed held
-// still above that onset releases its creep as a burst; below it nothing is held.
+// less kStillSlopeMargin (scene/scene_keys.hpp) is the still slope (docs/accuracy.md, "The still
+// surface"). A bed held still above that onset releases its creep as a burst; below it nothing is
+// held.
 //
 // The values are properties of the bed (its seed included: every replica measures its own, so the
 // result never depends on which case ran first) and are kept beside the cached bed; a run that
@@ -45,13 +46,6 @@ inline constexpr double kReposeEndDeg = 80;
 // within ±0.06 ωR but for single samples), for this many samples in a row (degrees).
 inline constexpr double kCreepSpeed = 0.1;
 inline constexpr int kCreepSamples = 3;
-// The measured still slope lies this many degrees below the onset the turn reads. On bst_small at
-// `standard` a fixed 12° left the onset and the layer as dynamic's and 20° did not (it holds the
-// creep back and lets it go as a burst). The turn (about z) reads the onset 14.5 ± 2.0° over six
-// beds, 2.3° earlier than the flow runs about x, and 12° lies 2.5° below its mean: with this
-// margin the six keys were 8.5-14.3° and nothing resolved in the onset (docs/accuracy.md, "The
-// still slope measured per bed"; a margin of 5 gave 6.0-11.8° and gained less).
-inline constexpr double kStillSlopeMargin = 2.5;
 // Bump when the measurement changes, so that cached values of the old procedure are not reused.
 // 2: the turn samples from the first degree and also gives the creep onset.
 inline constexpr int kReposeCodeVersion = 2;
