@@ -32,6 +32,7 @@ at q = 0.05 over that family (observables and bins, Welch and paired counted as 
 import glob
 import math
 import os
+import signal
 import sys
 
 import h5py
@@ -395,4 +396,6 @@ def profile_table(data, base):
 
 
 if __name__ == "__main__":
+    # Piped to `head`, the table stops where the reader stopped, without a traceback.
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)
     main()

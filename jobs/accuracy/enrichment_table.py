@@ -21,6 +21,7 @@ import argparse
 import math
 import os
 import re
+import signal
 import sys
 
 import h5py
@@ -165,4 +166,6 @@ def main():
 
 
 if __name__ == "__main__":
+    # Piped to `head`, the table stops where the reader stopped, without a traceback.
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)
     main()

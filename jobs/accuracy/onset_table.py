@@ -35,6 +35,7 @@ import argparse
 import glob
 import math
 import os
+import signal
 import sys
 
 import h5py
@@ -183,4 +184,6 @@ def main():
 
 
 if __name__ == "__main__":
+    # Piped to `head`, the table stops where the reader stopped, without a traceback.
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)
     main()

@@ -36,6 +36,7 @@ finding; and a warning when a column has fewer than 5 replicas."""
 import glob
 import os
 import re
+import signal
 import sys
 
 import h5py
@@ -299,4 +300,6 @@ def print_multiplicity(tested, ref, what):
 
 
 if __name__ == "__main__":
+    # Piped to `head`, the table stops where the reader stopped, without a traceback.
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)
     main()

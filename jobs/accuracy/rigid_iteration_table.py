@@ -26,6 +26,7 @@ labelled so.
 import argparse
 import csv
 import os
+import signal
 import sys
 
 import numpy as np
@@ -189,4 +190,6 @@ def estimate_steps(out):
 
 
 if __name__ == "__main__":
+    # Piped to `head`, the table stops where the reader stopped, without a traceback.
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)
     main()
