@@ -92,5 +92,14 @@ r = subprocess.run([sys.executable, TABLE, out], capture_output=True, text=True)
 check("without --base, a job with no dynamic run is refused with the runs named",
       r.returncode != 0 and "no paired chunks of dynamic and rigid" in r.stderr, r.stderr.strip())
 
+# 4. Piped to a reader that stops after the first line (`| head -1`): no traceback.
+p = subprocess.Popen([sys.executable, TABLE, os.path.join(work, "whole")], stdout=subprocess.PIPE,
+                     stderr=subprocess.PIPE, text=True)
+p.stdout.readline()
+p.stdout.close()  # the reader is gone: the table's next write meets a closed pipe
+err = p.stderr.read()
+p.wait()
+check("piped to a reader that stops, it ends without a traceback", "Traceback" not in err, err)
+
 print(f"{check.failures} failure(s)")
 sys.exit(1 if check.failures else 0)
