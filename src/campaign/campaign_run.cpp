@@ -190,9 +190,10 @@ std::string checkpoint_progress(const std::string& campaign_dir, const Case& c) 
   }
 }
 
-// How far a case's repose-angle turn is, when it has no checkpoint yet and a turn is kept for its
-// bed ("beta turn kept at 46.6 of 80 degrees"; "" otherwise): a stop in the hours of a paper
-// bed's turn keeps it (run/repose_measure.hpp), and the status says so.
+// How far a case's turn of its settled bed is, when it has no checkpoint yet and a turn is kept
+// for its bed ("beta turn kept at 46.6 of 80 degrees"; "" otherwise): a stop in the hours of a
+// paper bed's turn keeps it (run/repose_measure.hpp), and the status says so. The one turn reads
+// β and the still slope's onset, so the line names what the case waits on.
 std::string repose_turn_progress(const CampaignSpec& spec, const Case& c,
                                  const std::string& campaign_dir, const std::string& bed_cache,
                                  std::int64_t seed) {
@@ -203,7 +204,10 @@ std::string repose_turn_progress(const CampaignSpec& spec, const Case& c,
     if (!s.bed_turn_pending() || !fs::exists(path)) return "";
     io::H5File f(path, io::H5File::Mode::Read);
     std::ostringstream os;
-    os << "beta turn kept at " << std::fixed << std::setprecision(1)
+    const char* what = !s.still_slope_pending() ? "beta"
+                       : s.repose_pending()     ? "beta and still-slope"
+                                                : "still-slope";
+    os << what << " turn kept at " << std::fixed << std::setprecision(1)
        << rad2deg(s.omega() * f.attr_double("/", "time")) << " of "
        << static_cast<int>(kReposeEndDeg) << " degrees";
     return os.str();

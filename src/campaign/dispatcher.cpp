@@ -347,8 +347,8 @@ void Dispatcher::stop(int signal) {
   line(signal_name(signal) + ": stopping; no case starts any more, " +
        (n == 1 ? std::string("the running case ends") : std::to_string(n) + " running cases end") +
        " at the next neighbour rebuild with a checkpoint (one still settling its bed keeps none: "
-       "that starts again; one measuring beta keeps its turn so far); rerun the same command to "
-       "go on");
+       "that starts again; one measuring beta or the still slope keeps its turn so far); rerun the "
+       "same command to go on");
 }
 
 void Dispatcher::progress(const CaseProgress& p) {

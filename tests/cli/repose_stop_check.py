@@ -188,6 +188,25 @@ m = re.search(r"beta turn kept at ([0-9.]+) of 80 degrees", status.stdout)
 if status.returncode != 10 or not m or float(m.group(1)) < 45:
     fail("C: --status (exit %d) does not say how far the kept turn is:\n%s%s"
          % (status.returncode, status.stdout, status.stderr))
+# The one turn reads beta and the still slope's creep onset: a rigid campaign of the same bed
+# finds the same kept turn, and its status names what its case waits on.
+with open(camp) as f:
+    c_text = f.read()
+for name, repose, what in (("C2", '"measured"', "beta and still-slope"), ("C3", "27", "still-slope")):
+    other = os.path.join(work, name + ".toml")
+    with open(other, "w") as f:
+        f.write(c_text.replace(os.path.join(work, "C") + '"', os.path.join(work, name) + '"')
+                .replace('"protocol.repose" = "measured"', '"protocol.repose" = ' + repose)
+                .replace("[overrides]\n", '[overrides]\n"fidelity.bulk" = "rigid"\n'
+                         '"fidelity.bulk_still_slope" = "measured"\n'))
+    st = subprocess.run([tumble, "campaign", other, "--status"], capture_output=True, text=True)
+    m2 = re.search(r"([a-z -]+) turn kept at ([0-9.]+) of 80 degrees", st.stdout)
+    if st.returncode != 10 or not m2 or m2.group(1).strip() != what or \
+            m2.group(2) != m.group(1):
+        fail("%s: --status (exit %d) of a rigid campaign on the same bed does not say '%s turn "
+             "kept at %s':\n%s%s" % (name, st.returncode, what, m.group(1), st.stdout, st.stderr))
+print("OK: C: the same bed's rigid campaigns read the kept turn: '%s turn' (beta measured too), "
+      "'still-slope turn' (beta given)" % "beta and still-slope", flush=True)
 r = subprocess.run([tumble, "campaign", camp], capture_output=True, text=True)
 with open(turned) as f:
     case_text = f.read()
