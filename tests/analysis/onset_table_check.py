@@ -8,7 +8,9 @@ Each run turns 80° at 3 rpm (R chosen so that omega R = 0.01 m/s), sampled once
 rotation, a creep of 0.3 omega R from there, the flow (3 omega R) from 30°. Rigid runs: the same,
 but held at 0 until 20° and a burst of 1.3 + 0.1 k omega R (seed k) at 20° and 21°: their creep
 onset slope is 21° (against 17°), their peak before 27° 1.3 + 0.1 k (against 0.3 + 0.01 k), their
-flow onset the same 30° (seed 4's burst, 1.7, passes half the flow's 3.0 for two samples only).
+flow onset the same 30° (seed 4's burst, 1.7, passes half the flow's 3.0 for two samples only),
+and a trough of 2 + 0.05 k omega R at 40° after it (the second family's lowest speed 35-50°:
+-1 + 0.05 k against dynamic's 3.0; the slope the same, no test).
 """
 import math
 import os
@@ -39,6 +41,7 @@ def series(rigid, seed):
     if rigid:
         speed[angle < 20] = 0.0
         speed[(angle >= 20) & (angle <= 21)] = 1.3 + 0.1 * seed
+        speed[angle == 40] = 2.0 + 0.05 * seed
     return angle, slope, speed
 
 
@@ -101,6 +104,15 @@ def main():
     check("an equal flow onset is no test (zero spread) and not significant",
           len(rows) == 1 and "no test" in rows[0] and rows[0].rstrip(" |").endswith("no"),
           rows[0] if rows else "no row")
+    # The second family (after the first avalanche): its own table and its own BH count (2 tests
+    # in the first: the peak before 27° and the slide; the rest have no spread).
+    rows = [line for line in out.splitlines() if line.startswith("| still | lowest speed 35-50")]
+    check("the trough after the avalanche is the planted difference, kept by its own BH",
+          len(rows) == 1 and "-0.875" in rows[0] and rows[0].rstrip(" |").endswith("yes"),
+          rows[0] if rows else "no row")
+    check("the two families are counted apart",
+          "over the 2 tests" in out and "After the first avalanche, paired by seed" in out
+          and "over the 1 tests" in out, out)
     # Fewer than three runs: a warning.
     few = os.path.join(work, "few")
     write_run(os.path.join(few, "seed1"), True, 1)
