@@ -205,8 +205,8 @@ for name, repose, what in (("C2", '"measured"', "beta and still-slope"), ("C3", 
             m2.group(2) != m.group(1):
         fail("%s: --status (exit %d) of a rigid campaign on the same bed does not say '%s turn "
              "kept at %s':\n%s%s" % (name, st.returncode, what, m.group(1), st.stdout, st.stderr))
-print("OK: C: the same bed's rigid campaigns read the kept turn: '%s turn' (beta measured too), "
-      "'still-slope turn' (beta given)" % "beta and still-slope", flush=True)
+print("OK: C: the same bed's rigid campaigns read the kept turn: 'beta and still-slope turn' "
+      "(beta measured too), 'still-slope turn' (beta given)", flush=True)
 r = subprocess.run([tumble, "campaign", camp], capture_output=True, text=True)
 with open(turned) as f:
     case_text = f.read()
