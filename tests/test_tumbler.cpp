@@ -103,3 +103,25 @@ TEST(Protocol, OrientationIntegratesOmega) {
   EXPECT_NEAR(norm(lhs - rhs), 0.0, 1e-5);
   EXPECT_NEAR(p.period(), (2 * deg2rad(57) + 4 * deg2rad(27)) / 0.3, 1e-12);
 }
+
+// The series of a biaxial run measure the flowing layer about the axis of the segment and keep
+// the wall's turn since the segment began: 20° into z's rotation, 10° into x's tilt back, and the
+// same one period later; a constant Ω turns from t = 0 about its own axis.
+TEST(Protocol, SegmentAxisAndTurn) {
+  const double w = 0.3;
+  const auto p = geometry::Protocol::biaxial(deg2rad(57), deg2rad(57), deg2rad(27), w);
+  const double into_z_rotate = (deg2rad(27) + deg2rad(20)) / w;
+  const double into_x_tilt_back =
+      (2 * deg2rad(27) + deg2rad(57) + deg2rad(27) + deg2rad(57) + deg2rad(10)) / w;
+  for (const double t0 : {0.0, p.period()}) {
+    EXPECT_EQ(p.segment_axis(t0 + into_z_rotate).z, 1.0);
+    EXPECT_NEAR(p.segment_turn(t0 + into_z_rotate), deg2rad(20), 1e-9);
+    EXPECT_EQ(p.segment_axis(t0 + into_x_tilt_back).x, 1.0);
+    EXPECT_NEAR(p.segment_turn(t0 + into_x_tilt_back), deg2rad(10), 1e-9);
+  }
+  EXPECT_EQ(p.segment_count(p.period() + into_x_tilt_back), 6 + 5);
+  const auto spin = geometry::Protocol::single_axis('z', w);
+  EXPECT_NEAR(spin.segment_axis(2).z, -1.0, 1e-15);  // Ω = −ω ẑ: the axis of Ω itself
+  EXPECT_NEAR(spin.segment_turn(2), 2 * w, 1e-15);
+  EXPECT_EQ(norm(geometry::Protocol::at_rest().segment_axis(1)), 0.0);
+}

@@ -26,9 +26,15 @@ double shell_share(const std::vector<Vec3>& x, const std::vector<std::int32_t>& 
 
 struct Series {
   std::vector<double> time, iteration, shell_large_fraction, bed_large_fraction, kinetic_energy;
-  // Single-axis sphere scenes: dynamic repose angle (degrees) and surface speed (flow_profile.hpp),
-  // one per sample; empty otherwise.
+  // Sphere scenes that turn (single-axis and biaxial): dynamic repose angle (degrees) and surface
+  // speed (flow_profile.hpp) about the axis of the protocol's segment, one per sample; empty
+  // otherwise (a cylinder, a bed at rest).
   std::vector<double> repose_angle, surface_speed;
+  // Biaxial scenes: the protocol segment of each sample (counted from the run's start: period x
+  // segments per period + segment) and the wall's turn since that segment began (degrees), so an
+  // analysis can follow each start of the flow about a new axis
+  // (jobs/accuracy/segment_start_table.py).
+  std::vector<double> segment, segment_turn;
   // ... and the surface velocity profile: the bin centres h (same for every sample) and, per
   // sample, the downhill speed per bin (samples x bins, row-major; NaN where no surface particle).
   std::vector<double> profile_h, surface_profile;

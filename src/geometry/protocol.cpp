@@ -92,6 +92,22 @@ const char* Protocol::phase(double t) const {
   return segments_[segment_at(t, into)].label;
 }
 
+Vec3 Protocol::segment_axis(double t) const {
+  if (constant_) {
+    const double w = norm(constant_omega_);
+    return w > 0 ? constant_omega_ * (1.0 / w) : Vec3{};
+  }
+  double into;
+  return segments_[segment_at(t, into)].axis;
+}
+
+double Protocol::segment_turn(double t) const {
+  if (constant_) return norm(constant_omega_) * t;
+  double into;
+  const auto& s = segments_[segment_at(t, into)];
+  return std::abs(s.omega) * into;
+}
+
 std::int64_t Protocol::segment_count(double t) const {
   if (constant_) return 0;
   double into;

@@ -40,6 +40,11 @@ class Protocol {
   bool periodic() const { return period_ > 0; }
   // Segment label at time t (for progress output).
   const char* phase(double t) const;
+  // The axis of the segment of time t (unit, lab frame; as listed, whatever Ω's sense), and the
+  // angle in radians the wall has turned since that segment began (for a constant Ω: since t = 0;
+  // at rest: a zero axis and 0). The flowing layer of a biaxial run is measured about the first.
+  Vec3 segment_axis(double t) const;
+  double segment_turn(double t) const;
   // Which segment of the whole run time t lies in (periods completed x segments per period +
   // segment): two times share it exactly when Ω is constant between them. 0 for a constant Ω.
   std::int64_t segment_count(double t) const;

@@ -41,14 +41,34 @@ void SeriesObserver::sample(RunState& s) {
                               kinetic, series.cylinder);
     return;
   }
+  const std::size_t before = series.time.size();
   series.append(sim.time(), sim.protocol().iteration(sim.time()),
                 analysis::radial_segregation(all, scene.radius), kinetic);
-  if (scene.mode == Mode::single_axis) {  // the flowing layer: repose angle and surface speed
-    const analysis::FlowProfile fp = analysis::flow_profile(all, all.size(), flow_);
-    series.repose_angle.push_back(fp.repose_deg);
-    series.surface_speed.push_back(fp.surface_speed);
-    series.profile_h = fp.h;
-    series.surface_profile.insert(series.surface_profile.end(), fp.speed.begin(), fp.speed.end());
+  if (scene.mode == Mode::rest) return;
+  // The flowing layer, about the axis the wall turns about now: the repose angle and surface
+  // speed, and their profile. A biaxial run measures it about each segment's axis (z, then x), and
+  // keeps the segment and the turn into it, so each start of the flow about a new axis can be
+  // read as a single-axis run's start is.
+  const geometry::Protocol& protocol = sim.protocol();
+  analysis::FlowFrame frame = flow_;
+  if (scene.mode == Mode::biaxial) frame.axis = protocol.segment_axis(sim.time());
+  const analysis::FlowProfile fp = analysis::flow_profile(all, all.size(), frame);
+  // A run resumed from a checkpoint written before these were kept has fewer of them than
+  // samples: NaN stands for the samples not taken.
+  const double nan = std::nan("");
+  series.repose_angle.resize(before, nan);
+  series.surface_speed.resize(before, nan);
+  if (series.profile_h.size() == fp.h.size())
+    series.surface_profile.resize(before * fp.h.size(), nan);
+  series.repose_angle.push_back(fp.repose_deg);
+  series.surface_speed.push_back(fp.surface_speed);
+  series.profile_h = fp.h;
+  series.surface_profile.insert(series.surface_profile.end(), fp.speed.begin(), fp.speed.end());
+  if (scene.mode == Mode::biaxial) {
+    series.segment.resize(before, nan);
+    series.segment_turn.resize(before, nan);
+    series.segment.push_back(static_cast<double>(protocol.segment_count(sim.time())));
+    series.segment_turn.push_back(protocol.segment_turn(sim.time()) * 180 / kPi);
   }
 }
 

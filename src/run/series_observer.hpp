@@ -1,7 +1,8 @@
 #pragma once
 // The run's time series (results.h5 /series, kept in checkpoints): for a sphere scene the
 // large-particle fraction in the wall shell against the bed's (Yu 2022's radial segregation) and,
-// spinning about one axis, the flowing layer's repose angle, surface speed and speed profile; for a
+// when it turns, the flowing layer's repose angle, surface speed and speed profile about the axis
+// of the protocol's segment (a biaxial run also keeps the segment and the turn into it); for a
 // cylinder scene Rapaport's S_a, S_r, space-time profiles and bands. Sampled every
 // output.analysis_interval (and at step 0); none when that interval is 0.
 #include <cstdint>
