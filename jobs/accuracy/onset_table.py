@@ -84,7 +84,15 @@ def onset(path):
         slope = f["series/repose_angle"][:]
         speed = f["series/surface_speed"][:] / (omega * radius)
         seed = int(f.attrs["seed"])
-    angle = np.degrees(omega * t)
+    return dict(measures(t, np.degrees(omega * t), slope, speed, omega * radius / d_small),
+                seed=seed)
+
+
+def measures(t, angle, slope, speed, omega_r_over_d_small):
+    """The onset measures of one start of the flow: the samples' times t (s), the wall's turn since
+    the start (degrees), the surface slope (degrees) and speed (omega R); the last argument,
+    omega R / d_small, turns a travel in omega R seconds into d_small. Also used for each start of a biaxial run
+    (segment_start_table.py)."""
     nan = math.nan
     creep = first_lasting(speed > CREEP)
     flowing = speed[(angle >= 40) & (angle <= 80)]
@@ -93,12 +101,11 @@ def onset(path):
     early = angle <= BETA_ANGLE
     dt = np.diff(t, prepend=t[0])
     return {
-        "seed": seed,
         "creep onset slope (deg)": slope[creep] if creep is not None else nan,
         "flow onset angle (deg)": angle[flow] if flow is not None else nan,
         "largest slope before the flow (deg)": np.nanmax(slope[:flow + 1]) if flow is not None else nan,
         "peak speed before 27 deg (omega R)": np.nanmax(speed[early]),
-        "slide before 27 deg (d_small)": np.nansum((speed * dt)[early]) * omega * radius / d_small,
+        "slide before 27 deg (d_small)": np.nansum((speed * dt)[early]) * omega_r_over_d_small,
         "peak speed 27-40 deg (omega R)": np.nanmax(speed[(angle > BETA_ANGLE) & (angle <= 40)]),
         "lowest speed 35-50 deg (omega R)": np.nanmin(speed[(angle >= 35) & (angle <= 50)]),
         "lowest slope 30-45 deg (deg)": np.nanmin(slope[(angle >= 30) & (angle <= 45)]),
@@ -121,11 +128,11 @@ def load(directory):
     return runs
 
 
-def mean_table(labels, sets, measures):
+def mean_table(labels, sets, measure_names):
     """Mean ± Student 95% interval of each measure over each set's seeds."""
     print("| measure | " + " | ".join(f"{lab} (N = {len(r)})" for lab, r in zip(labels, sets)) + " |")
     print("|---" * (len(sets) + 1) + "|")
-    for m in measures:
+    for m in measure_names:
         cells = []
         for runs in sets:
             mean, ci, n = mean_ci([r[m] for r in runs.values()])
@@ -133,27 +140,39 @@ def mean_table(labels, sets, measures):
         print(f"| {m} | " + " | ".join(cells) + " |")
 
 
-def paired_table(labels, sets, measures, family):
-    """Each set's paired differences from the first set over `measures`: one BH family, under the
-    heading `family`."""
+def paired_tests(label, base, runs, measure_names):
+    """The paired differences runs - base over the keys (seeds) both hold, one test per measure:
+    (label, measure, mean, 95% half width, p, pairs); fewer than 3 pairs: no test (NaN)."""
     tests = []
-    base = sets[0]
+    common = sorted(set(base) & set(runs))
+    for m in measure_names:
+        d = np.array([runs[s][m] - base[s][m] for s in common])
+        d = d[np.isfinite(d)]
+        mean = float(d.mean()) if d.size else math.nan
+        if d.size >= 3 and d.std(ddof=1) > 0:
+            p = float(stats.ttest_1samp(d, 0).pvalue)
+            half = float(stats.t.ppf(0.975, d.size - 1) * d.std(ddof=1) / math.sqrt(d.size))
+        else:
+            p, half = math.nan, math.nan
+        tests.append((label, m, mean, half, p, d.size))
+    return tests
+
+
+def paired_table(labels, sets, measure_names, family):
+    """Each set's paired differences from the first set over `measure_names`: one BH family,
+    under the heading `family`."""
+    tests = []
     for label, runs in zip(labels[1:], sets[1:]):
-        common = sorted(set(base) & set(runs))
-        for m in measures:
-            d = np.array([runs[s][m] - base[s][m] for s in common])
-            d = d[np.isfinite(d)]
-            mean = float(d.mean()) if d.size else math.nan
-            if d.size >= 3 and d.std(ddof=1) > 0:
-                p = float(stats.ttest_1samp(d, 0).pvalue)
-                half = float(stats.t.ppf(0.975, d.size - 1) * d.std(ddof=1) / math.sqrt(d.size))
-            else:
-                p, half = math.nan, math.nan
-            tests.append((label, m, mean, half, p, d.size))
+        tests += paired_tests(label, sets[0], runs, measure_names)
+    print_tests(tests, f"{family} by seed against {labels[0]}")
+
+
+def print_tests(tests, heading):
+    """The tests as one Benjamini-Hochberg family at q = 0.05, as a table under `heading`."""
     ps = np.array([t[4] for t in tests])
     tested = np.isfinite(ps)
     reject, adjusted = bh_reject(ps)  # untested (NaN) entries are neither counted nor rejected
-    print(f"\n{family} by seed against {labels[0]} (Student t on the differences; BH at"
+    print(f"\n{heading} (Student t on the differences; BH at"
           f" q = 0.05 over the {int(tested.sum())} tests):\n")
     print("| set | measure | difference (95% CI) | pairs | p | p adjusted (BH) | significant |")
     print("|---|---|---|---|---|---|---|")
