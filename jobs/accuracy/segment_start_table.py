@@ -20,6 +20,11 @@ differences, and the Benjamini-Hochberg procedure at q = 0.05 over every test of
 starts, measures and sets: one family, fixed before the runs). Fewer than 3 pairs: the difference
 is printed, no test.
 
+A second look, its own family: the speed step at the tilt's end (the mean speed over the 2° of turn
+after beta less that over the 2° before), where the tilt becomes the rotation: the wall turns on
+alike, but the new segment thaws a rigid bulk. It was defined after the curves of the first job's
+first bed, so the later beds of that job are its check.
+
 usage: segment_start_table.py DIR [DIR ...]   (each DIR holds seed<k>/results.h5; the first is
        the base, e.g. OUT/dynamic, then OUT/rigid of segment_start.sh)
        [--label NAME ...] one name per DIR (default: the DIR's last part)
@@ -41,6 +46,10 @@ from onset_table import (AFTER, BETA_ANGLE, CREEP, MEASURES, mean_table,  # noqa
                          measures, paired_tests, print_tests, scene_value)
 
 SEGMENTS = 6  # per period: (tilt, rotate, tilt back) about z, then about x
+# A second look, its own BH family: defined after the curves of bed 1 of the first job
+# (2026-12-06) showed the rigid runs' speed stepping up where the tilt becomes the rotation;
+# beds 2-5 of that job, run after it was fixed, are its check.
+STEP = "speed step at the tilt's end (omega R)"
 
 
 def starts(path):
@@ -79,6 +88,13 @@ def starts(path):
             angle = np.where(segment[pick] == tilt, turn[pick], beta + turn[pick])
             r = measures(t[pick], angle, slope[pick], speed[pick], omega * radius / float(
                 value["particles.d_small"]))
+            # The step at the tilt's end: the mean speed over the 2° after beta less that over
+            # the 2° before. The tilt and the rotation turn alike, but a new segment thaws a
+            # rigid bulk there (fidelity.bulk_segment_thaw).
+            v = speed[pick]
+            after, before = (angle > beta) & (angle <= beta + 2), (angle >= beta - 2) & (angle < beta)
+            r[STEP] = (np.nanmean(v[after]) - np.nanmean(v[before])
+                       if after.any() and before.any() else math.nan)
             r["seed"] = seed
             out[f"{axis}{period + 1}"] = r
     return out
@@ -128,6 +144,15 @@ def main():
     print("\nReading: a difference is a change in how the bed starts to flow about a new axis that"
           " these seeds resolve; 'no' everywhere means none resolved at this N, not that there is"
           " none.")
+    print("\nAt the tilt's end (a second look, defined after the first bed's curves; its own"
+          " family):\n")
+    steps = []
+    for name in names:
+        runs = [s.get(name, {}) for s in sets]
+        mean_table([f"{label}, {name}" for label in labels], runs, [STEP])
+        for label, r in zip(labels[1:], runs[1:]):
+            steps += paired_tests(f"{label}, {name}", runs[0], r, [STEP])
+    print_tests(steps, f"At the tilt's end, paired by seed against {labels[0]}")
     if a.plot:
         plot(a.plot, labels, sets, names)
 

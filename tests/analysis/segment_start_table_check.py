@@ -11,7 +11,10 @@ rotation (57, turn 0-56°, so 27-83° since the tilt began) and the tilt back (2
 (tilt and rotation): slope = turn + 1 up to 26° then 26°, speed 0.01 k (seed k) until the flow at
 30°, 3 omega R from there; the tilt back reads speed 5 (which no measure of a start may see).
 Rigid runs: the same, but in the x start a burst of 1.3 + 0.1 k omega R at 20° and 21° (its peak
-before 27°: 1.3 + 0.09 k above the base's 0.01 k, mean +1.525); their z start the base's exactly.
+before 27°: 1.3 + 0.09 k above the base's 0.01 k, mean +1.525); in the z start a step to
+1 + 0.05 k omega R at 28° and 29°, after the tilt's end and before the flow (the second family's
+step at the tilt's end, the 2° after beta less the 2° before: 1 + 0.04 k above the base's 0, mean
++1.1), which no measure of the first family sees.
 """
 import math
 import os
@@ -39,6 +42,8 @@ def start_speed(since_tilt, rigid, seed, axis):
     speed = np.where(since_tilt >= 30, 3.0, 0.01 * seed)
     if rigid and axis == "x":
         speed[(since_tilt >= 20) & (since_tilt <= 21)] = 1.3 + 0.1 * seed
+    if rigid and axis == "z":  # a step where the tilt becomes the rotation, before the flow
+        speed[(since_tilt >= 28) & (since_tilt < 30)] = 1 + 0.05 * seed
     return speed
 
 
@@ -110,6 +115,12 @@ def main():
           len(z) == 1 and "+0 " in z[0] and z[0].rstrip(" |").endswith("no"), z[0] if z else "no row")
     # One family over both starts: 2 tests each in x1 (the peak, the slide), none in z1.
     check("one BH family over every start", "over the 2 tests" in out)
+    steps = [line for line in out.splitlines()
+             if line.startswith("| rigid, z1 | speed step at the tilt's end")]
+    check("the step at the tilt's end in z1, kept by its own family",
+          len(steps) == 1 and "+1.1 " in steps[0] and steps[0].rstrip(" |").endswith("yes")
+          and "At the tilt's end, paired by seed against dynamic (Student t on the differences;"
+          " BH at q = 0.05 over the 1 tests)" in out, steps[0] if steps else "no row")
     # A run written before the series kept the segment is refused with what to do.
     old = os.path.join(work, "old")
     write_run(os.path.join(old, "seed1"), False, 1, with_segment=False)
