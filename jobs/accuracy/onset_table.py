@@ -181,19 +181,27 @@ def print_tests(tests, heading):
         print(f"| {label} | {m} | {diff} | {n} | {p:.3g} | {adj:.3g} | {'yes' if rej else 'no'} |")
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+def parse_sets(doc, load_dir, default_label):
+    """The command line shared with segment_start_table.py: DIR ... [--label ...] [--plot FILE];
+    returns the arguments, a label per DIR and load_dir(DIR) of each, refusing an empty one."""
+    ap = argparse.ArgumentParser(description=doc.split("\n\n")[0])
     ap.add_argument("dirs", nargs="+")
     ap.add_argument("--label", nargs="*")
     ap.add_argument("--plot")
     a = ap.parse_args()
-    labels = a.label or ["/".join(os.path.normpath(d).split(os.sep)[-2:]) for d in a.dirs]
+    labels = a.label or [default_label(os.path.normpath(d)) for d in a.dirs]
     if len(labels) != len(a.dirs):
         sys.exit("--label: one name per DIR")
-    sets = [load(d) for d in a.dirs]
-    for label, runs, d in zip(labels, sets, a.dirs):
+    sets = [load_dir(d) for d in a.dirs]
+    for runs, d in zip(sets, a.dirs):
         if not runs:
             sys.exit(f"{d}: no complete run (seed<k>/results.h5)")
+    return a, labels, sets
+
+
+def main():
+    a, labels, sets = parse_sets(__doc__, load, lambda d: "/".join(d.split(os.sep)[-2:]))
+    for label, runs in zip(labels, sets):
         if len(runs) < 3:
             print(f"# warning: {label} has {len(runs)} run(s); intervals need more")
     mean_table(labels, sets, MEASURES)

@@ -30,7 +30,6 @@ usage: segment_start_table.py DIR [DIR ...]   (each DIR holds seed<k>/results.h5
        [--label NAME ...] one name per DIR (default: the DIR's last part)
        [--plot FILE.png]  slope and speed against the turn, mean per set, one column per start
 """
-import argparse
 import glob
 import math
 import os
@@ -43,7 +42,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from accuracy_table import is_complete  # noqa: E402  (the runs' own completeness rule)
 from onset_table import (AFTER, BETA_ANGLE, CREEP, MEASURES, mean_table,  # noqa: E402
-                         measures, paired_tests, print_tests, scene_value)
+                         measures, paired_tests, parse_sets, print_tests, scene_value)
 
 SEGMENTS = 6  # per period: (tilt, rotate, tilt back) about z, then about x
 # A second look, its own BH family: defined after the curves of bed 1 of the first job
@@ -115,18 +114,7 @@ def order(name):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("dirs", nargs="+")
-    ap.add_argument("--label", nargs="*")
-    ap.add_argument("--plot")
-    a = ap.parse_args()
-    labels = a.label or [os.path.basename(os.path.normpath(d)) for d in a.dirs]
-    if len(labels) != len(a.dirs):
-        sys.exit("--label: one name per DIR")
-    sets = [load(d) for d in a.dirs]
-    for label, by_start, d in zip(labels, sets, a.dirs):
-        if not by_start:
-            sys.exit(f"{d}: no complete run (seed<k>/results.h5)")
+    a, labels, sets = parse_sets(__doc__, load, os.path.basename)
     names = sorted(set().union(*sets), key=order)
     every = MEASURES + AFTER
     tests = []
