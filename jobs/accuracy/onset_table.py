@@ -29,6 +29,11 @@ look at the same runs, not part of the first family's plan):
   its steady speed (a harder avalanche can run the surface out past its steady slope);
 * lowest slope 30-45°: how flat the surface runs out past the avalanche.
 
+Where the runs kept series/frozen_fraction (the rigid bulk's runs), a third table shows the
+frozen share through the start: each set's mean over its seeds at chosen turns of the wall, and
+its mean over 40-80°. It is descriptive (no tests): it shows where the bed thaws and refreezes
+beside the speed, the reading a change of a freezing rule is judged by.
+
 Per set of runs: mean ± Student 95% interval over the seeds. Each other set against the first
 (runs of the same seed start from the same settled bed): the paired difference per seed, Student's
 t on the differences, and the Benjamini-Hochberg procedure at q = 0.05 over every difference in
@@ -37,7 +42,8 @@ its table (each family apart). Fewer than 3 pairs: the difference is printed, no
 usage: onset_table.py DIR [DIR ...]   (each DIR holds seed<k>/results.h5; the first is the base,
        e.g. OUT/standard, then OUT/standard-rigid of each flow_accuracy.sh job)
        [--label NAME ...] one name per DIR (default: the DIR's last two parts)
-       [--plot FILE.png]  slope and speed against the rotation angle, mean per set
+       [--plot FILE.png]  slope, speed (and the frozen share, where kept) against the
+                          rotation angle, mean per set
 """
 import argparse
 import glob
@@ -84,8 +90,9 @@ def onset(path):
         slope = f["series/repose_angle"][:]
         speed = f["series/surface_speed"][:] / (omega * radius)
         seed = int(f.attrs["seed"])
+        frozen = f["series/frozen_fraction"][:] if "series/frozen_fraction" in f else None
     return dict(measures(t, np.degrees(omega * t), slope, speed, omega * radius / d_small),
-                seed=seed)
+                seed=seed, frozen=frozen)
 
 
 def measures(t, angle, slope, speed, omega_r_over_d_small):
@@ -126,6 +133,30 @@ def load(directory):
         if r is not None:
             runs[r["seed"]] = r
     return runs
+
+
+FROZEN_AT = [10, 20, 24, 28, 32, 36, 40, 45, 50, 60]  # degrees of the wall's turn
+
+
+def frozen_table(labels, sets):
+    """The mean frozen share of each set that kept it, at FROZEN_AT and over 40-80°; none: nothing."""
+    rows = []
+    for label, runs in zip(labels, sets):
+        kept = [r for r in runs.values() if r["frozen"] is not None]
+        if not kept:
+            continue
+        at = [np.mean([np.interp(a, r["series"][0], r["frozen"]) for r in kept]) for a in FROZEN_AT]
+        steady = np.mean([np.mean(r["frozen"][(r["series"][0] >= 40) & (r["series"][0] <= 80)])
+                          for r in kept])
+        rows.append(f"| {label} (N = {len(kept)}) | " + " | ".join(f"{v:.2f}" for v in at)
+                    + f" | {steady:.2f} |")
+    if not rows:
+        return
+    print("\nThe frozen share through the start (series/frozen_fraction; mean over the seeds, no"
+          " tests):\n")
+    print("| set | " + " | ".join(f"{a}°" for a in FROZEN_AT) + " | mean 40-80° |")
+    print("|---" * (len(FROZEN_AT) + 2) + "|")
+    print("\n".join(rows))
 
 
 def mean_table(labels, sets, measure_names):
@@ -214,22 +245,32 @@ def main():
           " overshoot; its own family):\n")
     mean_table(labels, sets, AFTER)
     paired_table(labels, sets, AFTER, "After the first avalanche, paired")
+    frozen_table(labels, sets)
     if a.plot:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
+        any_frozen = any(r["frozen"] is not None for runs in sets for r in runs.values())
+        fig, axes = plt.subplots(3 if any_frozen else 2, 1, figsize=(7, 8.5 if any_frozen else 6),
+                                 sharex=True)
+        ax1, ax2 = axes[0], axes[1]
+        grid = np.arange(0, 50.5, 1.0)
         for label, runs in zip(labels, sets):
-            grid = np.arange(0, 50.5, 1.0)
             sl = np.mean([np.interp(grid, r["series"][0], r["series"][1]) for r in runs.values()], 0)
             sp = np.mean([np.interp(grid, r["series"][0], r["series"][2]) for r in runs.values()], 0)
-            ax1.plot(grid, sl, label=f"{label} (N = {len(runs)})")
-            ax2.plot(grid, sp, label=label)
+            line, = ax1.plot(grid, sl, label=f"{label} (N = {len(runs)})")
+            ax2.plot(grid, sp, label=label, color=line.get_color())
+            kept = [r for r in runs.values() if r["frozen"] is not None]
+            if any_frozen and kept:
+                fr = np.mean([np.interp(grid, r["series"][0], r["frozen"]) for r in kept], 0)
+                axes[2].plot(grid, fr, color=line.get_color())
         ax1.set_ylabel("surface slope (deg)")
         ax2.set_ylabel("surface speed / (omega R)")
-        ax2.set_xlabel("rotation of the wall from the settled bed (deg)")
+        axes[-1].set_xlabel("rotation of the wall from the settled bed (deg)")
         ax2.axhline(CREEP, color="grey", lw=0.5, ls=":")
-        for ax in (ax1, ax2):
+        if any_frozen:
+            axes[2].set_ylabel("frozen share")
+        for ax in axes:
             ax.axvline(BETA_ANGLE, color="grey", lw=0.5, ls="--")
         ax1.legend(fontsize=8)
         fig.tight_layout()

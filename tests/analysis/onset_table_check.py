@@ -10,7 +10,9 @@ but held at 0 until 20° and a burst of 1.3 + 0.1 k omega R (seed k) at 20° and
 onset slope is 21° (against 17°), their peak before 27° 1.3 + 0.1 k (against 0.3 + 0.01 k), their
 flow onset the same 30° (seed 4's burst, 1.7, passes half the flow's 3.0 for two samples only),
 and a trough of 2 + 0.05 k omega R at 40° after it (the second family's lowest speed 35-50°:
--1 + 0.05 k against dynamic's 3.0; the slope the same, no test).
+-1 + 0.05 k against dynamic's 3.0; the slope the same, no test). Rigid runs keep a frozen share,
+0.7 + 0.02 k up to 29° and 0.5 from 30°; base runs keep none (the frozen-share table has no row
+for them).
 """
 import math
 import os
@@ -56,6 +58,9 @@ def write_run(path, rigid, seed, complete=1):
         f.create_dataset("series/time", data=np.radians(angle) / OMEGA)
         f.create_dataset("series/repose_angle", data=slope)
         f.create_dataset("series/surface_speed", data=speed * OMEGA * RADIUS)
+        if rigid:
+            f.create_dataset("series/frozen_fraction",
+                             data=np.where(angle < 30, 0.7 + 0.02 * seed, 0.5))
 
 
 def cell(text, row, column):
@@ -113,6 +118,15 @@ def main():
     check("the two families are counted apart",
           "over the 2 tests" in out and "After the first avalanche, paired by seed" in out
           and "over the 1 tests" in out, out)
+    # The frozen share: the rigid set's row only, its mean over seeds 1-4 at 10° (0.75), at 32°
+    # and over 40-80° (0.50).
+    rows = [line for line in out.splitlines() if line.startswith("| still (N = 4) |")]
+    check("the frozen share of the set that kept it, none for the base",
+          len(rows) == 1 and cell(rows[0], "still (N = 4)", 1) == "0.75"
+          and cell(rows[0], "still (N = 4)", 5) == "0.50"
+          and cell(rows[0], "still (N = 4)", 11) == "0.50"
+          and not any(line.startswith("| dynamic (N = 4) |") for line in out.splitlines()),
+          rows[0] if rows else "no row")
     # Fewer than three runs: a warning.
     few = os.path.join(work, "few")
     write_run(os.path.join(few, "seed1"), True, 1)
