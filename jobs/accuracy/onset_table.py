@@ -139,7 +139,8 @@ FROZEN_AT = [10, 20, 24, 28, 32, 36, 40, 45, 50, 60]  # degrees of the wall's tu
 
 
 def frozen_table(labels, sets):
-    """The mean frozen share of each set that kept it, at FROZEN_AT and over 40-80°; none: nothing."""
+    """The mean frozen share of each set that kept it, at FROZEN_AT and over 40-80° (no set kept
+    it: no table)."""
     rows = []
     for label, runs in zip(labels, sets):
         kept = [r for r in runs.values() if r["frozen"] is not None]
@@ -256,8 +257,10 @@ def main():
         ax1, ax2 = axes[0], axes[1]
         grid = np.arange(0, 50.5, 1.0)
         for label, runs in zip(labels, sets):
-            sl = np.mean([np.interp(grid, r["series"][0], r["series"][1]) for r in runs.values()], 0)
-            sp = np.mean([np.interp(grid, r["series"][0], r["series"][2]) for r in runs.values()], 0)
+            def mean_curve(column):
+                return np.mean([np.interp(grid, r["series"][0], r["series"][column])
+                                for r in runs.values()], 0)
+            sl, sp = mean_curve(1), mean_curve(2)
             line, = ax1.plot(grid, sl, label=f"{label} (N = {len(runs)})")
             ax2.plot(grid, sp, label=label, color=line.get_color())
             kept = [r for r in runs.values() if r["frozen"] is not None]
