@@ -138,18 +138,26 @@ def load(directory):
 FROZEN_AT = [10, 20, 24, 28, 32, 36, 40, 45, 50, 60]  # degrees of the wall's turn
 
 
+def mean_frozen(runs, angles):
+    """The frozen share over the runs that kept it, mean per angle (degrees of the wall's turn),
+    and how many kept it; (None, 0) where none did."""
+    kept = [r for r in runs.values() if r["frozen"] is not None]
+    if not kept:
+        return None, 0
+    return np.mean([np.interp(angles, r["series"][0], r["frozen"]) for r in kept], 0), len(kept)
+
+
 def frozen_table(labels, sets):
     """The mean frozen share of each set that kept it, at FROZEN_AT and over 40-80° (no set kept
     it: no table)."""
     rows = []
     for label, runs in zip(labels, sets):
-        kept = [r for r in runs.values() if r["frozen"] is not None]
-        if not kept:
+        at, n = mean_frozen(runs, FROZEN_AT)
+        if at is None:
             continue
-        at = [np.mean([np.interp(a, r["series"][0], r["frozen"]) for r in kept]) for a in FROZEN_AT]
         steady = np.mean([np.mean(r["frozen"][(r["series"][0] >= 40) & (r["series"][0] <= 80)])
-                          for r in kept])
-        rows.append(f"| {label} (N = {len(kept)}) | " + " | ".join(f"{v:.2f}" for v in at)
+                          for r in runs.values() if r["frozen"] is not None])
+        rows.append(f"| {label} (N = {n}) | " + " | ".join(f"{v:.2f}" for v in at)
                     + f" | {steady:.2f} |")
     if not rows:
         return
@@ -263,9 +271,8 @@ def main():
             sl, sp = mean_curve(1), mean_curve(2)
             line, = ax1.plot(grid, sl, label=f"{label} (N = {len(runs)})")
             ax2.plot(grid, sp, label=label, color=line.get_color())
-            kept = [r for r in runs.values() if r["frozen"] is not None]
-            if any_frozen and kept:
-                fr = np.mean([np.interp(grid, r["series"][0], r["frozen"]) for r in kept], 0)
+            fr, _ = mean_frozen(runs, grid)
+            if fr is not None:
                 axes[2].plot(grid, fr, color=line.get_color())
         ax1.set_ylabel("surface slope (deg)")
         ax2.set_ylabel("surface speed / (omega R)")
