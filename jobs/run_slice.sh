@@ -32,6 +32,16 @@ seconds_as_ms() {
   echo $((10#${1%%.*} * 1000 + 10#${frac:0:3}))
 }
 
+# Pass a signal the slice's shell caught on to the launcher, or keep it for the launcher that is
+# about to start (run_slice sets run_slice_launcher once it has its pid).
+run_slice_forward() {
+  if [ -n "$run_slice_launcher" ]; then
+    kill -"$1" "$run_slice_launcher" 2> /dev/null || true
+  else
+    run_slice_pending=$1
+  fi
+}
+
 run_slice() {
   local name=$1 dir=$2 launcher=$3 campaign=$4 i=$5 n=$6
   shift 6
@@ -82,16 +92,21 @@ run_slice() {
     exec $launcher "$tumble" campaign "$campaign" --slice "$i/$n" "$@"
   fi
   echo "$name: SIGUSR1 (stop at the next checkpoints) after $stop s"
-  # shellcheck disable=SC2086
-  $launcher "$tumble" campaign "$campaign" --slice "$i/$n" "$@" &
-  set +f
-  run_slice_launcher=$!
   # This shell is the job's top process now (without the timer, exec made the launcher it): a
   # stop request or a kill sent to it (qsig, Ctrl-C) is passed on to the launcher, not lost with
-  # this shell while the campaign runs on.
-  trap 'kill -USR1 "$run_slice_launcher" 2> /dev/null || true' USR1
-  trap 'kill -TERM "$run_slice_launcher" 2> /dev/null || true' TERM
-  trap 'kill -INT "$run_slice_launcher" 2> /dev/null || true' INT
+  # this shell while the campaign runs on. The traps are set before the launcher starts: set
+  # after it, a request sent in between killed this shell alone and left the campaign running.
+  # One that comes before the launcher's pid is known waits in run_slice_pending.
+  run_slice_launcher=
+  run_slice_pending=
+  trap 'run_slice_forward USR1' USR1
+  trap 'run_slice_forward TERM' TERM
+  trap 'run_slice_forward INT' INT
+  # shellcheck disable=SC2086
+  $launcher "$tumble" campaign "$campaign" --slice "$i/$n" "$@" &
+  run_slice_launcher=$!
+  set +f
+  [ -z "$run_slice_pending" ] || run_slice_forward "$run_slice_pending"
   local timer
   # (the sleep killed with its subshell when the campaign ends first)
   (

@@ -99,8 +99,9 @@ os.makedirs(fake, exist_ok=True)
 for name, text in (("qstat", "#!/bin/sh\necho '    Resource_List.walltime = 00:00:03'\n"),
                    ("tumble", "#!/bin/bash\nfor x in \"$@\"; do [ \"$x\" = --status ] && exit 10; done\n"
                               "trap 'echo fake: SIGUSR1; kill $s; exit 10' USR1\n"
+                              "sleep 60 & s=$!\n"
                               "[ -z \"$FAKE_READY\" ] || : > \"$FAKE_READY\"\n"
-                              "sleep 60 & s=$!\nwait $s\necho fake: not stopped\n")):
+                              "wait $s\necho fake: not stopped\n")):
     with open(os.path.join(fake, name), "w") as f:
         f.write(text)
     os.chmod(os.path.join(fake, name), 0o755)
@@ -117,6 +118,8 @@ print("pbs: the stop request %.1f s into a 3 s walltime (margin 1 s), exit 10" %
 # qsig signals that process) reaches the campaign. Before, it ended the script alone and left the
 # campaign and the timer running. The request is sent once the fake campaign says it has set its
 # trap (FAKE_READY): a fixed wait raced with the start of the script and the fake on a busy machine.
+# FAKE_READY comes after the fake's sleep has started: written before it, a request in between
+# left the sleep (and the pipe it holds) running for 60 s after the fake had exited 10.
 ready = os.path.abspath("fake_ready")
 if os.path.exists(ready):
     os.remove(ready)
