@@ -384,13 +384,15 @@ struct SegmentChange {
   std::vector<Vec3> x_at_change;
 };
 
-SegmentChange through_segment_change(const std::string& segment_thaw) {
+// The change looked at is the tilt's end (3 deg: the tilt becomes the rotation, Ω the same) or,
+// with change_deg = 9, the rotation's end (the tilt back: Ω reversed).
+SegmentChange through_segment_change(const std::string& segment_thaw, double change_deg = 3) {
   const Scene s = tiny_scene({"protocol.mode=biaxial", "protocol.rpm=10", "fidelity.bulk=rigid",
                               "fidelity.bulk_dwell=0.004", segment_thaw});
   const auto proto = geometry::Protocol::biaxial(deg2rad(6), deg2rad(6), deg2rad(3), s.omega());
   Simulation sim(s, tiny_settled_bed(), proto);
   sim.compute_forces();
-  const double tilt_end = deg2rad(3) / s.omega();
+  const double tilt_end = deg2rad(change_deg) / s.omega();
   while (sim.time() + sim.dt() < tilt_end) sim.step();
   SegmentChange c;
   c.particles = sim.local_count();
@@ -437,6 +439,36 @@ TEST(RigidBulk, WithoutTheSegmentThawTheBulkStaysFrozenAcrossTheChange) {
   EXPECT_GT(static_cast<double>(off.fewest), 0.8 * static_cast<double>(off.before));
   std::printf("segment change without its thaw: frozen %zu before, %zu fewest after (with it: 0)\n",
               off.before, off.fewest);
+}
+
+TEST(RigidBulk, TheOmegaSegmentThawSkipsTheTiltsEndAndThawsWhereOmegaChanges) {
+  // fidelity.bulk_segment_thaw = omega: where the tilt becomes the rotation (Ω the same) it is the
+  // run without the segment thaw, bit for bit through the change; where the rotation becomes the
+  // tilt back (Ω reversed) it thaws the whole bed as the default does.
+  const SegmentChange off = through_segment_change("fidelity.bulk_segment_thaw=off");
+  const SegmentChange omega = through_segment_change("fidelity.bulk_segment_thaw=omega");
+  ASSERT_EQ(off.x_at_change.size(), omega.x_at_change.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < off.x_at_change.size(); ++i) {
+    const Vec3 &a = off.x_at_change[i], &b = omega.x_at_change[i];
+    differ += a.x != b.x || a.y != b.y || a.z != b.z;
+  }
+  EXPECT_EQ(differ, 0u);
+  EXPECT_EQ(omega.before, off.before);
+  EXPECT_EQ(omega.fewest, off.fewest);
+  EXPECT_EQ(omega.after, off.after);
+  EXPECT_GT(static_cast<double>(omega.fewest), 0.8 * static_cast<double>(omega.before));
+  const SegmentChange back_off = through_segment_change("fidelity.bulk_segment_thaw=off", 9);
+  const SegmentChange back = through_segment_change("fidelity.bulk_segment_thaw=omega", 9);
+  EXPECT_GT(static_cast<double>(back.before), 0.1 * static_cast<double>(back.particles));
+  EXPECT_EQ(back.fewest, 0u);
+  EXPECT_GT(static_cast<double>(back.after), 0.1 * static_cast<double>(back.particles));
+  EXPECT_GT(static_cast<double>(back_off.fewest), 0.8 * static_cast<double>(back_off.before));
+  std::printf(
+      "omega segment thaw: at the tilt's end frozen %zu before, %zu fewest after (as off);"
+      " at the tilt back %zu before, %zu fewest (off: %zu of %zu), %zu four dwells later\n",
+      omega.before, omega.fewest, back.before, back.fewest, back_off.fewest, back_off.before,
+      back.after);
 }
 
 TEST(RigidBulk, RestartContinuesBitwise) {

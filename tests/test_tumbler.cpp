@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 
 #include "bed_fixture.hpp"
 #include "dem_helpers.hpp"
@@ -124,4 +125,25 @@ TEST(Protocol, SegmentAxisAndTurn) {
   EXPECT_NEAR(spin.segment_axis(2).z, -1.0, 1e-15);  // Ω = −ω ẑ: the axis of Ω itself
   EXPECT_NEAR(spin.segment_turn(2), 2 * w, 1e-15);
   EXPECT_EQ(norm(geometry::Protocol::at_rest().segment_axis(1)), 0.0);
+}
+
+// Ω per segment as segment_count numbers them (the rigid bulk's `omega` segment thaw compares
+// it): a tilt by β and the rotation after it share Ω; the tilt back reverses it; the x tilt
+// turns about a new axis; one period later the list repeats.
+TEST(Protocol, SegmentOmega) {
+  const double w = 0.3;
+  const auto p = geometry::Protocol::biaxial(deg2rad(57), deg2rad(57), deg2rad(27), w);
+  for (const std::int64_t k0 : {std::int64_t{0}, std::int64_t{6}}) {
+    const Vec3 tilt = p.segment_omega(k0), rotate = p.segment_omega(k0 + 1);
+    EXPECT_EQ(tilt.z, -w);
+    EXPECT_EQ(norm(tilt - rotate), 0.0);
+    EXPECT_EQ(p.segment_omega(k0 + 2).z, w);
+    EXPECT_EQ(p.segment_omega(k0 + 3).x, w);
+    EXPECT_EQ(norm(p.segment_omega(k0 + 3) - p.segment_omega(k0 + 4)), 0.0);
+    EXPECT_EQ(p.segment_omega(k0 + 5).x, -w);
+  }
+  // Ω of the segment of a time is Ω at that time.
+  const double t = (deg2rad(27) + deg2rad(57) + deg2rad(5)) / w;
+  EXPECT_EQ(norm(p.segment_omega(p.segment_count(t)) - p.omega(t)), 0.0);
+  EXPECT_EQ(geometry::Protocol::single_axis('x', w).segment_omega(0).x, w);
 }

@@ -56,7 +56,7 @@ std::string display(const ParamValue& v) { return v.numeric ? display_number(v.n
 // fidelity.bulk_still_slope = 0 (the surface layer never freezes).
 bool added_bulk_key_off(const std::string& key, const Scene& scene) {
   return (key == "fidelity.bulk_thaw_gravity" && scene.bulk_thaw_gravity == 2) ||
-         (key == "fidelity.bulk_segment_thaw" && scene.bulk_segment_thaw == OnOff::on) ||
+         (key == "fidelity.bulk_segment_thaw" && scene.bulk_segment_thaw == SegmentThaw::on) ||
          (key == "fidelity.bulk_still_slope" && scene.bulk_still_slope.known &&
           scene.bulk_still_slope.deg == 0);
 }

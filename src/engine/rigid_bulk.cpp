@@ -11,13 +11,13 @@
 // moving particle are computed as for any pair (the frozen one acts as a rough wall grain). It
 // thaws at the next rebuild when a neighbour moves (leaves its calm distance) or the surface comes
 // within the margin, at the first rebuild of a new protocol segment (unless bulk_segment_thaw is
-// off), at a rebuild when gravity, seen from the tumbler, has changed by more than
-// bulk_thaw_gravity g since it froze (off at the default 2), and at the very next step when its
-// moving neighbours push it harder than bulk_thaw_force times its weight (checked in
-// kick_drift_rigid below). With bulk_still_slope set, the margin holds only while the free
-// surface is inclined at least that much: below it (a tilt under the repose angle, a bed at
-// rest) the surface layer freezes like the bulk, and it thaws at the first pass that finds the
-// surface steeper.
+// off; with omega, only of a segment whose Ω differs from the last one's), at a rebuild when
+// gravity, seen from the tumbler, has changed by more than bulk_thaw_gravity g since it froze (off
+// at the default 2), and at the very next step when its moving neighbours push it harder than
+// bulk_thaw_force times its weight (checked in kick_drift_rigid below). With bulk_still_slope set,
+// the margin holds only while the free surface is inclined at least that much: below it (a tilt
+// under the repose angle, a bed at rest) the surface layer freezes like the bulk, and it thaws at
+// the first pass that finds the surface steeper.
 //
 // A frozen particle's place is a function of time alone: turn(t_b -> t) x_b, from its position
 // x_b at the last rebuild (time t_b), so every rank computes the same bits for it, owner or ghost
@@ -169,7 +169,10 @@ void Simulation::update_bulk_states() {
   // below the surface goes on turning with the wall, and what the new motion sets moving thaws by
   // the other rules (its surface, a moving neighbour, the push, gravity's turn). That saves the
   // refreezing dwell after each of an iteration's six segment changes, and changes what the bed
-  // does, so `on` stays the default until its errors are measured (docs/accuracy.md).
+  // does, so `on` stays the default until its errors are measured (docs/accuracy.md). Between
+  // the two, `omega` thaws where Ω changes (the tilt's start, the tilt back) and not where the
+  // tilt by β becomes the rotation about the same axis: there the whole-bed thaw of `on` made
+  // the surface speed step up for a few degrees (bst_small, docs/accuracy.md).
   // Gravity's turn: a frozen particle's held contacts carried its weight when it froze, and still
   // do so as they were; gravity, seen from the tumbler, has since turned with the wall. Released,
   // it would accelerate relative to the wall by about g |ĝ_T(now) - ĝ_T(freeze)| (its moving
@@ -179,7 +182,17 @@ void Simulation::update_bulk_states() {
   const bool gravity_rule = b.thaw_gravity < 2;  // |ĝ - ĝ'| <= 2: at 2 the rule never fires
   const std::int64_t elapsed = step_ - b.last_update;
   const std::int64_t segment = protocol_.segment_count(time_);
-  const bool new_segment = segment != b.segment && b.segment_thaw;
+  // (With bulk_segment_thaw = omega only a change of Ω thaws: the tilt back's reversal and the
+  // new axis, not the tilt by β becoming the rotation, where the bed's motion goes on as it was.
+  // Ω compared exactly: both come from the same list of segments.)
+  bool new_segment = false;
+  if (segment != b.segment) {
+    if (b.segment_thaw == SegmentThaw::on) new_segment = true;
+    if (b.segment_thaw == SegmentThaw::omega) {
+      const Vec3 was = protocol_.segment_omega(b.segment), now = protocol_.segment_omega(segment);
+      new_segment = was.x != now.x || was.y != now.y || was.z != now.z;
+    }
+  }
   b.segment = segment;
   std::int64_t frozen = 0;
   for (std::size_t i = 0; i < n; ++i) {

@@ -110,7 +110,7 @@ Simulation::Simulation(const Scene& s, Particles particles, geometry::Protocol p
     bulk_.margin = s.bulk_margin * s.d_large;
     bulk_.thaw_acceleration = s.bulk_thaw_force * s.g;
     bulk_.thaw_gravity = s.bulk_thaw_gravity;
-    bulk_.segment_thaw = s.bulk_segment_thaw == OnOff::on;
+    bulk_.segment_thaw = s.bulk_segment_thaw;
     if (s.still_slope_pending())  // run_realization resolves it first
       throw std::logic_error("fidelity.bulk_still_slope = 'measured' was not measured");
     bulk_.still_slope_tan = std::tan(deg2rad(s.bulk_still_slope.deg));

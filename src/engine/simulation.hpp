@@ -290,11 +290,12 @@ class Simulation {
     double margin = 0;              // [m] below the free surface
     double thaw_acceleration = 0;   // [m/s^2]: thaw_force g
     double thaw_gravity = 2;        // |change of gravity's direction| since freezing (2: never)
-    bool segment_thaw = true;       // a new protocol segment thaws everything
-    double still_slope_tan = 0;     // the surface layer may freeze below this slope (0: never)
-    double slope_reach2 = 0;        // [m^2] the columns the slope is fitted to: x^2 (+ z^2) below
-    bool slope_z = true;            // z counts in the columns' reach (not along a cylinder's axis)
-    bool still = false;             // the last pass found the surface still (below the slope)
+    // which new protocol segments thaw everything
+    SegmentThaw segment_thaw = SegmentThaw::on;
+    double still_slope_tan = 0;  // the surface layer may freeze below this slope (0: never)
+    double slope_reach2 = 0;     // [m^2] the columns the slope is fitted to: x^2 (+ z^2) below
+    bool slope_z = true;         // z counts in the columns' reach (not along a cylinder's axis)
+    bool still = false;          // the last pass found the surface still (below the slope)
     double bin = 0, x0 = 0, z0 = 0;
     int nx = 0, nz = 0;
     std::vector<double> top;  // highest particle top per column (-1e300: empty)

@@ -116,4 +116,11 @@ std::int64_t Protocol::segment_count(double t) const {
   return periods * static_cast<std::int64_t>(segments_.size()) + seg;
 }
 
+Vec3 Protocol::segment_omega(std::int64_t count) const {
+  if (constant_) return constant_omega_;
+  const auto n = static_cast<std::int64_t>(segments_.size());
+  const auto& s = segments_[static_cast<std::size_t>(((count % n) + n) % n)];
+  return s.axis * s.omega;
+}
+
 }  // namespace tumble::geometry

@@ -48,6 +48,10 @@ class Protocol {
   // Which segment of the whole run time t lies in (periods completed x segments per period +
   // segment): two times share it exactly when Ω is constant between them. 0 for a constant Ω.
   std::int64_t segment_count(double t) const;
+  // Ω of the segment numbered `count` as segment_count numbers them (for a constant Ω: that Ω).
+  // Two segments in a row with the same Ω are one motion with two names (a tilt by β and the
+  // rotation after it turn about the same axis at the same speed).
+  Vec3 segment_omega(std::int64_t count) const;
 
  private:
   // Segment of time t within its period, and the time `into` it has run.

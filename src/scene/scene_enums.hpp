@@ -22,6 +22,9 @@ enum class Tier { standard, reference, fast, preview };  // scene/fidelity.hpp
 // fidelity.bulk: every particle integrated, or the calm bulk carried rigidly with the wall
 // (engine/rigid_bulk.cpp).
 enum class Bulk { dynamic, rigid };
+// fidelity.bulk_segment_thaw: which changes of the protocol's segment thaw the rigid bulk: none,
+// every one, or only those where the tumbler's Ω changes (not a tilt becoming its rotation).
+enum class SegmentThaw { off, on, omega };
 
 template <class E>
 struct EnumNames;  // static constexpr std::array<const char*, N> names: by value
@@ -58,6 +61,10 @@ struct EnumNames<Tier> {
 template <>
 struct EnumNames<Bulk> {
   static constexpr std::array<const char*, 2> names = {"dynamic", "rigid"};
+};
+template <>
+struct EnumNames<SegmentThaw> {
+  static constexpr std::array<const char*, 3> names = {"off", "on", "omega"};
 };
 
 template <class E, class = void>

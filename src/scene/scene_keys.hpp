@@ -165,8 +165,8 @@ struct StillSlope {
     "rigid bulk: a frozen particle thaws when its moving neighbours push it harder than this many times its weight") \
   X(double, bulk_thaw_gravity, "fidelity.bulk_thaw_gravity", 2, 0.01, 2, \
     "rigid bulk: a frozen particle thaws when gravity, seen from the tumbler, has changed by more than this many g since it froze (2 sin of half the turn; 2: never)") \
-  X(OnOff, bulk_segment_thaw, "fidelity.bulk_segment_thaw", OnOff::on, 0, 0, \
-    "rigid bulk: on: a change of the protocol's segment (a tilt, a new axis) thaws every frozen particle; off: the other rules alone decide") \
+  X(SegmentThaw, bulk_segment_thaw, "fidelity.bulk_segment_thaw", SegmentThaw::on, 0, 0, \
+    "rigid bulk: on: a change of the protocol's segment (a tilt, a new axis) thaws every frozen particle; omega: only a change of the tumbler's angular velocity does (not a tilt becoming its rotation about the same axis); off: the other rules alone decide") \
   X(StillSlope, bulk_still_slope, "fidelity.bulk_still_slope", StillSlope{}, 0, 89, \
     "rigid bulk: while the free surface is inclined less than this many degrees (a tilt below the repose angle), the surface layer within the margin may freeze too, and it thaws when the slope passes it (0: never; set it below the slope where the scene's surface starts to creep at its tier, 12 for bst_small at standard; \"measured\": that slope of the scene's own bed, less " TUMBLE_TEXT_OF(TUMBLE_STILL_SLOPE_MARGIN_DEG) " degrees)") \
   X(double, rebalance_threshold, "parallel.rebalance_threshold", 1.1, 1, 100, \

@@ -359,11 +359,16 @@ TEST(Expand, RigidBulkKeysEnterTheIdOnlyWhenTheBulkIsRigid) {
   s.overrides.push_back("fidelity.bulk_thaw_gravity=0.5");
   EXPECT_NE(expand(s).cases[0].id, rigid);
   s.overrides.push_back("fidelity.bulk_thaw_gravity=2");
-  // Likewise the segment-change thaw: on (as before the key) leaves the ids alone, off enters.
+  // Likewise the segment-change thaw: on (as before the key) leaves the ids alone, off and omega
+  // enter, each its own.
   s.overrides.push_back("fidelity.bulk_segment_thaw=on");
   EXPECT_EQ(expand(s).cases[0].id, rigid);
   s.overrides.push_back("fidelity.bulk_segment_thaw=off");
+  const std::string off = expand(s).cases[0].id;
+  EXPECT_NE(off, rigid);
+  s.overrides.push_back("fidelity.bulk_segment_thaw=omega");
   EXPECT_NE(expand(s).cases[0].id, rigid);
+  EXPECT_NE(expand(s).cases[0].id, off);
   s.overrides.push_back("fidelity.bulk_segment_thaw=on");
   // And the still surface: 0 (the surface layer never freezes, as before the key) leaves them.
   s.overrides.push_back("fidelity.bulk_still_slope=0");
