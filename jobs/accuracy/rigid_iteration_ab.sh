@@ -28,6 +28,8 @@
 # RIGID_SET="--set fidelity.bulk_calm_distance=0.02 ..." passes more keys to the rigid run (and
 # the START run), not to rigid_before: OTHER=build/tumble with RIGID_SET times a setting against
 # the defaults of the same binary. Split on blanks, not globbed. Give each setting its own OUT.
+# BEFORE_SET="..." passes keys to rigid_before: one key against a setting that already has others
+# (RIGID_SET="A B C" against BEFORE_SET="A B" times C alone, both runs otherwise the same).
 # SEED=k runs bed k (fill.seed = k, its settled bed and β turn cached in beds/ as any run's)
 # instead of the scene's own: a key measured per bed (fidelity.bulk_still_slope = "measured")
 # gains what its bed's onset allows, so one bed's time is not every bed's.
@@ -85,9 +87,11 @@ if [ -n "${REPORT:-}" ]; then report; exit 0; fi
 bench_header | tee -a "$OUT/job.log"
 echo "# $SCENE at $TIER, (57, 57), beta = 27 deg, one iteration," \
      "${VARIANTS:-rigid dynamic ${OTHER:+rigid_before}} in turns of" \
-     "$CHUNK steps, $NP ranks${SEED:+, bed $SEED}${RIGID_SET:+; the rigid run with $RIGID_SET}" |
+     "$CHUNK steps, $NP ranks${SEED:+, bed $SEED}${RIGID_SET:+; the rigid run with $RIGID_SET}" \
+     "${BEFORE_SET:+; rigid_before with $BEFORE_SET}" |
   tee -a "$OUT/job.log"
 read -ra rigid_set <<< "${RIGID_SET:-}"
+read -ra before_set <<< "${BEFORE_SET:-}"
 common=("$SCENE" --set fidelity.tier="$TIER" --set fill.bed_cache=beds --set protocol.repose=27
         --set protocol.iterations=1 --set output.analysis_interval=0.05
         --set output.snapshot_interval=1e6 --set output.checkpoint_interval=1e6
@@ -97,7 +101,7 @@ common=("$SCENE" --set fidelity.tier="$TIER" --set fill.bed_cache=beds --set pro
 # run_chunk VARIANT: CHUNK more steps of VARIANT; returns 1 when it has reached the end.
 run_chunk() {
   local v=$1 dir="$OUT/$1" log first steps wall frozen bin=$BIN bulk=$1 extra=()
-  [ "$v" = rigid_before ] && bin=$OTHER bulk=rigid
+  [ "$v" = rigid_before ] && bin=$OTHER bulk=rigid extra=("${before_set[@]}")
   [ "$v" = rigid ] && extra=("${rigid_set[@]}")
   [ -f "$dir/finished" ] && return 1
   while [ -f "$OUT/pause" ]; do sleep 5; done
