@@ -182,9 +182,7 @@ void Simulation::update_bulk_states() {
   const bool gravity_rule = b.thaw_gravity < 2;  // |ĝ - ĝ'| <= 2: at 2 the rule never fires
   const std::int64_t elapsed = step_ - b.last_update;
   const std::int64_t segment = protocol_.segment_count(time_);
-  // (With bulk_segment_thaw = omega only a change of Ω thaws: the tilt back's reversal and the
-  // new axis, not the tilt by β becoming the rotation, where the bed's motion goes on as it was.
-  // Ω compared exactly: both come from the same list of segments.)
+  // (omega: Ω compared exactly, both from the protocol's one list of segments.)
   bool new_segment = false;
   if (segment != b.segment) {
     if (b.segment_thaw == SegmentThaw::on) new_segment = true;
