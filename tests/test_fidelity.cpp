@@ -128,7 +128,7 @@ TEST(Fidelity, SoftTierBedsReadBack) {
     p.radius[0] = 0.5 * s.d_small;
     p.x[0] = {0, -(s.radius - p.radius[0] + depth), 0};
     p.id[0] = 0;
-    io::write_bed(dir + "/bed.h5", p, s);
+    io::write_bed(dir + "/bed.h5", p, s, 1);
   };
   bed_pressing_in(0.2 * s.d_small);  // beyond 10% of a radius, within the allowed overlap
   EXPECT_NO_THROW(io::read_bed(dir + "/bed.h5", s));
@@ -153,7 +153,7 @@ TEST(BedValidation, BadBedsAreRefusedWithTheRowNamed) {
     return p;
   };
   auto message = [&](const Particles& p, io::BedSource source = io::BedSource::User) {
-    io::write_bed(path, p, s);
+    io::write_bed(path, p, s, 1);
     try {
       io::read_bed(path, s, source);
     } catch (const CorruptInputError& e) {

@@ -39,7 +39,8 @@ std::string bed_cache_path(const Scene& s) {
   return s.bed_cache + "/bed_" + hex16(fnv1a64(bed_key(s))) + ".h5";
 }
 
-void write_bed(const std::string& path, const Particles& p, const Scene& scene) {
+void write_bed(const std::string& path, const Particles& p, const Scene& scene,
+               int settled_on_ranks) {
   const hsize_t n = p.size();
   std::vector<double> x(3 * n);
   for (std::size_t i = 0; i < n; ++i)
@@ -52,8 +53,16 @@ void write_bed(const std::string& path, const Particles& p, const Scene& scene) 
   f.write("radius", p.radius);
   f.set_attr("/", "kind", std::string("tumble bed"));
   f.set_attr("/", "bed_key", bed_key(scene));
+  f.set_attr("/", "settled_on_ranks", static_cast<std::int64_t>(settled_on_ranks));
   write_provenance(f, scene);
   out.commit();
+}
+
+int bed_settled_on_ranks(const std::string& path) {
+  H5File f(path, H5File::Mode::Read);
+  return f.has_attr("/", "settled_on_ranks")
+             ? static_cast<int>(f.attr_int64("/", "settled_on_ranks"))
+             : 0;
 }
 
 namespace {

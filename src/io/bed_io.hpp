@@ -9,7 +9,15 @@
 
 namespace tumble::io {
 
-void write_bed(const std::string& path, const Particles& p, const Scene& scene);
+// `settled_on_ranks`: the ranks the bed settled on, kept with it (attribute settled_on_ranks). A
+// bed settles to other positions in round-off on another rank count (the order of the force sums
+// differs), and the cache's name does not hold the count: the first run to settle a bed settles
+// it for every later run (docs/guarantees.md, "Reproducible").
+void write_bed(const std::string& path, const Particles& p, const Scene& scene,
+               int settled_on_ranks);
+// The ranks a bed of Tumble's says it settled on; 0 where it does not say (written before the
+// count was kept, or made elsewhere). Throws as read_bed on a file it cannot open.
+int bed_settled_on_ranks(const std::string& path);
 // Where a bed comes from: a file the user named (fill.bed_file; a bad one is an InputError, exit 2)
 // or Tumble's own cache (a bad one is damaged: CorruptInputError, exit 3).
 enum class BedSource { User, Cache };

@@ -283,7 +283,24 @@ BedTurnValues cached_values(const std::string& path, const std::string& key) {
   return v;
 }
 
-void write_cached_values(const std::string& path, const Scene& scene, const ReposeMeasurement& m) {
+// ", turned on N ranks[ (...)]" for the line that names a cached turn; "" where the file does not
+// say (written before the count was kept).
+std::string turned_where(const std::string& path, MPI_Comm comm) {
+  io::H5File f(path, io::H5File::Mode::Read);
+  if (!f.has_attr("/", "turned_on_ranks")) return "";
+  const auto turned = f.attr_int64("/", "turned_on_ranks");
+  const int here = size_of(comm);
+  std::string s = ", turned on " + std::to_string(turned) + (turned == 1 ? " rank" : " ranks");
+  if (turned != here)
+    s += " (this run has " + std::to_string(here) +
+         ": a turn here would read another value in round-off; the cache keeps the first)";
+  return s;
+}
+
+// `turned_on_ranks` is kept with the values: a turn on another rank count reads another β and
+// onset in round-off (the cache's name does not hold the count, as the bed's does not).
+void write_cached_values(const std::string& path, const Scene& scene, const ReposeMeasurement& m,
+                         int turned_on_ranks) {
   fs::create_directories(fs::path(path).parent_path());
   io::AtomicH5Writer out(path);
   io::H5File& f = out.file();
@@ -296,6 +313,7 @@ void write_cached_values(const std::string& path, const Scene& scene, const Repo
   f.set_attr("/", "to_deg", kReposeEndDeg);
   f.set_attr("/", "creep_onset_deg", m.creep_onset_deg);  // NaN: the surface never crept
   f.set_attr("/", "creep_speed_wall", kCreepSpeed);
+  f.set_attr("/", "turned_on_ranks", static_cast<std::int64_t>(turned_on_ranks));
   io::write_provenance(f, scene);
   out.commit();
 }
@@ -322,7 +340,7 @@ Scene with_bed_turn_resolved(const Scene& scene, const std::string& checkpoint, 
     }
     if (!v.turned) {
       v = cached_values(cache, repose_key(scene));
-      source = "cached in " + cache;
+      source = "cached in " + cache + (v.turned ? turned_where(cache, comm) : "");
     }
   });
   // (A cached turn in which the surface never crept is final too: turning again gives the same.)
@@ -339,7 +357,7 @@ Scene with_bed_turn_resolved(const Scene& scene, const std::string& checkpoint, 
     // (Its end is the barrier the others wait at until the cache is written; a full disk is
     // every rank's error.)
     on_rank_0_agreed(comm, [&] {
-      write_cached_values(cache, scene, m);
+      write_cached_values(cache, scene, m, size_of(comm));
       fs::remove(turn);  // (none if the turn was never kept)
       if (log) *log << "[repose] saved in " << cache << std::endl;
     });

@@ -25,6 +25,20 @@ namespace {
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
+// Where a cached bed settled, for the line that reuses it: a bed settled on another rank count
+// than this run's is not the bed this run would settle (round-off grows in the settling), and
+// the reader of two runs' beds should not have to guess why they differ. "" where the file does
+// not say (written before the count was kept).
+std::string settled_where(int settled_on, MPI_Comm comm) {
+  if (settled_on <= 0) return "";
+  const int here = size_of(comm);
+  std::string s =
+      ", settled on " + std::to_string(settled_on) + (settled_on == 1 ? " rank" : " ranks");
+  if (settled_on != here)
+    s += " (this run has " + std::to_string(here) +
+         ": a bed settled here would differ in round-off; the cache keeps the first)";
+  return s;
+}
 }  // namespace
 
 Particles share_of(const Particles& all, MPI_Comm comm) {
@@ -139,7 +153,7 @@ Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_C
   int have = fs::exists(cached) ? 1 : 0;  // rank 0 decides for all
   if (size_of(comm) > 1) MPI_Bcast(&have, 1, MPI_INT, 0, comm);
   if (have) {
-    if (log) *log << "[fill] reusing settled bed " << cached << "\n";
+    int settled_on = 0;
     agreed_input(comm, [&] {
       // (Rank 0 has the file: a rank without it sees another directory under the same name.)
       if (!fs::exists(cached))
@@ -149,7 +163,10 @@ Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_C
                          " there, this rank has not; the bed cache must be on a file system every "
                          "rank sees (or give each run its own fill.bed_file)");
       bed = io::read_bed(cached, scene, io::BedSource::Cache);
+      settled_on = io::bed_settled_on_ranks(cached);
     });
+    if (log)
+      *log << "[fill] reusing settled bed " << cached << settled_where(settled_on, comm) << "\n";
     return bed;
   }
   if (reused) *reused = false;
@@ -162,7 +179,7 @@ Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_C
   on_rank_0_agreed(comm, [&] {
     try {
       fs::create_directories(scene.bed_cache);
-      io::write_bed(cached, bed, scene);
+      io::write_bed(cached, bed, scene, size_of(comm));
       if (log) *log << "[fill] saved settled bed to " << cached << "\n";
     } catch (const std::exception& e) {
       if (log)

@@ -5,6 +5,8 @@ bit (run/repose_measure.hpp).
 bst_tiny turned at 20 rpm (80 degrees in seconds), its bed settled once and copied into each
 run's own bed cache, so that every run below measures beta on the same bed:
   R1, R2  uninterrupted, on 1 and 2 ranks: the reference betas (the cached value's repose_deg);
+      the caches keep the rank count they were made on (the bed's settled_on_ranks 1, the betas'
+      turned_on_ranks 1 and 2) and R2's line reusing R1's bed says it settled on 1 rank;
   K   serial, output.checkpoint_wall = 1 s, SIGKILL once it says it kept its turn: the turn file
       holds the engine and the samples so far, and the rerun goes on from it to R1's beta;
   S   2 ranks under mpiexec, SIGUSR1 to mpiexec past 45 degrees (samples taken): exit code 10, one
@@ -96,12 +98,31 @@ def resumed_to(name, ranks, reference, what):
           % (name, what, line.split("] ")[1], got), flush=True)
 
 
+def attr(name, pattern, key):
+    got = [f for f in files(name, pattern) if not f.endswith(".turn.h5")]
+    with h5py.File(got[0], "r") as f:
+        return int(f.attrs[key]) if key in f.attrs else None
+
+
 run("R1", 1)
 beta1 = beta("R1")
 with_bed("R2")
-run("R2", 2)
+text2 = run("R2", 2)
 beta2 = beta("R2")
 print("references: beta %.10g (1 rank), %.10g (2 ranks)" % (beta1, beta2), flush=True)
+# The caches keep the rank count their bed settled and their beta turned on, and a run that reuses
+# a bed settled on another count says so (a bed settles in round-off differently on another).
+kept = (attr("R1", "bed_*.h5", "settled_on_ranks"), attr("R1", "repose_*.h5", "turned_on_ranks"),
+        attr("R2", "repose_*.h5", "turned_on_ranks"))
+if kept != (1, 1, 2):
+    fail("settled_on_ranks of R1's bed, turned_on_ranks of R1's and R2's beta: %s, expected "
+         "(1, 1, 2)" % (kept,))
+reuse = [l for l in text2.splitlines() if l.startswith("[fill] reusing settled bed ")]
+# (The turn reads the bed, then the run: one line each.)
+if not reuse or any(", settled on 1 rank (this run has 2: " not in l for l in reuse):
+    fail("R2 (2 ranks, R1's bed settled on 1): expected a line saying the bed settled on 1 rank "
+         "and this run has 2, got %s" % reuse)
+print("OK: the caches say they were made on %s ranks; R2: %s" % (kept, reuse[0]), flush=True)
 
 # K: killed after a wall-clock keep (nothing warns it).
 with_bed("K")
