@@ -3,6 +3,7 @@
 
 usage: jobs/accuracy/rigid_iteration_table.py OUT [-o plot.png] [--boot 10000] [--rigid NAME]
                                                [--base NAME] [--drop FIRST_STEP ...]
+                                               [--label BASE_TEXT RIGID_TEXT]
 
 Reads OUT/chunks.tsv (one line per chunk: variant, first step, steps, wall s) and the rigid run's
 OUT/rigid/results.h5 (--rigid rigid_before: the run of the script's OTHER binary instead) (its
@@ -17,6 +18,8 @@ segment keeps its weight). The interval says how much the chunks' scatter (the m
 moves the ratio; it does not cover a change of machine. --drop leaves out the pairs that start at
 the given steps (a pair one of whose chunks shared the cores with other work, e.g. a build: the
 pairing evens out the machine's load only when both chunks see it); the dropped pairs are listed.
+--label names the two runs in the table and the plot by what they are ("margin 3" "margin 5")
+rather than by the script's variant names.
 
 While one half of the iteration is not run (the job unfinished, or started from a checkpoint of the
 other half: OUT holding only the x half), its segments are estimated from their twins in the half
@@ -57,8 +60,11 @@ def main():
     ap.add_argument("--base", default="dynamic", help="the run it is compared with")
     ap.add_argument("--drop", type=int, nargs="*", default=[],
                     help="first steps of pairs to leave out (a chunk run beside other work)")
+    ap.add_argument("--label", nargs=2, metavar=("BASE_TEXT", "RIGID_TEXT"),
+                    help="what the two runs are, for the table and the plot (default: their names)")
     args = ap.parse_args()
     rv, bv = args.rigid, args.base
+    bl, rl = args.label if args.label else (bv, rv)
     by = read_chunks(os.path.join(args.out, "chunks.tsv"))
     if rv not in by or bv not in by:
         raise SystemExit(f"no paired chunks of {bv} and {rv} yet (both need at least one)")
@@ -86,8 +92,8 @@ def main():
     seg = np.minimum(seg, 5)
     print(f"# {args.out}: {len(first)} paired chunks, {int(steps.sum())} of {n_iter} steps"
           f" ({steps.sum() / n_iter:.1%} of the iteration)")
-    print(f"| segment (share of the iteration) | steps run | {bv} wall s | {rv} wall s |"
-          f" {bv} / {rv} | per-chunk ratio, median (range) | mean frozen share ({rv}) |")
+    print(f"| segment (share of the iteration) | steps run | {bl} wall s | {rl} wall s |"
+          f" {bl} / {rl} | per-chunk ratio, median (range) | mean frozen share ({rl}) |")
     print("|---|---|---|---|---|---|---|")
     lo = 0.0
     rng = np.random.default_rng(1)
@@ -115,8 +121,8 @@ def main():
 
     ratio = d.sum() / r.sum()
     lo95, hi95 = boot_ratio(range(6))
-    print(f"\nRun so far ({steps.sum() / n_iter:.1%} of the iteration): {bv} {d.sum():.0f} s,"
-          f" {rv} {r.sum():.0f} s, **{bv} / {rv} = {ratio:.2f}** (95% bootstrap interval over"
+    print(f"\nRun so far ({steps.sum() / n_iter:.1%} of the iteration): {bl} {d.sum():.0f} s,"
+          f" {rl} {r.sum():.0f} s, **{bl} / {rl} = {ratio:.2f}** (95% bootstrap interval over"
           f" the paired chunks {lo95:.2f}-{hi95:.2f}).")
     # By the protocol's symmetry (the same angles about the other axis) a segment not fully run
     # takes the seconds per step of its twin in the other half, where that one is fully run.
@@ -149,15 +155,15 @@ def main():
             rr += r[src].sum() / steps[src].sum() * seg_steps
         else:
             print(f"Whole iteration, {', '.join(borrowed)} taken from their twins in the other half"
-                  f" (an estimate by the protocol's symmetry): {bv} {dd:.0f} s, {rv} {rr:.0f} s,"
+                  f" (an estimate by the protocol's symmetry): {bl} {dd:.0f} s, {rl} {rr:.0f} s,"
                   f" **{dd / rr:.2f}x**.")
     if args.output:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         fig, ax = plt.subplots(figsize=(7, 3.4))
-        ax.plot(frac, d / steps * 1000, "o-", ms=3, lw=1, label=bv)
-        ax.plot(frac, r / steps * 1000, "s-", ms=3, lw=1, label=rv)
+        ax.plot(frac, d / steps * 1000, "o-", ms=3, lw=1, label=bl)
+        ax.plot(frac, r / steps * 1000, "s-", ms=3, lw=1, label=rl)
         ax.set_xlabel("protocol iteration")
         ax.set_ylabel("wall s per 1,000 steps")
         for e in edges[:-1]:
@@ -165,7 +171,7 @@ def main():
         ax.set_xlim(0, 1)
         ax.set_ylim(0, None)
         ax2 = ax.twinx()
-        ax2.plot(iteration, frozen, color="0.5", lw=0.8, label=f"frozen share ({rv})")
+        ax2.plot(iteration, frozen, color="0.5", lw=0.8, label=f"frozen share ({rl})")
         ax2.set_ylim(0, 1)
         ax2.set_ylabel("share of the bed frozen")
         h1, l1 = ax.get_legend_handles_labels()
