@@ -33,7 +33,8 @@ for tier in reference standard fast preview; do
   if [ "$tier" = reference ]; then  # the standard bed (see above)
     "$BIN" run "$SCENE" --set fill.bed_cache=beds --max-steps 0 --set protocol.repose=27 \
       --set scene.output_dir="$WORK/bedprobe" > "$WORK/probe.log"
-    bed=$(sed -n 's/.*\(reusing settled bed\|saved settled bed to\) \(.*\)$/\2/p' "$WORK/probe.log" | tail -1)
+    # (the path ends at .h5: a reused bed's line goes on with the ranks it settled on)
+    bed=$(sed -n 's/.*\(reusing settled bed\|saved settled bed to\) \(.*\.h5\).*$/\2/p' "$WORK/probe.log" | tail -1)
     extra=(--set fill.bed_file="$bed")
   fi
   # β pinned at 27°: a "measured" tilt adds 80° of rotation once per bed (about a third of a
