@@ -23,7 +23,9 @@ is printed, no test.
 A second look, its own family: the speed step at the tilt's end (the mean speed over the 2° of turn
 after beta less that over the 2° before), where the tilt becomes the rotation: the wall turns on
 alike, but the new segment thaws a rigid bulk. It was defined after the curves of the first job's
-first bed, so the later beds of that job are its check.
+first bed, so the later beds of that job are its check. With three sets or more, a third family:
+the step of each set after the second paired against the second's (a variant of the rigid bulk,
+e.g. fidelity.bulk_segment_thaw = omega, against the rigid run it changes).
 
 usage: segment_start_table.py DIR [DIR ...]   (each DIR holds seed<k>/results.h5; the first is
        the base, e.g. OUT/dynamic, then OUT/rigid of segment_start.sh)
@@ -141,6 +143,16 @@ def main():
         for label, r in zip(labels[1:], runs[1:]):
             steps += paired_tests(f"{label}, {name}", runs[0], r, [STEP])
     print_tests(steps, f"At the tilt's end, paired by seed against {labels[0]}")
+    if len(sets) > 2:
+        # A variant of the rigid bulk against the rigid run it changes (the segment thaw's rule):
+        # what the variant does to the step itself, free of dynamic's scatter.
+        versus = []
+        for name in names:
+            runs = [s.get(name, {}) for s in sets]
+            for label, r in zip(labels[2:], runs[2:]):
+                versus += paired_tests(f"{label} - {labels[1]}, {name}", runs[1], r, [STEP])
+        print_tests(versus, f"At the tilt's end, each later set paired by seed against {labels[1]}"
+                    " (its own family)")
     if a.plot:
         plot(a.plot, labels, sets, names)
 
