@@ -22,6 +22,7 @@
 #include "io/bed_io.hpp"
 #include "io/checkpoint.hpp"
 #include "io/snapshot.hpp"
+#include "run/made_on_ranks.hpp"
 #include "run/settled_bed.hpp"
 
 namespace tumble {
@@ -283,18 +284,11 @@ BedTurnValues cached_values(const std::string& path, const std::string& key) {
   return v;
 }
 
-// ", turned on N ranks[ (...)]" for the line that names a cached turn; "" where the file does not
-// say (written before the count was kept).
-std::string turned_where(const std::string& path, MPI_Comm comm) {
+// The rank count a cached turn was made on; 0 where the file does not say (written before the
+// count was kept).
+long long turned_on_ranks(const std::string& path) {
   io::H5File f(path, io::H5File::Mode::Read);
-  if (!f.has_attr("/", "turned_on_ranks")) return "";
-  const auto turned = f.attr_int64("/", "turned_on_ranks");
-  const int here = size_of(comm);
-  std::string s = ", turned on " + std::to_string(turned) + (turned == 1 ? " rank" : " ranks");
-  if (turned != here)
-    s += " (this run has " + std::to_string(here) +
-         ": a turn here would read another value in round-off; the cache keeps the first)";
-  return s;
+  return f.has_attr("/", "turned_on_ranks") ? f.attr_int64("/", "turned_on_ranks") : 0;
 }
 
 // `turned_on_ranks` is kept with the values: a turn on another rank count reads another β and
@@ -340,7 +334,10 @@ Scene with_bed_turn_resolved(const Scene& scene, const std::string& checkpoint, 
     }
     if (!v.turned) {
       v = cached_values(cache, repose_key(scene));
-      source = "cached in " + cache + (v.turned ? turned_where(cache, comm) : "");
+      source = "cached in " + cache +
+               (v.turned ? made_on_ranks("turned", turned_on_ranks(cache), size_of(comm),
+                                         "a turn here would read another value in round-off")
+                         : "");
     }
   });
   // (A cached turn in which the surface never crept is final too: turning again gives the same.)

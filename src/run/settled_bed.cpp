@@ -14,6 +14,7 @@
 #include "base/text_util.hpp"
 #include "engine/simulation.hpp"
 #include "io/bed_io.hpp"
+#include "run/made_on_ranks.hpp"
 #include "scene/fill.hpp"
 #include "scene/fill_cylinder.hpp"
 
@@ -24,20 +25,6 @@ using Clock = std::chrono::steady_clock;
 namespace {
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-// Where a cached bed settled, for the line that reuses it: a bed settled on another rank count
-// than this run's is not the bed this run would settle (round-off grows in the settling), and
-// the reader of two runs' beds should not have to guess why they differ. "" where the file does
-// not say (written before the count was kept).
-std::string settled_where(int settled_on, MPI_Comm comm) {
-  if (settled_on <= 0) return "";
-  const int here = size_of(comm);
-  std::string s =
-      ", settled on " + std::to_string(settled_on) + (settled_on == 1 ? " rank" : " ranks");
-  if (settled_on != here)
-    s += " (this run has " + std::to_string(here) +
-         ": a bed settled here would differ in round-off; the cache keeps the first)";
-  return s;
 }
 }  // namespace
 
@@ -166,7 +153,10 @@ Particles settled_bed(const Scene& scene, std::ostream* log, bool* reused, MPI_C
       settled_on = io::bed_settled_on_ranks(cached);
     });
     if (log)
-      *log << "[fill] reusing settled bed " << cached << settled_where(settled_on, comm) << "\n";
+      *log << "[fill] reusing settled bed " << cached
+           << made_on_ranks("settled", settled_on, size_of(comm),
+                            "a bed settled here would differ in round-off")
+           << "\n";
     return bed;
   }
   if (reused) *reused = false;
