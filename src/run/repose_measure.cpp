@@ -350,7 +350,7 @@ Scene with_bed_turn_resolved(const Scene& scene, const std::string& checkpoint, 
         scene, [&] { return settled_bed(scene, log, nullptr, comm, between_blocks); }, turn, log,
         comm, between_blocks);
     v = {m.mean_deg, still_slope_of(m.creep_onset_deg), true};
-    source = "measured";
+    source = "by this run's turn above";
     // (Its end is the barrier the others wait at until the cache is written; a full disk is
     // every rank's error.)
     on_rank_0_agreed(comm, [&] {
