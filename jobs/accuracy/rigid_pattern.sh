@@ -10,7 +10,11 @@
 #                                       [ITERATIONS=8] [NP=2]
 #   THETA="57 57" the point; ACCURACY_OUT (default results/rigid_pattern/<scene>_<tier>)
 #   VARIANT="fidelity.bulk_segment_thaw=off": a third point, rigid with that key=value (on the same
-#   beds; its cases join a campaign that ran without it, whose cases keep their ids)
+#   beds; its cases join a campaign that ran without it, whose cases keep their ids). Several
+#   points, separated by blanks, each one key=value or several joined by "+":
+#   VARIANT="fidelity.bulk_segment_thaw=omega fidelity.bulk_still_slope=measured+fidelity.bulk_calm_distance=0.02".
+#   A campaign's folder holds one campaign: a later call names every point of the earlier ones
+#   (the campaign refuses a folder whose cases it would leave out; ACCURACY_OUT gives another).
 #   RANKS_PER_CASE=k (default 1): each case on a group of k ranks (NP = 6k runs a 3-replica
 #   campaign at once: bst_paper at standard on a node of 48 cores with k = 8). The group size is
 #   not part of a case's id and a checkpoint restarts on any group size, so a campaign begun on
@@ -54,8 +58,11 @@ ranks_per_case = ${RANKS_PER_CASE:-1}
 theta_z = $TZ
 theta_x = $TX
 "fidelity.bulk" = ["dynamic", "rigid"]
-$(if [ -n "${VARIANT:-}" ]; then printf '\n[[sweep]]\ntheta_z = %s\ntheta_x = %s\n"fidelity.bulk" = "rigid"\n"%s" = "%s"\n' \
-  "$TZ" "$TX" "${VARIANT%%=*}" "${VARIANT#*=}"; fi)
+$(for v in ${VARIANT:-}; do
+    printf '\n[[sweep]]\ntheta_z = %s\ntheta_x = %s\n"fidelity.bulk" = "rigid"\n' "$TZ" "$TX"
+    IFS=+ read -ra kvs <<< "$v"
+    for kv in "${kvs[@]}"; do printf '"%s" = "%s"\n' "${kv%%=*}" "${kv#*=}"; done
+  done)
 
 [collect]
 fields = ["concentration", "series"]
@@ -66,6 +73,6 @@ frame = "lab"
 EOF
 run_tier_campaign "$OUT" "$TIER" "$NP"
 /usr/bin/python3 jobs/accuracy/pattern_table.py "$OUT" "$ITERATIONS" \
-  --split "fidelity.bulk=dynamic,rigid${VARIANT:+,rigid+$VARIANT}"
+  --split "fidelity.bulk=dynamic,rigid$(for v in ${VARIANT:-}; do printf ',rigid+%s' "$v"; done)"
 exit
 }
