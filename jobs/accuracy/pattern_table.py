@@ -279,10 +279,18 @@ def main():
     print_multiplicity(tested, ref, what)
     small = {t: len(c) for t, c in data.items() if len(c) < 5}
     if small:
+        # (Said for the smallest N present: it bounds what any column here can resolve.)
+        n = min(small.values())
+        if n < 2:
+            size = (f"at N = {n} there is no interval and no test, only the value, so nothing"
+                    " here can show a difference")
+        else:
+            t = stats.t.ppf(0.975, n - 1)
+            size = (f"a 95% CI at N = {n} spans ±{t:.2g} standard errors (t(0.975, {n - 1});"
+                    f" ±{t / np.sqrt(n):.2g} standard deviations of the replicas), so only"
+                    " differences of about that size can show")
         print("# warning: few replicas (" + ", ".join(f"{t}: N = {n}" for t, n in small.items())
-              + "): a 95% CI at N = 3 spans ±4.3 standard errors (t(0.975, 2); ±2.5 standard"
-              " deviations of the replicas), so only differences of about that size can show;"
-              " 'not significant' here means 'not resolved at this N', not 'equal'.")
+              + f"): {size}; 'not significant' here means 'not resolved at this N', not 'equal'.")
 
 
 def print_multiplicity(tested, ref, what):
