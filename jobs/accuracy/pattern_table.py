@@ -280,14 +280,14 @@ def main():
     small = {t: len(c) for t, c in data.items() if len(c) < 5}
     if small:
         # (Said for the smallest N present: it bounds what any column here can resolve.)
-        n = min(small.values())
-        if n < 2:
-            size = (f"at N = {n} there is no interval and no test, only the value, so nothing"
+        n_min = min(small.values())
+        if n_min < 2:
+            size = (f"at N = {n_min} there is no interval and no test, only the value, so nothing"
                     " here can show a difference")
         else:
-            t = stats.t.ppf(0.975, n - 1)
-            size = (f"a 95% CI at N = {n} spans ±{t:.2g} standard errors (t(0.975, {n - 1});"
-                    f" ±{t / np.sqrt(n):.2g} standard deviations of the replicas), so only"
+            t_q = stats.t.ppf(0.975, n_min - 1)
+            size = (f"a 95% CI at N = {n_min} spans ±{t_q:.2g} standard errors (t(0.975, {n_min - 1});"
+                    f" ±{t_q / np.sqrt(n_min):.2g} standard deviations of the replicas), so only"
                     " differences of about that size can show")
         print("# warning: few replicas (" + ", ".join(f"{t}: N = {n}" for t, n in small.items())
               + f"): {size}; 'not significant' here means 'not resolved at this N', not 'equal'.")
