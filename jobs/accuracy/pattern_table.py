@@ -240,7 +240,8 @@ def main():
                (FROZEN, lambda c: c["frozen"]),
                ("island enrichment", lambda c: c["enrichment"]),
                ("c_L pattern correlation with " + ref, lambda c: c["corr"])]
-    metrics += [(f"radial segregation, N = {k + 1}", lambda c, k=k: c["radial"][k])
+    # "after k iterations", not "N = k": N is the number of replicas everywhere else in the table.
+    metrics += [(f"radial segregation after {k + 1} iteration{'s' if k else ''}", lambda c, k=k: c["radial"][k])
                 for k in range(iterations)]
     if point:
         print(f"# point: {point}")

@@ -114,8 +114,8 @@ def main():
     m = re.search(r"(\d+) tests; Benjamini-Hochberg at q = 0.05: (\d+) significant", text)
     starred = re.findall(r"#   (.*) \((Welch|paired)\): p = .* \*$", text, re.M)
     check("one shifted observable: BH line", m is not None)
-    check("one shifted observable: only radial segregation at N = 2 significant",
-          bool(starred) and all(s[0] == "radial segregation, N = 2" for s in starred),
+    check("one shifted observable: only radial segregation after 2 iterations significant",
+          bool(starred) and all(s[0] == "radial segregation after 2 iterations" for s in starred),
           f"{starred}")
     # 3. --tier columns from two folders
     a, b = os.path.join(scratch, "tier_a"), os.path.join(scratch, "tier_b")
@@ -136,7 +136,7 @@ def main():
     label = "rigid+fidelity.bulk_segment_thaw=off"
     rc, text = run(three, str(ITERATIONS), "--split", f"fidelity.bulk=dynamic,rigid,{label}")
     print(text)
-    row = next((line for line in text.splitlines() if line.startswith("| radial segregation, N = 2 |")), "")
+    row = next((line for line in text.splitlines() if line.startswith("| radial segregation after 2 iterations |")), "")
     cells = row.split(" | ")[1:]
     check("two keys: three columns", rc == 0 and f"| observable | dynamic | rigid | {label} |" in text)
     check("two keys: every column N = 3 (the plain rigid column without the other's cases)",
