@@ -9,6 +9,8 @@
 # usage: jobs/accuracy/rigid_pattern.sh [SCENE=scenes/bst_small.toml] [TIER=fast] [REPLICAS=3]
 #                                       [ITERATIONS=8] [NP=2]
 #   THETA="57 57" the point; ACCURACY_OUT (default results/rigid_pattern/<scene>_<tier>)
+#   SEED=57 the campaign's seed: another seed gives every replica another bed and mixed start
+#   (fill.seed hashes it with the replica), fresh realizations for a test planned on earlier ones
 #   VARIANT="fidelity.bulk_segment_thaw=off": a third point, rigid with that key=value (on the same
 #   beds; its cases join a campaign that ran without it, whose cases keep their ids). Several
 #   points, separated by blanks, each one key=value or several joined by "+":
@@ -34,7 +36,7 @@ source jobs/lib/bench_common.sh
 OUT=$(realpath -m "${ACCURACY_OUT:-results/rigid_pattern/$(basename "$SCENE" .toml)_$TIER}")
 mkdir -p "$OUT"
 bench_header
-echo "# $SCENE at $TIER, ($TZ, $TX), dynamic vs rigid, $REPLICAS replicas, $ITERATIONS iterations, $NP ranks"
+echo "# $SCENE at $TIER, ($TZ, $TX), dynamic vs rigid, $REPLICAS replicas (seed ${SEED:-57}), $ITERATIONS iterations, $NP ranks"
 # The maps average the stroboscopic samples from iteration 3 on (the pattern, not the mixing
 # transient: docs/report.md Sec. 5b), on the 16 x 16 lab-frame grid of campaign/bst_small_islands.
 from=$(( ITERATIONS < 6 ? ITERATIONS / 2 : 3 ))
@@ -44,7 +46,7 @@ cat > "$OUT/campaign.toml" <<EOF
 name = "rigid_pattern"
 scene = "$(realpath "$SCENE")"
 output_dir = "$OUT"
-seed = 57
+seed = ${SEED:-57}
 replicas = $REPLICAS
 tier = "$TIER"
 bed_cache = "$(realpath -m beds)"
