@@ -31,12 +31,13 @@ TIER=${2:-fast}
 REPLICAS=${3:-3}
 ITERATIONS=${4:-8}
 NP=${5:-2}
+SEED=${SEED:-57}
 read -r TZ TX <<< "${THETA:-57 57}"
 source jobs/lib/bench_common.sh
 OUT=$(realpath -m "${ACCURACY_OUT:-results/rigid_pattern/$(basename "$SCENE" .toml)_$TIER}")
 mkdir -p "$OUT"
 bench_header
-echo "# $SCENE at $TIER, ($TZ, $TX), dynamic vs rigid, $REPLICAS replicas (seed ${SEED:-57}), $ITERATIONS iterations, $NP ranks"
+echo "# $SCENE at $TIER, ($TZ, $TX), dynamic vs rigid, $REPLICAS replicas (seed $SEED), $ITERATIONS iterations, $NP ranks"
 # The maps average the stroboscopic samples from iteration 3 on (the pattern, not the mixing
 # transient: docs/report.md Sec. 5b), on the 16 x 16 lab-frame grid of campaign/bst_small_islands.
 from=$(( ITERATIONS < 6 ? ITERATIONS / 2 : 3 ))
@@ -46,7 +47,7 @@ cat > "$OUT/campaign.toml" <<EOF
 name = "rigid_pattern"
 scene = "$(realpath "$SCENE")"
 output_dir = "$OUT"
-seed = ${SEED:-57}
+seed = $SEED
 replicas = $REPLICAS
 tier = "$TIER"
 bed_cache = "$(realpath -m beds)"
